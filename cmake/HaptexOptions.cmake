@@ -1,0 +1,27 @@
+# Global build settings in one place.
+set(CMAKE_CXX_STANDARD 20)
+set(CMAKE_CXX_STANDARD_REQUIRED ON)
+set(CMAKE_CXX_EXTENSIONS OFF)
+set(CMAKE_EXPORT_COMPILE_COMMANDS ON)
+set(CMAKE_POSITION_INDEPENDENT_CODE ON)
+
+if(NOT CMAKE_BUILD_TYPE AND NOT CMAKE_CONFIGURATION_TYPES)
+  set(CMAKE_BUILD_TYPE RelWithDebInfo CACHE STRING "Build type" FORCE)
+endif()
+
+option(HAPTEX_WERROR "Treat warnings in project code as errors" ON)
+set(HAPTEX_SANITIZE "" CACHE STRING "Sanitizers for project code, e.g. address,undefined or thread")
+
+# Warnings apply to project targets only (through haptex_set_warnings), never to generated code.
+set(HAPTEX_WARNING_FLAGS -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor -Wold-style-cast
+    -Wcast-align -Wunused -Woverloaded-virtual -Wdouble-promotion -Wformat=2
+    -Wimplicit-fallthrough)
+if(HAPTEX_WERROR)
+  list(APPEND HAPTEX_WARNING_FLAGS -Werror)
+endif()
+
+if(HAPTEX_SANITIZE)
+  add_compile_options(-fsanitize=${HAPTEX_SANITIZE} -fno-omit-frame-pointer)
+  add_link_options(-fsanitize=${HAPTEX_SANITIZE})
+  add_compile_definitions(HAPTEX_SANITIZED=1)
+endif()

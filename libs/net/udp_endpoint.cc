@@ -1,0 +1,57 @@
+#include "libs/net/udp_endpoint.h"
+
+#include <poll.h>
+#include <sys/socket.h>
+
+#include <stdexcept>
+#include <string>
+
+#include "libs/net/udp_address.h"
+
+namespace haptex::net {
+
+UdpEndpoint::UdpEndpoint(std::string_view bind_address) : socket_(io_) {
+  const Endpoint endpoint = ResolveUdpAddress(bind_address);
+  asio::error_code error;
+  socket_.open(endpoint.protocol(), error);
+  if (!error) socket_.bind(endpoint, error);
+  if (error) {
+    throw std::runtime_error("cannot bind UDP " + std::string(bind_address) + ": " +
+                             error.message());
+  }
+  socket_.non_blocking(true);
+  // Room for bursts (a ClothFrame in chunks); the kernel caps this at net.core.rmem_max.
+  asio::error_code ignored;
+  socket_.set_option(asio::socket_base::receive_buffer_size(4 << 20), ignored);
+  socket_.set_option(asio::socket_base::send_buffer_size(4 << 20), ignored);
+  local_ = socket_.local_endpoint();
+}
+
+std::optional<std::size_t> UdpEndpoint::ReceiveOne(std::span<std::uint8_t> buffer, Endpoint* from) {
+  for (;;) {
+    asio::error_code error;
+    // MSG_TRUNC makes the kernel report the full size of a datagram larger than the buffer.
+    const std::size_t bytes =
+        socket_.receive_from(asio::buffer(buffer.data(), buffer.size()), *from, MSG_TRUNC, error);
+    if (!error) return bytes;
+    if (error == asio::error::would_block || error == asio::error::try_again) return std::nullopt;
+    // ICMP errors of earlier sends (connection refused) surface here; skip them.
+    if (error == asio::error::connection_refused || error == asio::error::interrupted) continue;
+    return std::nullopt;
+  }
+}
+
+bool UdpEndpoint::SendTo(std::span<const std::uint8_t> datagram, const Endpoint& to) {
+  asio::error_code error;
+  const std::size_t sent = socket_.send_to(asio::buffer(datagram.data(), datagram.size()), to, 0, error);
+  return !error && sent == datagram.size();
+}
+
+bool UdpEndpoint::WaitReadable(std::chrono::milliseconds timeout) {
+  pollfd fd{};
+  fd.fd = socket_.native_handle();
+  fd.events = POLLIN;
+  return ::poll(&fd, 1, static_cast<int>(timeout.count())) > 0;
+}
+
+}  // namespace haptex::net

@@ -1,0 +1,46 @@
+#pragma once
+// A non-blocking UDP socket over Asio: bind, send to an endpoint, receive what is waiting.
+// No allocation per datagram; the caller owns the buffers.
+
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string_view>
+
+#include <asio/io_context.hpp>
+#include <asio/ip/udp.hpp>
+
+namespace haptex::net {
+
+class UdpEndpoint final {
+ public:
+  using Endpoint = asio::ip::udp::endpoint;
+
+  /// Binds to "host:port" (port 0: any free port). Throws std::runtime_error with the address and
+  /// the system's reason when the bind fails.
+  explicit UdpEndpoint(std::string_view bind_address);
+  UdpEndpoint(const UdpEndpoint&) = delete;
+  UdpEndpoint& operator=(const UdpEndpoint&) = delete;
+
+  Endpoint local_endpoint() const { return local_; }
+  std::uint16_t local_port() const { return local_.port(); }
+
+  /// Receives one waiting datagram into `buffer`; nullopt when none is waiting. The returned size
+  /// is the datagram's real size, which exceeds buffer.size() when it was cut (oversized).
+  std::optional<std::size_t> ReceiveOne(std::span<std::uint8_t> buffer, Endpoint* from);
+
+  /// Sends without blocking; false when the kernel refuses (buffer full, unreachable, too large).
+  bool SendTo(std::span<const std::uint8_t> datagram, const Endpoint& to);
+
+  /// Blocks until a datagram is waiting or the timeout passes (for threads that only receive).
+  bool WaitReadable(std::chrono::milliseconds timeout);
+
+ private:
+  asio::io_context io_;
+  asio::ip::udp::socket socket_;
+  Endpoint local_;
+};
+
+}  // namespace haptex::net

@@ -1,0 +1,41 @@
+#pragma once
+// Builds a service's Health message from its loops, counters and latencies. Register everything
+// at start-up; Build() then reuses the message and does not allocate.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "haptex/v1/health.pb.h"
+#include "libs/runtime/latency_histogram.h"
+#include "libs/runtime/loop_stats.h"
+
+namespace haptex::runtime {
+
+class HealthReporter final {
+ public:
+  using CounterId = std::size_t;
+
+  explicit HealthReporter(std::string service);
+
+  /// The loop's statistics are read at every Build; the pointer must outlive the reporter.
+  void AddLoop(const LoopStats* loop);
+  void AddLatency(std::string name, const LatencyHistogram* histogram);
+  CounterId AddCounter(std::string name);
+
+  void SetCounter(CounterId id, std::uint64_t value) { counter_values_[id] = value; }
+  void SetState(v1::Health::State state) { state_ = state; }
+  /// Keeps the message's capacity when the text fits; call outside hot loops when it grows.
+  void SetLastError(const std::string& text) { health_.set_last_error(text); }
+
+  const v1::Health& Build(double uptime_s);
+
+ private:
+  std::vector<const LoopStats*> loops_;
+  std::vector<const LatencyHistogram*> latencies_;
+  std::vector<std::uint64_t> counter_values_;
+  v1::Health::State state_ = v1::Health::STATE_STARTING;
+  v1::Health health_;
+};
+
+}  // namespace haptex::runtime

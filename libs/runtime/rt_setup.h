@@ -1,0 +1,22 @@
+#pragma once
+// Optional real-time set-up. Each call reports whether it worked and why not; callers warn and
+// carry on, so a laptop without privileges still runs.
+
+#include <string>
+#include <vector>
+
+namespace haptex::runtime {
+
+struct RtSetupResult {
+  bool ok = false;
+  std::string message;  // what was done, or why it was not
+};
+
+/// mlockall(MCL_CURRENT | MCL_FUTURE): no page faults in hot loops.
+RtSetupResult TryLockMemory();
+/// SCHED_FIFO at `priority` (1..99) for the calling thread.
+RtSetupResult TrySetFifoPriority(int priority);
+/// Pins the calling thread to the given CPUs.
+RtSetupResult TrySetCpuAffinity(const std::vector<int>& cpus);
+
+}  // namespace haptex::runtime

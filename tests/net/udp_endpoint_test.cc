@@ -1,0 +1,58 @@
+#include "libs/net/udp_endpoint.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <stdexcept>
+#include <vector>
+
+namespace haptex::net {
+namespace {
+
+TEST(UdpEndpointTest, SendsAndReceivesOnLoopback) {
+  UdpEndpoint a("127.0.0.1:0");
+  UdpEndpoint b("127.0.0.1:0");
+  ASSERT_NE(b.local_port(), 0);
+  const std::vector<std::uint8_t> payload = {1, 2, 3, 4, 5};
+  ASSERT_TRUE(a.SendTo(payload, b.local_endpoint()));
+  ASSERT_TRUE(b.WaitReadable(std::chrono::milliseconds(2000)));
+  std::vector<std::uint8_t> buffer(64);
+  UdpEndpoint::Endpoint from;
+  const auto bytes = b.ReceiveOne(buffer, &from);
+  ASSERT_TRUE(bytes.has_value());
+  EXPECT_EQ(*bytes, payload.size());
+  EXPECT_EQ(from.port(), a.local_port());
+  EXPECT_FALSE(b.ReceiveOne(buffer, &from).has_value());  // non-blocking: nothing more waiting
+}
+
+TEST(UdpEndpointTest, ReportsTheRealSizeOfADatagramLargerThanTheBuffer) {
+  UdpEndpoint a("127.0.0.1:0");
+  UdpEndpoint b("127.0.0.1:0");
+  const std::vector<std::uint8_t> payload(3000, 0xab);
+  ASSERT_TRUE(a.SendTo(payload, b.local_endpoint()));
+  ASSERT_TRUE(b.WaitReadable(std::chrono::milliseconds(2000)));
+  std::vector<std::uint8_t> buffer(100);
+  UdpEndpoint::Endpoint from;
+  const auto bytes = b.ReceiveOne(buffer, &from);
+  ASSERT_TRUE(bytes.has_value());
+  EXPECT_EQ(*bytes, 3000u);
+}
+
+TEST(UdpEndpointTest, BindFailureNamesTheAddress) {
+  UdpEndpoint taken("127.0.0.1:0");
+  const std::string address = "127.0.0.1:" + std::to_string(taken.local_port());
+  try {
+    UdpEndpoint second(address);
+    FAIL() << "bound a taken port";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(address), std::string::npos) << e.what();
+  }
+}
+
+TEST(UdpEndpointTest, WaitReadableTimesOut) {
+  UdpEndpoint a("127.0.0.1:0");
+  EXPECT_FALSE(a.WaitReadable(std::chrono::milliseconds(5)));
+}
+
+}  // namespace
+}  // namespace haptex::net
