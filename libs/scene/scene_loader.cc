@@ -1,0 +1,301 @@
+#include "libs/scene/scene_loader.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "libs/net/session_key.h"
+#include "libs/net/udp_address.h"
+
+namespace haptex::scene {
+namespace {
+
+using google::protobuf::Message;
+
+// Collects issues while walking the scene.
+class Checker {
+ public:
+  explicit Checker(std::vector<TextIssue>* issues) : issues_(issues) {}
+
+  // value == 0 means "default"; otherwise it must lie in [min, max].
+  void ZeroOrRange(const Message& m, const char* field, double value, double min, double max,
+                   const char* unit, const FieldLocator& at) {
+    if (value == 0.0) return;
+    Range(m, field, value, min, max, unit, at);
+  }
+  void Range(const Message& m, const char* field, double value, double min, double max,
+             const char* unit, const FieldLocator& at) {
+    if (!std::isfinite(value) || value < min || value > max) {
+      Add(at.At(m, field, -1, std::string(field) + " must be in [" + Number(min) + ", " +
+                                  Number(max) + "] " + unit + ", got " + Number(value)));
+    }
+  }
+  void Add(TextIssue issue) { issues_->push_back(std::move(issue)); }
+
+  static std::string Number(double v) {
+    std::ostringstream out;
+    out << v;
+    return out.str();
+  }
+
+ private:
+  std::vector<TextIssue>* issues_;
+};
+
+void CheckCloth(const v1::ClothGeometry& cloth, const FieldLocator& at, Checker& c) {
+  c.ZeroOrRange(cloth, "width_m", cloth.width_m(), 0.01, 5.0, "m", at);
+  c.ZeroOrRange(cloth, "height_m", cloth.height_m(), 0.01, 5.0, "m", at);
+  c.ZeroOrRange(cloth, "particles_u", cloth.particles_u(), 2, 401, "particles", at);
+  c.ZeroOrRange(cloth, "particles_v", cloth.particles_v(), 2, 401, "particles", at);
+  const double height = cloth.height_m() == 0 ? 0.20 : cloth.height_m();
+  if (cloth.mounting() == v1::ClothGeometry::MOUNTING_FLAT_LEDGE) {
+    c.Range(cloth, "ledge_v_m", cloth.ledge_v_m(), 1e-3, height, "m (must lie on the cloth)", at);
+  }
+  const std::uint64_t count = std::uint64_t{cloth.particles_u() ? cloth.particles_u() : 41} *
+                              (cloth.particles_v() ? cloth.particles_v() : 41);
+  for (int i = 0; i < cloth.fixed_particles_size(); ++i) {
+    if (cloth.fixed_particles(i) >= count) {
+      c.Add(at.At(cloth, "fixed_particles", i,
+                  "fixed particle " + std::to_string(cloth.fixed_particles(i)) +
+                      " does not exist (the grid has " + std::to_string(count) + " particles)"));
+    }
+  }
+}
+
+void CheckVec(const Message& parent, const char* field, const v1::Vec3& v, double max_norm,
+              const char* unit, const FieldLocator& at, Checker& c) {
+  const double norm = std::sqrt(v.x() * v.x() + v.y() * v.y() + v.z() * v.z());
+  if (!std::isfinite(norm) || norm > max_norm) {
+    c.Add(at.At(parent, field, -1,
+                std::string(field) + " must be finite with magnitude <= " + Checker::Number(max_norm) +
+                    " " + unit));
+  }
+}
+
+void CheckLoads(const v1::Scene& scene, const FieldLocator& where, Checker& c) {
+  for (int i = 0; i < scene.loads_size(); ++i) {
+    const v1::Load& load = scene.loads(i);
+    const FieldLocator at = where.Nested(scene, "loads", i);
+    if (load.kind() == v1::Load::KIND_UNSPECIFIED) {
+      c.Add(at.Here("load needs a kind (KIND_POINT or KIND_BOTTOM_EDGE)"));
+    }
+    CheckVec(load, "force_w_n", load.force_w_n(), 100.0, "N", at, c);
+    c.Range(load, "start_s", load.start_s(), 0.0, 1e6, "s", at);
+    c.Range(load, "ramp_s", load.ramp_s(), 0.0, 1e3, "s", at);
+    if (load.end_s() != 0.0 && !(load.end_s() > load.start_s())) {
+      c.Add(at.At(load, "end_s", -1, "end_s must be after start_s (or 0: until the end)"));
+    }
+  }
+}
+
+void CheckFingers(const v1::Scene& scene, const FieldLocator& where, Checker& c) {
+  std::set<int> seen;
+  if (scene.fingers_size() > 2) {
+    c.Add(where.At(scene, "fingers", 2, "at most two fingers (thumb and index)"));
+  }
+  for (int i = 0; i < scene.fingers_size(); ++i) {
+    const v1::FingerSpec& finger = scene.fingers(i);
+    const FieldLocator at = where.Nested(scene, "fingers", i);
+    if (finger.finger() == v1::FINGER_UNSPECIFIED) {
+      c.Add(at.Here("finger needs `finger: FINGER_THUMB` or `finger: FINGER_INDEX`"));
+    } else if (!seen.insert(finger.finger()).second) {
+      c.Add(at.At(finger, "finger", -1, "this finger is listed twice"));
+    }
+    c.ZeroOrRange(finger, "radius_m", finger.radius_m(), 0.002, 0.03, "m", at);
+    c.Range(finger, "length_m", finger.length_m(), 0.0, 0.05, "m", at);
+  }
+}
+
+void CheckFriction(const v1::FrictionSpec& f, const FieldLocator& at, Checker& c) {
+  c.Range(f, "finger_fabric_mu_static", f.finger_fabric_mu_static(), 0.0, 3.0, "", at);
+  c.Range(f, "finger_fabric_mu_dynamic", f.finger_fabric_mu_dynamic(), 0.0, 3.0, "", at);
+  c.Range(f, "finger_finger_mu_static", f.finger_finger_mu_static(), 0.0, 3.0, "", at);
+  c.Range(f, "finger_finger_mu_dynamic", f.finger_finger_mu_dynamic(), 0.0, 3.0, "", at);
+  if (f.finger_fabric_mu_static() != 0 && f.finger_fabric_mu_dynamic() > f.finger_fabric_mu_static()) {
+    c.Add(at.At(f, "finger_fabric_mu_dynamic", -1, "dynamic friction must not exceed static friction"));
+  }
+  if (f.finger_finger_mu_static() != 0 && f.finger_finger_mu_dynamic() > f.finger_finger_mu_static()) {
+    c.Add(at.At(f, "finger_finger_mu_dynamic", -1, "dynamic friction must not exceed static friction"));
+  }
+}
+
+void CheckDevice(const v1::Scene& scene, const FieldLocator& where, Checker& c) {
+  const v1::DeviceSpec& d = scene.device();
+  const FieldLocator at = where.Nested(scene, "device");
+  if (scene.fingers_size() > 0 && d.kind_case() == v1::DeviceSpec::KIND_NOT_SET) {
+    c.Add(where.At(scene, "fingers", 0,
+                   "a scene with fingers needs a device: `device { mock {} }` or `device { grab { controller_address: \"host:port\" } }`"));
+  }
+  if (d.has_grab()) {
+    try {
+      net::ResolveUdpAddress(d.grab().controller_address());
+    } catch (const std::exception& e) {
+      c.Add(at.Nested(d, "grab").At(d.grab(), "controller_address", -1, e.what()));
+    }
+  }
+  if (d.has_mock()) {
+    const v1::MockUserScript& user = d.mock().user();
+    const FieldLocator u = at.Nested(d, "mock").Nested(d.mock(), "user");
+    c.ZeroOrRange(user, "speed_m_per_s", user.speed_m_per_s(), 1e-3, 1.0, "m/s", u);
+    c.ZeroOrRange(user, "squeeze_force_n", user.squeeze_force_n(), 0.05, 20.0, "N", u);
+    c.Range(user, "stretch_m", user.stretch_m(), 0.0, 0.1, "m", u);
+    c.Range(user, "rub_amplitude_m", user.rub_amplitude_m(), 0.0, 0.1, "m", u);
+    c.Range(user, "hold_s", user.hold_s(), 0.0, 60.0, "s", u);
+    if (user.kind() == v1::MockUserScript::KIND_PLAYBACK && user.playback_csv().empty()) {
+      c.Add(u.At(user, "kind", -1, "KIND_PLAYBACK needs playback_csv"));
+    }
+  }
+  c.ZeroOrRange(d, "peak_force_n", d.peak_force_n(), 0.1, 20.0, "N (the GRAB's peak)", at);
+  c.ZeroOrRange(d, "continuous_force_n", d.continuous_force_n(), 0.1, 6.0, "N (the GRAB's continuous limit)", at);
+  if (d.peak_force_n() != 0 && d.continuous_force_n() > d.peak_force_n()) {
+    c.Add(at.At(d, "continuous_force_n", -1, "continuous force must not exceed peak force"));
+  }
+  c.ZeroOrRange(d, "force_model_stale_s", d.force_model_stale_s(), 1e-4, 0.02, "s", at);
+  c.ZeroOrRange(d, "watchdog_ramp_s", d.watchdog_ramp_s(), 1e-4, 0.02, "s", at);
+  c.ZeroOrRange(d, "controller_lost_s", d.controller_lost_s(), 1e-3, 1.0, "s", at);
+}
+
+void CheckRatesAndModel(const v1::Scene& scene, const FieldLocator& where, Checker& c) {
+  const v1::Rates& r = scene.rates();
+  const FieldLocator at = where.Nested(scene, "rates");
+  c.ZeroOrRange(r, "global_hz", r.global_hz(), 1, 1000, "Hz", at);
+  c.ZeroOrRange(r, "local_hz", r.local_hz(), 100, 10000, "Hz", at);
+  c.ZeroOrRange(r, "bridge_hz", r.bridge_hz(), 100, 20000, "Hz", at);
+  c.ZeroOrRange(r, "finger_states_to_local_hz", r.finger_states_to_local_hz(), 10, 20000, "Hz", at);
+  c.ZeroOrRange(r, "finger_states_to_global_hz", r.finger_states_to_global_hz(), 1, 1000, "Hz", at);
+  c.ZeroOrRange(r, "cloth_frame_hz", r.cloth_frame_hz(), 1, 60, "Hz", at);
+  c.ZeroOrRange(r, "health_hz", r.health_hz(), 0.5, 100, "Hz", at);
+
+  const v1::ModelOptions& m = scene.model();
+  const FieldLocator mo = where.Nested(scene, "model");
+  c.ZeroOrRange(m, "global_dt_s", m.global_dt_s(), 1e-5, 0.1, "s", mo);
+  c.ZeroOrRange(m, "cg_tolerance", m.cg_tolerance(), 1e-12, 0.5, "", mo);
+  c.ZeroOrRange(m, "cg_max_iterations", m.cg_max_iterations(), 1, 100000, "", mo);
+  c.ZeroOrRange(m, "substeps", m.substeps(), 1, 10000, "", mo);
+  c.Range(m, "patch_radius_m", m.patch_radius_m(), 0.0, 0.1, "m", mo);
+  c.Range(m, "patch_refinement", m.patch_refinement(), 0, 4, "", mo);
+  c.Range(m, "air_drag_linear", m.air_drag_linear(), 0.0, 100.0, "", mo);
+  c.Range(m, "air_drag_quadratic", m.air_drag_quadratic(), 0.0, 10.0, "", mo);
+}
+
+void CheckPlacement(const v1::Scene& scene, const FieldLocator& where, Checker& c) {
+  std::set<std::string> hosts = {"local"};
+  for (int i = 0; i < scene.hosts_size(); ++i) {
+    const v1::Host& host = scene.hosts(i);
+    const FieldLocator at = where.Nested(scene, "hosts", i);
+    if (host.name().empty()) c.Add(at.Here("host needs a name"));
+    if (host.address().empty()) c.Add(at.At(host, "name", -1, "host '" + host.name() + "' needs an address"));
+    if (host.name() != "local" && !hosts.insert(host.name()).second) {
+      c.Add(at.At(host, "name", -1, "host '" + host.name() + "' is defined twice"));
+    }
+  }
+  std::set<int> services;
+  std::set<std::pair<std::string, std::uint32_t>> ports;
+  for (int i = 0; i < scene.services_size(); ++i) {
+    const v1::ServicePlacement& s = scene.services(i);
+    const FieldLocator at = where.Nested(scene, "services", i);
+    if (s.service() == v1::ServicePlacement::SERVICE_UNSPECIFIED) c.Add(at.Here("placement needs a service"));
+    if (!services.insert(s.service()).second) c.Add(at.At(s, "service", -1, "service placed twice"));
+    const std::string host = s.host().empty() ? "local" : s.host();
+    if (!hosts.count(host)) c.Add(at.At(s, "host", -1, "unknown host '" + host + "' (define it under hosts)"));
+    if (s.port() > 65535) c.Add(at.At(s, "port", -1, "port must be 0..65535"));
+    if (s.port() != 0 && !ports.insert({host, s.port()}).second) {
+      c.Add(at.At(s, "port", -1, "port " + std::to_string(s.port()) + " is used twice on host " + host));
+    }
+  }
+}
+
+void CheckSessionKey(const v1::Scene& scene, const FieldLocator& where, Checker& c) {
+  const v1::SessionKey& key = scene.session_key();
+  const FieldLocator at = where.Nested(scene, "session_key");
+  switch (key.source_case()) {
+    case v1::SessionKey::kHex:
+      try {
+        net::SessionKey::FromHex(key.hex());
+      } catch (const std::exception& e) {
+        c.Add(at.At(key, "hex", -1, e.what()));
+      }
+      break;
+    case v1::SessionKey::kEnv:
+      if (key.env().empty()) c.Add(at.At(key, "env", -1, "env needs a variable name"));
+      break;
+    case v1::SessionKey::kFile:
+      if (key.file().empty()) c.Add(at.At(key, "file", -1, "file needs a path"));
+      break;
+    default:
+      break;
+  }
+}
+
+}  // namespace
+
+std::vector<TextIssue> ValidateScene(const v1::Scene& scene, const FieldLocator& where,
+                                     const FabricDatabase& fabrics) {
+  std::vector<TextIssue> issues;
+  Checker c(&issues);
+  if (scene.name().empty()) c.Add(where.Here("scene needs a name"));
+  c.Range(scene, "duration_s", scene.duration_s(), 0.0, 7 * 24 * 3600.0, "s", where);
+
+  const FieldLocator fabric_at = where.Nested(scene, "fabric");
+  switch (scene.fabric().choice_case()) {
+    case v1::FabricChoice::kDatabaseName:
+      if (!fabrics.Contains(scene.fabric().database_name())) {
+        std::string known;
+        for (const auto& n : fabrics.Names()) known += (known.empty() ? "" : ", ") + n;
+        c.Add(fabric_at.At(scene.fabric(), "database_name", -1,
+                           "no fabric '" + scene.fabric().database_name() + "' in " +
+                               fabrics.directory() + " (known: " + known + ")"));
+      }
+      break;
+    case v1::FabricChoice::kInlineFabric:
+      for (TextIssue& issue : ValidateFabric(scene.fabric().inline_fabric(),
+                                             fabric_at.Nested(scene.fabric(), "inline_fabric"))) {
+        c.Add(std::move(issue));
+      }
+      break;
+    default:
+      c.Add(where.Here("scene needs a fabric: `fabric { database_name: \"...\" }` or `fabric { inline_fabric { ... } }`"));
+  }
+  CheckCloth(scene.cloth(), where.Nested(scene, "cloth"), c);
+  CheckLoads(scene, where, c);
+  CheckFingers(scene, where, c);
+  CheckFriction(scene.friction(), where.Nested(scene, "friction"), c);
+  CheckDevice(scene, where, c);
+  if (scene.tactile().enabled()) {
+    const FieldLocator at = where.Nested(scene, "tactile");
+    if (scene.fingers_size() == 0) c.Add(at.At(scene.tactile(), "enabled", -1, "tactile display needs fingers"));
+    c.ZeroOrRange(scene.tactile(), "display_rate_hz", scene.tactile().display_rate_hz(), 10, 5000, "Hz", at);
+  }
+  CheckRatesAndModel(scene, where, c);
+  CheckPlacement(scene, where, c);
+  CheckSessionKey(scene, where, c);
+  return issues;
+}
+
+LoadedScene ParseScene(const std::string& text, const std::string& name,
+                       const FabricDatabase& fabrics) {
+  LoadedScene loaded;
+  loaded.path = name;
+  const ParsedText parsed = ParseTextProto(text, name, &loaded.scene);
+  const FieldLocator where(parsed.locations.get(), {1, 1, ""});
+  std::vector<TextIssue> issues = ValidateScene(loaded.scene, where, fabrics);
+  if (!issues.empty()) throw TextProtoError(name, std::move(issues));
+  if (loaded.scene.fabric().has_inline_fabric()) {
+    loaded.fabric = loaded.scene.fabric().inline_fabric();
+  } else {
+    loaded.fabric = fabrics.Load(loaded.scene.fabric().database_name());
+  }
+  return loaded;
+}
+
+LoadedScene LoadScene(const std::string& path, const FabricDatabase& fabrics) {
+  std::ifstream in(path);
+  if (!in) throw TextProtoError(path, {{1, 1, "cannot open the scene file"}});
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  return ParseScene(buffer.str(), path, fabrics);
+}
+
+}  // namespace haptex::scene

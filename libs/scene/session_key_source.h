@@ -1,0 +1,13 @@
+#pragma once
+// Where a run's session key comes from (scene field session_key).
+
+#include "haptex/v1/scene.pb.h"
+#include "libs/net/session_key.h"
+
+namespace haptex::scene {
+
+/// hex: parsed; env: read from the variable; file: read from the file; generate or unset: a fresh
+/// key. Throws std::runtime_error saying which source failed and why.
+net::SessionKey ResolveSessionKey(const v1::SessionKey& source);
+
+}  // namespace haptex::scene

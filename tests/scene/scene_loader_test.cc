@@ -1,0 +1,123 @@
+#include "libs/scene/scene_loader.h"
+
+#include <gtest/gtest.h>
+
+#include "tests/scene/scene_test_support.h"
+
+namespace haptex::scene {
+namespace {
+
+class SceneLoaderTest : public ::testing::Test {
+ protected:
+  SceneLoaderTest() : db_(testing::TestDataDir() + "/fabrics") {}
+
+  // The issues of a scene that must be refused.
+  std::vector<TextIssue> Refused(const std::string& text) {
+    try {
+      ParseScene(text, "t.textproto", db_);
+    } catch (const TextProtoError& e) {
+      return e.issues();
+    }
+    ADD_FAILURE() << "accepted:\n" << text;
+    return {};
+  }
+
+  static bool Mentions(const std::vector<TextIssue>& issues, const std::string& word) {
+    for (const auto& issue : issues) {
+      if (issue.message.find(word) != std::string::npos) return true;
+    }
+    return false;
+  }
+
+  FabricDatabase db_;
+};
+
+constexpr char kMinimal[] = "name: \"hang\"\nfabric { database_name: \"test_cotton\" }\n";
+
+TEST_F(SceneLoaderTest, MinimalSceneLoadsWithItsFabric) {
+  const LoadedScene loaded = ParseScene(kMinimal, "t", db_);
+  EXPECT_EQ(loaded.scene.name(), "hang");
+  EXPECT_EQ(loaded.fabric.name(), "test_cotton");
+}
+
+TEST_F(SceneLoaderTest, InlineFabricIsUsedAsGiven) {
+  const LoadedScene loaded = ParseScene(R"(
+name: "inline"
+fabric { inline_fabric {
+  name: "mine"
+  warp_tensile { emt_percent: 5 lt: 0.7 } weft_tensile { emt_percent: 5 lt: 0.7 }
+  shear { g_gf_per_cm_deg: 1 } warp_bending { b_gfcm2_per_cm: 0.1 } weft_bending { b_gfcm2_per_cm: 0.1 }
+  thickness_mm: 0.4 weight_mg_per_cm2: 12 } }
+)", "t", db_);
+  EXPECT_EQ(loaded.fabric.name(), "mine");
+}
+
+TEST_F(SceneLoaderTest, OutOfRangeValueIsLocatedAtItsField) {
+  const auto issues = Refused("name: \"x\"\nfabric { database_name: \"test_cotton\" }\ncloth {\n    particles_u: 1\n}\n");
+  ASSERT_EQ(issues.size(), 1u);
+  EXPECT_EQ(issues[0].line, 4);
+  EXPECT_EQ(issues[0].column, 5);
+  EXPECT_NE(issues[0].message.find("particles_u must be in [2, 401]"), std::string::npos)
+      << issues[0].message;
+}
+
+TEST_F(SceneLoaderTest, EveryProblemIsReportedAtOnce) {
+  const auto issues = Refused(R"(name: "x"
+fabric { database_name: "silk" }
+rates { local_hz: 50 }
+duration_s: nan
+fingers { finger: FINGER_THUMB radius_m: 0.5 }
+fingers { finger: FINGER_THUMB }
+)");
+  EXPECT_TRUE(Mentions(issues, "no fabric 'silk'"));
+  EXPECT_TRUE(Mentions(issues, "local_hz"));
+  EXPECT_TRUE(Mentions(issues, "duration_s"));
+  EXPECT_TRUE(Mentions(issues, "radius_m"));
+  EXPECT_TRUE(Mentions(issues, "listed twice"));
+  EXPECT_TRUE(Mentions(issues, "needs a device"));
+  EXPECT_GE(issues.size(), 6u);
+}
+
+TEST_F(SceneLoaderTest, SceneWithoutFabricSaysHowToGiveOne) {
+  EXPECT_TRUE(Mentions(Refused("name: \"x\"\n"), "scene needs a fabric"));
+}
+
+TEST_F(SceneLoaderTest, BadInlineFabricIsLocatedInsideTheScene) {
+  const auto issues = Refused(R"(name: "x"
+fabric { inline_fabric {
+  name: "mine"
+  warp_tensile { emt_percent: 5 lt: 0.7 } weft_tensile { emt_percent: 5 lt: 0.7 }
+  shear { g_gf_per_cm_deg: 1 } warp_bending { b_gfcm2_per_cm: 0.1 } weft_bending { b_gfcm2_per_cm: 0.1 }
+  thickness_mm: -1 weight_mg_per_cm2: 12 } }
+)");
+  ASSERT_EQ(issues.size(), 1u);
+  EXPECT_EQ(issues[0].line, 6);
+  EXPECT_NE(issues[0].message.find("thickness_mm"), std::string::npos);
+}
+
+TEST_F(SceneLoaderTest, DeviceNetworkAndKeyProblems) {
+  const auto issues = Refused(R"(name: "x"
+fabric { database_name: "test_cotton" }
+fingers { finger: FINGER_INDEX }
+device { grab { controller_address: "10.0.0.5" } peak_force_n: 50 }
+hosts { name: "lab" address: "192.0.2.1" }
+services { service: SERVICE_GLOBAL_SIM host: "cluster" }
+services { service: SERVICE_TACTILE port: 7000 }
+services { service: SERVICE_LOCAL_CONTACT port: 7000 }
+session_key { hex: "1234" }
+friction { finger_fabric_mu_static: 0.2 finger_fabric_mu_dynamic: 0.4 }
+)");
+  EXPECT_TRUE(Mentions(issues, "has no port"));
+  EXPECT_TRUE(Mentions(issues, "peak_force_n"));
+  EXPECT_TRUE(Mentions(issues, "unknown host 'cluster'"));
+  EXPECT_TRUE(Mentions(issues, "used twice"));
+  EXPECT_TRUE(Mentions(issues, "64 hex digits"));
+  EXPECT_TRUE(Mentions(issues, "must not exceed static"));
+}
+
+TEST_F(SceneLoaderTest, MissingSceneFileIsAnError) {
+  EXPECT_THROW(LoadScene("/nonexistent.textproto", db_), TextProtoError);
+}
+
+}  // namespace
+}  // namespace haptex::scene
