@@ -46,6 +46,7 @@ bool Messenger::Transmit(std::size_t bytes, const Endpoint& to) {
     return false;
   }
   ++sent_;
+  last_sent_bytes_ = bytes;
   return true;
 }
 

@@ -2,6 +2,9 @@
 // One service's authenticated UDP link: a UdpEndpoint, an EnvelopeSealer for what it sends, an
 // EnvelopeOpener for what it receives, and fixed buffers. After warm-up neither Send nor Drain
 // allocates: received Envelopes live on an arena over a preallocated block, reset per datagram.
+//
+// Threads: one thread may send while another drains (they touch disjoint state, and the kernel
+// socket allows it); two threads must not both send or both drain.
 
 #include <chrono>
 #include <cstddef>
@@ -78,6 +81,8 @@ class Messenger final {
   const DropCounters& received() const { return opener_.counters(); }
   std::uint64_t sent() const { return sent_; }
   std::uint64_t send_failures() const { return send_failures_; }
+  /// Bytes on the wire (UDP payload) of the last datagram sent.
+  std::size_t last_sent_bytes() const { return last_sent_bytes_; }
   std::uint64_t sender_restarts() const { return opener_.senders().restarts(); }
   Endpoint local_endpoint() const { return endpoint_.local_endpoint(); }
   std::uint16_t local_port() const { return endpoint_.local_port(); }
@@ -110,6 +115,7 @@ class Messenger final {
   std::unique_ptr<google::protobuf::Arena> arena_;
   std::uint64_t sent_ = 0;
   std::uint64_t send_failures_ = 0;
+  std::size_t last_sent_bytes_ = 0;
 };
 
 /// Newest-wins gate for a state channel: accepts an Envelope only if it is newer than the last

@@ -1,0 +1,35 @@
+// haptex: the command-line front door. Each subcommand lives in its own *_command.cc.
+//
+// Exit codes: 0 success; 1 a runtime failure; 2 bad usage, scene or input; 3 a check that ran
+// and found the result unsuitable (e.g. netcheck's verdict).
+
+#include <CLI/CLI.hpp>
+
+#include <exception>
+#include <iostream>
+
+#include "cli/key_command.h"
+#include "cli/netcheck_command.h"
+#include "cli/scene_command.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"haptex: touch virtual fabrics with two fingers (see README.md)", "haptex"};
+  app.require_subcommand(1);
+  int exit_code = 0;
+  haptex::cli::AddNetcheckCommand(app, &exit_code);
+  haptex::cli::AddSceneCommand(app, &exit_code);
+  haptex::cli::AddKeyCommand(app, &exit_code);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "haptex: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "haptex: " << e.what() << "\n";
+    return 1;
+  }
+  return exit_code;
+}

@@ -1,0 +1,162 @@
+#include "cli/netcheck_command.h"
+
+#include <atomic>
+#include <chrono>
+#include <iostream>
+#include <memory>
+#include <thread>
+
+#include "cli/cli_session_key.h"
+#include "cli/netcheck_report.h"
+#include "libs/net/messenger.h"
+#include "libs/net/udp_address.h"
+#include "libs/runtime/clock.h"
+#include "libs/runtime/periodic_loop.h"
+#include "libs/runtime/shutdown_signal.h"
+
+namespace haptex::cli {
+namespace {
+
+struct ServeOptions {
+  std::string bind;
+  double seconds = 0;
+  std::string key_file;
+};
+
+struct ProbeOptions {
+  std::string to;
+  std::string bind = "0.0.0.0:0";
+  double rate_hz = 1000;
+  double seconds = 5;
+  std::size_t padding_bytes = 200;
+  int grace_ms = 500;
+  bool json = false;
+  std::string key_file;
+};
+
+void PrintDrops(const net::DropCounters& counters, std::ostream& out) {
+  for (std::size_t i = 1; i < net::kDropReasonCount; ++i) {
+    const auto reason = static_cast<net::DropReason>(i);
+    if (counters.Get(reason) != 0) out << " " << net::DropReasonName(reason) << "=" << counters.Get(reason);
+  }
+}
+
+int Serve(const ServeOptions& options) {
+  const net::SessionKey key = LoadCliSessionKey(options.key_file);
+  net::MessengerConfig config;
+  config.bind_address = options.bind;
+  config.identity = {"netcheck_serve", 0, key.DerivedSessionId()};
+  net::Messenger messenger(key, config);
+  runtime::InstallShutdownHandlers();
+  std::cout << "netcheck serve: listening on " << net::FormatUdpAddress(messenger.local_endpoint())
+            << std::endl;
+
+  v1::NetProbe reply;
+  std::uint64_t replies = 0;
+  const auto start = std::chrono::steady_clock::now();
+  auto expired = [&] {
+    return options.seconds > 0 &&
+           std::chrono::steady_clock::now() - start > std::chrono::duration<double>(options.seconds);
+  };
+  while (!runtime::ShutdownRequested() && !expired()) {
+    if (!messenger.WaitReadable(std::chrono::milliseconds(100))) continue;
+    messenger.Drain([&](const v1::Envelope& envelope, const net::Messenger::Endpoint& from) {
+      if (envelope.body_case() != v1::Envelope::kNetProbe || envelope.net_probe().is_reply()) return;
+      reply = envelope.net_probe();
+      reply.set_is_reply(true);
+      if (messenger.SendTo(from, reply)) ++replies;
+    });
+  }
+  std::cout << "netcheck serve: " << replies << " replies; accepted "
+            << messenger.received().accepted() << "; dropped";
+  PrintDrops(messenger.received(), std::cout);
+  std::cout << (messenger.received().TotalDropped() == 0 ? " none" : "") << std::endl;
+  return 0;
+}
+
+int Probe(const ProbeOptions& options) {
+  const net::SessionKey key = LoadCliSessionKey(options.key_file);
+  net::MessengerConfig config;
+  config.bind_address = options.bind;
+  config.identity = {"netcheck_probe", 0, key.DerivedSessionId()};
+  net::Messenger messenger(key, config);
+  const auto server = messenger.AddPeer("server", options.to);
+  runtime::InstallShutdownHandlers();
+
+  const auto probes = static_cast<std::uint64_t>(std::ceil(options.rate_hz * options.seconds));
+  ProbeRecorder recorder(probes);
+  std::atomic<bool> receiving{true};
+
+  // Replies are timestamped on their own thread, so the round trip is not rounded up to the
+  // send period.
+  std::thread receiver([&] {
+    while (receiving.load(std::memory_order_acquire)) {
+      if (!messenger.WaitReadable(std::chrono::milliseconds(20))) continue;
+      messenger.Drain([&](const v1::Envelope& envelope, const net::Messenger::Endpoint&) {
+        if (envelope.body_case() != v1::Envelope::kNetProbe || !envelope.net_probe().is_reply()) return;
+        const auto& probe = envelope.net_probe();
+        recorder.OnReply(probe.probe_sequence(), runtime::SteadyNowNs() - probe.probe_send_time_ns());
+      });
+    }
+  });
+
+  v1::NetProbe probe;
+  probe.set_padding(std::string(options.padding_bytes, '\0'));
+  std::uint64_t sent = 0;
+  runtime::PeriodicLoop loop("netcheck_probe", options.rate_hz);
+  loop.Run(
+      [&](const runtime::TickInfo&) {
+        probe.set_probe_sequence(sent + 1);
+        probe.set_probe_send_time_ns(runtime::SteadyNowNs());
+        messenger.Send(server, probe);
+        ++sent;
+      },
+      [&] { return sent >= probes || runtime::ShutdownRequested(); });
+
+  // Late replies still count until the grace period ends.
+  std::this_thread::sleep_for(std::chrono::milliseconds(options.grace_ms));
+  receiving.store(false, std::memory_order_release);
+  receiver.join();
+
+  NetcheckReport report;
+  report.target = options.to;
+  report.rate_hz = options.rate_hz;
+  report.seconds = static_cast<double>(sent) / options.rate_hz;
+  report.datagram_bytes = messenger.last_sent_bytes();
+  report.send_failures = messenger.send_failures();
+  report.send_overruns = loop.stats().overruns;
+  recorder.OnRejected(messenger.received().TotalDropped());
+  recorder.Summarise(sent, LinkVerdictLimits{}, &report);
+  std::cout << (options.json ? ReportToJson(report) + "\n" : ReportToText(report));
+  return report.verdict == "good" || report.verdict == "usable" ? 0 : 3;
+}
+
+}  // namespace
+
+void AddNetcheckCommand(CLI::App& app, int* exit_code) {
+  CLI::App* netcheck = app.add_subcommand(
+      "netcheck", "Measure a link for haptic use: run `serve` on one machine, `probe` on the other");
+  netcheck->require_subcommand(1);
+
+  auto serve_options = std::make_shared<ServeOptions>();
+  CLI::App* serve = netcheck->add_subcommand("serve", "Answer probes (until Ctrl-C or --seconds)");
+  serve->add_option("--bind", serve_options->bind, "host:port to listen on, e.g. 0.0.0.0:7600")->required();
+  serve->add_option("--seconds", serve_options->seconds, "stop after this long (0: until Ctrl-C)")
+      ->check(CLI::Range(0.0, 1e7));
+  serve->add_option("--key-file", serve_options->key_file, "file with the 64-hex-digit session key (default: $HAPTEX_SESSION_KEY)");
+  serve->callback([serve_options, exit_code] { *exit_code = Serve(*serve_options); });
+
+  auto probe_options = std::make_shared<ProbeOptions>();
+  CLI::App* probe = netcheck->add_subcommand("probe", "Send probes to a server and report the link");
+  probe->add_option("--to", probe_options->to, "host:port of `haptex netcheck serve`")->required();
+  probe->add_option("--bind", probe_options->bind, "local host:port")->capture_default_str();
+  probe->add_option("--rate", probe_options->rate_hz, "probes per second")->capture_default_str()->check(CLI::Range(1.0, 20000.0));
+  probe->add_option("--seconds", probe_options->seconds, "how long to probe")->capture_default_str()->check(CLI::Range(0.01, 3600.0));
+  probe->add_option("--padding", probe_options->padding_bytes, "payload bytes per probe")->capture_default_str()->check(CLI::Range(0, 60000));
+  probe->add_option("--grace-ms", probe_options->grace_ms, "wait for late replies")->capture_default_str()->check(CLI::Range(0, 60000));
+  probe->add_flag("--json", probe_options->json, "print one JSON object");
+  probe->add_option("--key-file", probe_options->key_file, "file with the 64-hex-digit session key (default: $HAPTEX_SESSION_KEY)");
+  probe->callback([probe_options, exit_code] { *exit_code = Probe(*probe_options); });
+}
+
+}  // namespace haptex::cli

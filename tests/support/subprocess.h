@@ -1,0 +1,43 @@
+#pragma once
+// Real processes for cross-process tests: start, signal, wait with a timeout, read output.
+
+#include <sys/types.h>
+
+#include <chrono>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace haptex::testing {
+
+class Subprocess final {
+ public:
+  /// Starts argv[0] with argv, the current environment plus `extra_env` ("NAME=value"), and
+  /// stdout/stderr written to files in a fresh temporary folder.
+  explicit Subprocess(std::vector<std::string> argv, std::vector<std::string> extra_env = {});
+  /// Kills the process (SIGKILL) if it still runs.
+  ~Subprocess();
+  Subprocess(const Subprocess&) = delete;
+  Subprocess& operator=(const Subprocess&) = delete;
+
+  pid_t pid() const { return pid_; }
+  void Signal(int signal_number) const;
+  /// Exit code, or 128 + signal when killed; nullopt when still running after the timeout.
+  std::optional<int> WaitFor(std::chrono::milliseconds timeout);
+  std::string Stdout() const;
+  std::string Stderr() const;
+
+ private:
+  pid_t pid_ = -1;
+  std::optional<int> exit_code_;
+  std::string stdout_path_;
+  std::string stderr_path_;
+};
+
+/// Path of a built executable, from HAPTEX_BUILD_DIR (set by ctest) and its path in the build tree.
+std::string BuiltExecutable(const std::string& relative_path);
+
+/// Contents of a file ("" when missing).
+std::string ReadFileOrEmpty(const std::string& path);
+
+}  // namespace haptex::testing
