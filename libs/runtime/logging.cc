@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "libs/runtime/protobuf_log_capture.h"
+
 namespace haptex::runtime {
 
 spdlog::level::level_enum ParseLogLevel(std::string_view name) {
@@ -37,6 +39,7 @@ std::shared_ptr<spdlog::logger> SetupLogging(const std::string& service, std::st
   logger->flush_on(spdlog::level::warn);
   spdlog::register_logger(logger);
   spdlog::set_default_logger(logger);
+  CaptureProtobufLogs();
   return logger;
 }
 

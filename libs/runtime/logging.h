@@ -19,7 +19,8 @@ namespace haptex::runtime {
 spdlog::level::level_enum ParseLogLevel(std::string_view name);
 
 /// Creates (or replaces) the logger named `service`, writing to stderr and, when log_file is not
-/// empty, to that file; makes it the default logger.
+/// empty, to that file; makes it the default logger. Also captures protobuf's own log lines into
+/// a counter (see protobuf_log_capture.h).
 std::shared_ptr<spdlog::logger> SetupLogging(const std::string& service, std::string_view level,
                                              const std::string& log_file = "");
 

@@ -46,3 +46,24 @@ TEST(LoggingTest, NamedLoggerWritesToFileAtItsLevel) {
 
 }  // namespace
 }  // namespace haptex::runtime
+
+#include "haptex/v1/control.pb.h"
+#include "libs/runtime/protobuf_log_capture.h"
+
+namespace haptex::runtime {
+namespace {
+
+TEST(ProtobufLogCaptureTest, InvalidUtf8IsCountedNotPrinted) {
+  CaptureProtobufLogs();
+  const std::uint64_t before = CapturedProtobufLogCount();
+  // Control.reason is a string field; 0xff is not UTF-8.
+  v1::Control control;
+  const std::string wire = std::string("\x1a\x02\xff\xfe", 4);
+  ::testing::internal::CaptureStderr();
+  EXPECT_FALSE(control.ParseFromString(wire));
+  EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
+  EXPECT_GT(CapturedProtobufLogCount(), before);
+}
+
+}  // namespace
+}  // namespace haptex::runtime
