@@ -39,13 +39,15 @@ std::size_t EnvelopeSealer::SealBody(const google::protobuf::MessageLite& body,
                                      int body_field_number, std::int64_t send_time_ns,
                                      std::span<std::uint8_t> out) {
   const std::size_t body_bytes = body.ByteSizeLong();
-  const std::size_t bound =
-      kDatagramMagic.size() + kHeaderBoundBytes + 6 + body_bytes + DatagramMac::kTagBytes;
+  const std::size_t bound = kDatagramOverheadBytes + kHeaderBoundBytes + 6 + body_bytes;
   if (bound > out.size() || body_bytes > kMaxUdpPayloadBytes) return 0;
 
   // The Envelope is written field by field, exactly as protobuf would serialize it with the body
   // set, so the body never has to be copied into an Envelope object.
   std::uint8_t* p = std::copy(kDatagramMagic.begin(), kDatagramMagic.end(), out.data());
+  std::uint8_t* nonce = p;
+  nonces_.Next(nonce);
+  p += DatagramMac::kNonceBytes;
   p = CodedOutputStream::WriteTagToArray(Tag(v1::Envelope::kVersionFieldNumber, kWireVarint), p);
   p = CodedOutputStream::WriteVarint32ToArray(kEnvelopeVersion, p);
   p = CodedOutputStream::WriteTagToArray(Tag(v1::Envelope::kSessionIdFieldNumber, kWireFixed64), p);
@@ -64,19 +66,21 @@ std::size_t EnvelopeSealer::SealBody(const google::protobuf::MessageLite& body,
   p = body.SerializeWithCachedSizesToArray(p);
 
   const auto signed_bytes = static_cast<std::size_t>(p - out.data());
-  mac_.Compute(std::span<const std::uint8_t>(out.data(), signed_bytes), p);
+  mac_.Compute(std::span<const std::uint8_t>(out.data(), signed_bytes), nonce, p);
   ++next_sequence_;
   return signed_bytes + DatagramMac::kTagBytes;
 }
 
-std::size_t EnvelopeSealer::SealRaw(const v1::Envelope& envelope, std::span<std::uint8_t> out) const {
+std::size_t EnvelopeSealer::SealRaw(const v1::Envelope& envelope, std::span<std::uint8_t> out) {
   const std::size_t envelope_bytes = envelope.ByteSizeLong();
-  const std::size_t total = kDatagramMagic.size() + envelope_bytes + DatagramMac::kTagBytes;
+  const std::size_t total = kDatagramOverheadBytes + envelope_bytes;
   if (total > out.size()) return 0;
   std::uint8_t* p = std::copy(kDatagramMagic.begin(), kDatagramMagic.end(), out.data());
-  p = envelope.SerializeWithCachedSizesToArray(p);
+  std::uint8_t* nonce = p;
+  nonces_.Next(nonce);
+  p = envelope.SerializeWithCachedSizesToArray(p + DatagramMac::kNonceBytes);
   const auto signed_bytes = static_cast<std::size_t>(p - out.data());
-  mac_.Compute(std::span<const std::uint8_t>(out.data(), signed_bytes), p);
+  mac_.Compute(std::span<const std::uint8_t>(out.data(), signed_bytes), nonce, p);
   return total;
 }
 
@@ -105,10 +109,11 @@ DropReason EnvelopeOpener::Classify(std::span<const std::uint8_t> datagram,
     return DropReason::kBadMagic;
   }
   const std::size_t signed_bytes = datagram.size() - DatagramMac::kTagBytes;
-  if (!mac_.Verify(datagram.first(signed_bytes), datagram.data() + signed_bytes)) {
+  if (!mac_.Verify(datagram.first(signed_bytes), datagram.data() + kDatagramMagic.size(),
+                   datagram.data() + signed_bytes)) {
     return DropReason::kBadMac;
   }
-  const auto payload = datagram.subspan(kDatagramMagic.size(), signed_bytes - kDatagramMagic.size());
+  const auto payload = datagram.subspan(kDatagramHeaderBytes, signed_bytes - kDatagramHeaderBytes);
   if (!envelope->ParseFromArray(payload.data(), static_cast<int>(payload.size()))) {
     return DropReason::kUnparsable;
   }

@@ -1,9 +1,10 @@
 #pragma once
-// Datagram framing: magic, one serialized haptex.v1.Envelope, and a MAC over both.
+// Datagram framing: magic, nonce, one serialized haptex.v1.Envelope, and a tag over all three.
 //
-//   offset 0        4 bytes   magic "HPX" + framing version 0x01
-//   offset 4        n bytes   Envelope (protobuf wire format)
-//   offset 4 + n    16 bytes  keyed BLAKE2b tag over bytes [0, 4 + n)
+//   offset 0        4 bytes   magic "HPX" + framing version 0x02
+//   offset 4        24 bytes  random nonce
+//   offset 28       n bytes   Envelope (protobuf wire format)
+//   offset 28 + n   16 bytes  XChaCha20-Poly1305 tag with bytes [0, 28 + n) as associated data
 //
 // Opening checks, in order: size, magic, MAC, parse, version, session, body, sender epoch and
 // sequence window. Only authenticated bytes are parsed. Neither side allocates per datagram once
@@ -26,9 +27,10 @@
 
 namespace haptex::net {
 
-inline constexpr std::array<std::uint8_t, 4> kDatagramMagic = {'H', 'P', 'X', 0x01};
+inline constexpr std::array<std::uint8_t, 4> kDatagramMagic = {'H', 'P', 'X', 0x02};
 inline constexpr std::uint32_t kEnvelopeVersion = 1;
-inline constexpr std::size_t kDatagramOverheadBytes = kDatagramMagic.size() + DatagramMac::kTagBytes;
+inline constexpr std::size_t kDatagramHeaderBytes = kDatagramMagic.size() + DatagramMac::kNonceBytes;
+inline constexpr std::size_t kDatagramOverheadBytes = kDatagramHeaderBytes + DatagramMac::kTagBytes;
 /// Largest payload of one IPv4 UDP datagram.
 inline constexpr std::size_t kMaxUdpPayloadBytes = 65507;
 
@@ -57,13 +59,14 @@ class EnvelopeSealer final {
 
   /// Seals an Envelope whose header fields are written by the caller, as is (tests and tools
   /// that need to forge old epochs or foreign sessions).
-  std::size_t SealRaw(const v1::Envelope& envelope, std::span<std::uint8_t> out) const;
+  std::size_t SealRaw(const v1::Envelope& envelope, std::span<std::uint8_t> out);
 
   std::uint64_t next_sequence() const { return next_sequence_; }
   const SenderIdentity& identity() const { return identity_; }
 
  private:
   DatagramMac mac_;
+  NonceSequence nonces_;
   SenderIdentity identity_;
   std::uint64_t next_sequence_ = 1;
 };

@@ -107,7 +107,7 @@ TEST_F(NetcheckTest, ServerSurvivesAFloodOfGarbageAndStillAnswers) {
   for (int i = 0; i < 5000; ++i) {
     junk.resize(rng() % 1500);
     for (auto& b : junk) b = static_cast<std::uint8_t>(rng());
-    if (i % 3 == 0 && junk.size() >= 4) junk[0] = 'H', junk[1] = 'P', junk[2] = 'X', junk[3] = 1;
+    if (i % 3 == 0 && junk.size() >= 4) junk[0] = 'H', junk[1] = 'P', junk[2] = 'X', junk[3] = 2;
     attacker.SendTo(junk, target);
     if (i % 500 == 0) std::this_thread::sleep_for(1ms);  // let the socket buffer drain
   }

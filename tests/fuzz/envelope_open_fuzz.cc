@@ -50,10 +50,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (size + haptex::net::kDatagramOverheadBytes > opener.max_datagram_bytes()) return 0;
   std::vector<std::uint8_t> authentic(haptex::net::kDatagramMagic.begin(),
                                       haptex::net::kDatagramMagic.end());
+  authentic.resize(haptex::net::kDatagramHeaderBytes);  // fixed nonce: deterministic runs
   authentic.insert(authentic.end(), data, data + size);
   authentic.resize(authentic.size() + DatagramMac::kTagBytes);
   const std::size_t signed_bytes = authentic.size() - DatagramMac::kTagBytes;
-  mac.Compute({authentic.data(), signed_bytes}, authentic.data() + signed_bytes);
+  mac.Compute({authentic.data(), signed_bytes}, authentic.data() + haptex::net::kDatagramMagic.size(),
+              authentic.data() + signed_bytes);
   arena.Reset();
   opener.Open(authentic, google::protobuf::Arena::CreateMessage<haptex::v1::Envelope>(&arena));
   return 0;

@@ -78,7 +78,7 @@ TEST_F(EnvelopeCodecTest, RoundTripKeepsHeaderAndBody) {
   EXPECT_EQ(opener_.counters().accepted(), 1u);
   // The hand-written header is exactly protobuf's own encoding of the same Envelope.
   v1::Envelope expected = envelope_;
-  EXPECT_EQ(std::vector<std::uint8_t>(datagram.begin() + 4, datagram.end() - 16),
+  EXPECT_EQ(std::vector<std::uint8_t>(datagram.begin() + kDatagramHeaderBytes, datagram.end() - 16),
             [&] { auto s = expected.SerializeAsString(); return std::vector<std::uint8_t>(s.begin(), s.end()); }());
 }
 
@@ -99,7 +99,7 @@ TEST_F(EnvelopeCodecTest, TooSmallBufferSealsNothing) {
 
 TEST_F(EnvelopeCodecTest, TruncatedDatagramsAreDropped) {
   auto datagram = SealForceModel();
-  EXPECT_EQ(Open({datagram.begin(), datagram.begin() + 10}), DropReason::kTruncated);
+  EXPECT_EQ(Open({datagram.begin(), datagram.begin() + 40}), DropReason::kTruncated);
   EXPECT_EQ(Open({}), DropReason::kTruncated);
   // Cut by one byte: the tag no longer matches.
   EXPECT_EQ(Open({datagram.begin(), datagram.end() - 1}), DropReason::kBadMac);
@@ -116,7 +116,7 @@ TEST_F(EnvelopeCodecTest, OversizedDatagramIsDropped) {
 
 TEST_F(EnvelopeCodecTest, BadMagicIsDropped) {
   auto datagram = SealForceModel();
-  datagram[3] = 0x02;  // another framing version
+  datagram[3] = 0x01;  // another framing version
   EXPECT_EQ(Open(datagram), DropReason::kBadMagic);
 }
 
@@ -130,11 +130,14 @@ TEST_F(EnvelopeCodecTest, AlteredBytesAndWrongKeyFailTheMac) {
 }
 
 TEST_F(EnvelopeCodecTest, AuthenticGarbageIsUnparsable) {
-  // Correct magic and MAC around bytes that are not an Envelope (a truncated varint).
+  // Correct magic, nonce and tag around bytes that are not an Envelope (a truncated varint).
   std::vector<std::uint8_t> datagram(kDatagramMagic.begin(), kDatagramMagic.end());
+  datagram.resize(kDatagramHeaderBytes);
+  DatagramMac::NewNonce(datagram.data() + kDatagramMagic.size());
   for (int i = 0; i < 12; ++i) datagram.push_back(0xff);
   datagram.resize(datagram.size() + DatagramMac::kTagBytes);
   DatagramMac(key_).Compute({datagram.data(), datagram.size() - DatagramMac::kTagBytes},
+                            datagram.data() + kDatagramMagic.size(),
                             datagram.data() + datagram.size() - DatagramMac::kTagBytes);
   EXPECT_EQ(Open(datagram), DropReason::kUnparsable);
 }
