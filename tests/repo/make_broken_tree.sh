@@ -1,0 +1,11 @@
+#!/usr/bin/env bash
+# Builds a small tree that breaks every rule, to prove check_repo_rules.sh can fail.
+# usage: make_broken_tree.sh DIR
+set -euo pipefail
+dir=$1
+rm -rf "$dir" && mkdir -p "$dir"/{proto,libs/textile,.ci,scripts,third_party/x}
+printf '## Quick start\n\n```\nmake\n```\n' > "$dir/README.md"
+printf '#!/bin/sh\nmake test\n' > "$dir/.ci/run"
+touch "$dir/proto/a.pb.h" "$dir/third_party/x/x.h"
+echo 'include(FetchContent)' > "$dir/CMakeLists.txt"
+echo '#include <thread>' > "$dir/libs/textile/step.cc"
