@@ -29,6 +29,9 @@ function(haptex_cc_test)
   add_executable(${ARG_NAME} ${ARG_SRCS})
   target_link_libraries(${ARG_NAME} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gtest_main GTest::gmock)
   target_include_directories(${ARG_NAME} PRIVATE ${PROJECT_SOURCE_DIR})
+  # where tests find test data and built executables (tests/support/test_paths.h)
+  target_compile_definitions(${ARG_NAME} PRIVATE
+    HAPTEX_TEST_SOURCE_DIR="${PROJECT_SOURCE_DIR}" HAPTEX_TEST_BUILD_DIR="${PROJECT_BINARY_DIR}")
   haptex_set_warnings(${ARG_NAME})
   if(NOT ARG_TIMEOUT)
     set(ARG_TIMEOUT 300)
@@ -38,8 +41,7 @@ function(haptex_cc_test)
   endif()
   gtest_discover_tests(${ARG_NAME}
     DISCOVERY_TIMEOUT 60
-    PROPERTIES TIMEOUT ${ARG_TIMEOUT} LABELS "${ARG_LABELS}"
-    ENVIRONMENT "HAPTEX_SOURCE_DIR=${PROJECT_SOURCE_DIR};HAPTEX_BUILD_DIR=${PROJECT_BINARY_DIR}")
+    PROPERTIES TIMEOUT ${ARG_TIMEOUT} LABELS "${ARG_LABELS}")
 endfunction()
 
 # haptex_benchmark(NAME name SRCS ... DEPS ...): a Google Benchmark executable (not a test).

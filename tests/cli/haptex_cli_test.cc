@@ -10,6 +10,7 @@
 #include "libs/net/session_key.h"
 #include "libs/net/udp_endpoint.h"
 #include "tests/support/subprocess.h"
+#include "tests/support/test_paths.h"
 
 namespace haptex {
 namespace {
@@ -17,7 +18,7 @@ namespace {
 using namespace std::chrono_literals;
 using testing::Subprocess;
 
-std::string Haptex() { return testing::BuiltExecutable("cli/haptex"); }
+std::string Haptex() { return testing::BuildDir() + "/cli/haptex"; }
 
 std::string KeyEnv(const net::SessionKey& key) { return "HAPTEX_SESSION_KEY=" + key.ToHex(); }
 
@@ -142,8 +143,7 @@ TEST(HaptexCliTest, BadFlagsAreRefusedWithExitCode2) {
 }
 
 TEST(HaptexCliTest, SceneCheckReportsFileLineColumn) {
-  const std::string source = std::getenv("HAPTEX_SOURCE_DIR");
-  const std::string data_env = "HAPTEX_DATA_DIR=" + source + "/tests/scene/testdata";
+  const std::string data_env = "HAPTEX_DATA_DIR=" + testing::SourceDir() + "/tests/scene/testdata";
   const std::string path = ::testing::TempDir() + "/bad_scene.textproto";
   {
     std::FILE* f = std::fopen(path.c_str(), "w");

@@ -1,14 +1,11 @@
 #pragma once
 
-#include <cstdlib>
 #include <string>
+
+#include "tests/support/test_paths.h"
 
 namespace haptex::scene::testing {
 
-/// tests/scene/testdata, found through HAPTEX_SOURCE_DIR (set by ctest).
-inline std::string TestDataDir() {
-  const char* root = std::getenv("HAPTEX_SOURCE_DIR");
-  return std::string(root ? root : ".") + "/tests/scene/testdata";
-}
+inline std::string TestDataDir() { return haptex::testing::SourceDir() + "/tests/scene/testdata"; }
 
 }  // namespace haptex::scene::testing

@@ -73,11 +73,6 @@ std::optional<int> Subprocess::WaitFor(std::chrono::milliseconds timeout) {
 std::string Subprocess::Stdout() const { return ReadFileOrEmpty(stdout_path_); }
 std::string Subprocess::Stderr() const { return ReadFileOrEmpty(stderr_path_); }
 
-std::string BuiltExecutable(const std::string& relative_path) {
-  const char* build = std::getenv("HAPTEX_BUILD_DIR");
-  return std::string(build ? build : ".") + "/" + relative_path;
-}
-
 std::string ReadFileOrEmpty(const std::string& path) {
   std::ifstream in(path);
   std::stringstream text;

@@ -34,9 +34,6 @@ class Subprocess final {
   std::string stderr_path_;
 };
 
-/// Path of a built executable, from HAPTEX_BUILD_DIR (set by ctest) and its path in the build tree.
-std::string BuiltExecutable(const std::string& relative_path);
-
 /// Contents of a file ("" when missing).
 std::string ReadFileOrEmpty(const std::string& path);
 
