@@ -1,0 +1,128 @@
+#include "services/common/service_context.h"
+
+#include <spdlog/spdlog.h>
+
+#include <cstdlib>
+#include <limits>
+#include <iostream>
+
+#include "libs/net/udp_address.h"
+#include "libs/runtime/clock.h"
+#include "libs/runtime/logging.h"
+#include "libs/runtime/shutdown_signal.h"
+#include "libs/scene/session_key_source.h"
+
+namespace haptex::services {
+namespace {
+
+net::SessionKey LoadKey(const ServiceOptions& options) {
+  v1::SessionKey source;
+  if (!options.key_file.empty()) {
+    source.set_file(options.key_file);
+  } else if (const char* env = std::getenv("HAPTEX_SESSION_KEY"); env != nullptr && *env != '\0') {
+    source.set_env("HAPTEX_SESSION_KEY");
+  } else {
+    throw std::invalid_argument("no session key: pass --key-file or set HAPTEX_SESSION_KEY");
+  }
+  try {
+    return scene::ResolveSessionKey(source);
+  } catch (const std::runtime_error& e) {
+    throw std::invalid_argument(e.what());
+  }
+}
+
+}  // namespace
+
+ServiceContext::ServiceContext(std::string name, const ServiceOptions& options)
+    : name_(std::move(name)),
+      logger_(runtime::SetupLogging(name_, options.log_level, options.log_file)),
+      health_(name_),
+      start_ns_(runtime::SteadyNowNs()),
+      stop_at_ns_(options.duration_s > 0
+                      ? start_ns_ + static_cast<std::int64_t>(options.duration_s * 1e9)
+                      : std::numeric_limits<std::int64_t>::max()) {
+  runtime::InstallShutdownHandlers();
+  flusher_ = std::make_unique<runtime::LogFlusher>(&rt_log_, logger_);
+  if (!options.scene_path.empty()) {
+    const scene::FabricDatabase fabrics(scene::FabricDatabase::DefaultDirectory());
+    scene_ = std::make_unique<scene::LoadedScene>(scene::LoadScene(options.scene_path, fabrics));
+  }
+  const net::SessionKey key = LoadKey(options);
+  net::MessengerConfig config;
+  config.bind_address = options.bind;
+  config.identity = {name_, 0, options.session_id != 0 ? options.session_id : key.DerivedSessionId()};
+  messenger_ = std::make_unique<net::Messenger>(key, config);
+  for (const std::string& text : options.peers) {
+    const auto [peer_name, address] = ParsePeer(text);
+    peers_.emplace_back(peer_name, messenger_->AddPeer(peer_name, address));
+  }
+  if (const auto launcher = FindPeer("launcher")) {
+    health_publisher_ = std::make_unique<runtime::HealthPublisher>(&health_, messenger_.get(),
+                                                                   *launcher, options.health_hz, start_ns_);
+  }
+  const int refused = runtime::ApplyRtOptions(options.rt, *logger_);
+  (void)refused;  // each refusal is logged as a warning; the service runs on
+  logger_->info("{} receiving on {}", name_, net::FormatUdpAddress(messenger_->local_endpoint()));
+}
+
+ServiceContext::~ServiceContext() = default;
+
+std::optional<net::Messenger::PeerId> ServiceContext::FindPeer(const std::string& name) const {
+  for (const auto& [peer_name, id] : peers_) {
+    if (peer_name == name) return id;
+  }
+  return std::nullopt;
+}
+
+net::Messenger::PeerId ServiceContext::RequirePeer(const std::string& name) const {
+  if (const auto id = FindPeer(name)) return *id;
+  throw std::invalid_argument(name_ + " needs --peer " + name + "=HOST:PORT");
+}
+
+void ServiceContext::Tick(std::int64_t now_ns) {
+  if (health_publisher_) health_publisher_->MaybePublish(now_ns);
+}
+
+bool ServiceContext::HandleControl(const v1::Envelope& envelope) {
+  if (envelope.body_case() != v1::Envelope::kControl) return false;
+  const v1::Control& control = envelope.control();
+  if (!control.target_service().empty() && control.target_service() != name_) return true;
+  last_command_ = control.command();
+  if (control.command() == v1::Control::COMMAND_SHUTDOWN) shutdown_commanded_ = true;
+  return true;
+}
+
+bool ServiceContext::StopRequested(std::int64_t now_ns) const {
+  return runtime::ShutdownRequested() || shutdown_commanded_ || now_ns >= stop_at_ns_;
+}
+
+int RunService(int argc, char** argv, const std::string& name, const std::string& description,
+               const std::function<void(CLI::App&)>& add_own_options,
+               const std::function<int(ServiceContext&)>& run) {
+  CLI::App app{description, "haptex-" + name};
+  ServiceOptions options;
+  AddServiceOptions(app, &options);
+  if (add_own_options) add_own_options(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;
+  }
+  try {
+    ServiceContext context(name, options);
+    const int code = run(context);
+    context.log().info("{} stopped (exit {})", name, code);
+    return code;
+  } catch (const scene::TextProtoError& e) {
+    std::cerr << "haptex-" << name << ": " << e.what() << "\n";
+    return 2;
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "haptex-" << name << ": " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "haptex-" << name << ": " << e.what() << "\n";
+    return 1;
+  }
+}
+
+}  // namespace haptex::services

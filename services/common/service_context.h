@@ -1,0 +1,78 @@
+#pragma once
+// What every service process has: its name, logger, scene, authenticated messenger with named
+// peers, Health to the launcher, Control handling and shutdown. The service's own loop stays in
+// its main(); this class holds the wiring so each service stays thin.
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "libs/net/messenger.h"
+#include "libs/runtime/health_publisher.h"
+#include "libs/runtime/health_reporter.h"
+#include "libs/runtime/rt_event_log.h"
+#include "libs/scene/scene_loader.h"
+#include "services/common/service_options.h"
+
+namespace spdlog {
+class logger;
+}
+
+namespace haptex::services {
+
+class ServiceContext final {
+ public:
+  /// Sets up logging, loads the scene, the key and the messenger, and adds the peers. Throws
+  /// std::invalid_argument (bad options) or scene::TextProtoError (bad scene).
+  ServiceContext(std::string name, const ServiceOptions& options);
+  ~ServiceContext();
+  ServiceContext(const ServiceContext&) = delete;
+  ServiceContext& operator=(const ServiceContext&) = delete;
+
+  const std::string& name() const { return name_; }
+  spdlog::logger& log() { return *logger_; }
+  runtime::RtEventLog& rt_log() { return rt_log_; }
+  net::Messenger& messenger() { return *messenger_; }
+  /// The scene, or nullptr when none was given.
+  const scene::LoadedScene* scene() const { return scene_.get(); }
+  runtime::HealthReporter& health() { return health_; }
+
+  std::optional<net::Messenger::PeerId> FindPeer(const std::string& name) const;
+  /// Throws std::invalid_argument naming the missing --peer.
+  net::Messenger::PeerId RequirePeer(const std::string& name) const;
+
+  /// Call once per loop iteration: sends Health when due (no allocation once warmed up).
+  void Tick(std::int64_t now_ns);
+  /// Handles a Control addressed to this service (or to all); returns true if it was one.
+  bool HandleControl(const v1::Envelope& envelope);
+  /// A signal arrived, a Control SHUTDOWN came, or --duration has passed.
+  bool StopRequested(std::int64_t now_ns) const;
+  /// The last Control command received for us (COMMAND_UNSPECIFIED when none).
+  v1::Control::Command last_command() const { return last_command_; }
+  std::int64_t start_ns() const { return start_ns_; }
+
+ private:
+  std::string name_;
+  std::shared_ptr<spdlog::logger> logger_;
+  runtime::RtEventLog rt_log_;
+  std::unique_ptr<runtime::LogFlusher> flusher_;
+  std::unique_ptr<scene::LoadedScene> scene_;
+  std::unique_ptr<net::Messenger> messenger_;
+  std::vector<std::pair<std::string, net::Messenger::PeerId>> peers_;
+  runtime::HealthReporter health_;
+  std::unique_ptr<runtime::HealthPublisher> health_publisher_;
+  std::int64_t start_ns_;
+  std::int64_t stop_at_ns_;
+  bool shutdown_commanded_ = false;
+  v1::Control::Command last_command_ = v1::Control::COMMAND_UNSPECIFIED;
+};
+
+/// Parses the command line (shared options plus the service's own), builds the context and runs
+/// `run`. Exit codes: run's result; 2 for bad options, scene or key; 1 for other failures.
+int RunService(int argc, char** argv, const std::string& name, const std::string& description,
+               const std::function<void(CLI::App&)>& add_own_options,
+               const std::function<int(ServiceContext&)>& run);
+
+}  // namespace haptex::services
