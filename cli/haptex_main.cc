@@ -8,9 +8,12 @@
 #include <exception>
 #include <iostream>
 
+#include "cli/fabric_command.h"
 #include "cli/key_command.h"
 #include "cli/netcheck_command.h"
 #include "cli/scene_command.h"
+#include "cli/sim_command.h"
+#include "libs/scene/text_proto.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"haptex: touch virtual fabrics with two fingers (see README.md)", "haptex"};
@@ -19,11 +22,16 @@ int main(int argc, char** argv) {
   haptex::cli::AddNetcheckCommand(app, &exit_code);
   haptex::cli::AddSceneCommand(app, &exit_code);
   haptex::cli::AddKeyCommand(app, &exit_code);
+  haptex::cli::AddFabricCommand(app, &exit_code);
+  haptex::cli::AddSimCommand(app, &exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? 0 : 2;
+  } catch (const haptex::scene::TextProtoError& e) {
+    std::cerr << e.what() << "\n";
+    return 2;
   } catch (const std::invalid_argument& e) {
     std::cerr << "haptex: " << e.what() << "\n";
     return 2;

@@ -1,6 +1,11 @@
 #include "cli/key_command.h"
 
+#include <fcntl.h>
 #include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 
 #include <fstream>
 #include <iostream>
@@ -22,11 +27,14 @@ void AddKeyCommand(CLI::App& app, int* exit_code) {
     if (out->empty()) {
       std::cout << hex << "\n";
     } else {
-      std::ofstream file(*out);
-      if (!file) throw std::runtime_error("cannot write key file " + *out);
-      file << hex << "\n";
-      file.close();
-      chmod(out->c_str(), S_IRUSR | S_IWUSR);
+      // created private: the key is never readable by others, not even for a moment
+      const int fd = open(out->c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0600);
+      if (fd < 0) throw std::runtime_error("cannot write key file " + *out + ": " + std::strerror(errno));
+      const std::string text = hex + "\n";
+      const bool ok = fchmod(fd, 0600) == 0 &&
+                      write(fd, text.data(), text.size()) == static_cast<ssize_t>(text.size());
+      close(fd);
+      if (!ok) throw std::runtime_error("cannot write key file " + *out + ": " + std::strerror(errno));
       std::cout << "wrote session key to " << *out << "\n";
     }
     *exit_code = 0;

@@ -6,6 +6,8 @@
 #include <memory>
 #include <thread>
 
+#include <unistd.h>
+
 #include "cli/cli_session_key.h"
 #include "cli/netcheck_report.h"
 #include "libs/net/messenger.h"
@@ -23,9 +25,11 @@ struct ServeOptions {
   std::string key_file;
 };
 
+constexpr std::uint64_t kMaxProbes = 10'000'000;  // 80 MB of samples
+
 struct ProbeOptions {
   std::string to;
-  std::string bind = "0.0.0.0:0";
+  std::string bind;  // empty: any local address of the target's family
   double rate_hz = 1000;
   double seconds = 5;
   std::size_t padding_bytes = 200;
@@ -75,15 +79,23 @@ int Serve(const ServeOptions& options) {
 }
 
 int Probe(const ProbeOptions& options) {
+  const auto probes = static_cast<std::uint64_t>(std::ceil(options.rate_hz * options.seconds));
+  if (probes > kMaxProbes) {
+    throw std::invalid_argument("rate x seconds = " + std::to_string(probes) + " probes; at most " +
+                                std::to_string(kMaxProbes) + " per run");
+  }
   const net::SessionKey key = LoadCliSessionKey(options.key_file);
   net::MessengerConfig config;
   config.bind_address = options.bind;
-  config.identity = {"netcheck_probe", 0, key.DerivedSessionId()};
+  if (config.bind_address.empty()) {
+    config.bind_address = net::ResolveUdpAddress(options.to).address().is_v6() ? "[::]:0" : "0.0.0.0:0";
+  }
+  // one name per run: two probes at once must not look like restarts of each other
+  config.identity = {"netcheck_probe_" + std::to_string(getpid()), 0, key.DerivedSessionId()};
   net::Messenger messenger(key, config);
   const auto server = messenger.AddPeer("server", options.to);
   runtime::InstallShutdownHandlers();
 
-  const auto probes = static_cast<std::uint64_t>(std::ceil(options.rate_hz * options.seconds));
   ProbeRecorder recorder(probes);
   std::atomic<bool> receiving{true};
 
@@ -149,10 +161,10 @@ void AddNetcheckCommand(CLI::App& app, int* exit_code) {
   auto probe_options = std::make_shared<ProbeOptions>();
   CLI::App* probe = netcheck->add_subcommand("probe", "Send probes to a server and report the link");
   probe->add_option("--to", probe_options->to, "host:port of `haptex netcheck serve`")->required();
-  probe->add_option("--bind", probe_options->bind, "local host:port")->capture_default_str();
+  probe->add_option("--bind", probe_options->bind, "local host:port (default: any, port chosen)");
   probe->add_option("--rate", probe_options->rate_hz, "probes per second")->capture_default_str()->check(CLI::Range(1.0, 20000.0));
   probe->add_option("--seconds", probe_options->seconds, "how long to probe")->capture_default_str()->check(CLI::Range(0.01, 3600.0));
-  probe->add_option("--padding", probe_options->padding_bytes, "payload bytes per probe")->capture_default_str()->check(CLI::Range(0, 60000));
+  probe->add_option("--padding", probe_options->padding_bytes, "payload bytes per probe")->capture_default_str()->check(CLI::Range(0, 59000));
   probe->add_option("--grace-ms", probe_options->grace_ms, "wait for late replies")->capture_default_str()->check(CLI::Range(0, 60000));
   probe->add_flag("--json", probe_options->json, "print one JSON object");
   probe->add_option("--key-file", probe_options->key_file, "file with the 64-hex-digit session key (default: $HAPTEX_SESSION_KEY)");

@@ -22,7 +22,9 @@ Messenger::Messenger(const SessionKey& key, MessengerConfig config)
     : endpoint_(config.bind_address),
       sealer_(key, WithEpoch(config.identity)),
       opener_(key, config.identity.session_id, config.max_datagram_bytes),
-      send_buffer_(kMaxUdpPayloadBytes),
+      // no larger than what peers with the same limit accept: a bigger message fails to seal
+      // (counted as send_failed) instead of being dropped as oversized at the other end
+      send_buffer_(config.max_datagram_bytes),
       receive_buffer_(config.max_datagram_bytes),
       arena_block_(config.arena_bytes) {
   google::protobuf::ArenaOptions options;

@@ -33,6 +33,7 @@ class Messenger final {
  public:
   using Endpoint = UdpEndpoint::Endpoint;
   using PeerId = std::size_t;
+  static constexpr std::size_t kDefaultDrainBound = 64;
 
   /// Binds the socket. Throws std::invalid_argument / std::runtime_error for a bad configuration.
   Messenger(const SessionKey& key, MessengerConfig config);
@@ -56,12 +57,12 @@ class Messenger final {
     return Transmit(bytes, to);
   }
 
-  /// Receives every waiting datagram (up to max_datagrams) and calls
+  /// Receives waiting datagrams, at most max_datagrams of them (accepted or dropped), and calls
   /// handler(const v1::Envelope&, const Endpoint& from) for each accepted one. The Envelope is
-  /// valid during the call only. Returns the number accepted.
+  /// valid during the call only. Returns the number accepted. The bound keeps a flood from
+  /// holding a hot loop: what is left waits for the next call.
   template <class Handler>
-  std::size_t Drain(Handler&& handler,
-                    std::size_t max_datagrams = std::numeric_limits<std::size_t>::max()) {
+  std::size_t Drain(Handler&& handler, std::size_t max_datagrams = kDefaultDrainBound) {
     std::size_t accepted = 0;
     Endpoint from;
     for (std::size_t i = 0; i < max_datagrams; ++i) {
@@ -78,6 +79,7 @@ class Messenger final {
   /// Blocks until a datagram waits or the timeout passes (receive-only threads).
   bool WaitReadable(std::chrono::milliseconds timeout) { return endpoint_.WaitReadable(timeout); }
 
+  /// Counters of the draining thread (read them there, or after it stopped).
   const DropCounters& received() const { return opener_.counters(); }
   std::uint64_t sent() const { return sent_; }
   std::uint64_t send_failures() const { return send_failures_; }

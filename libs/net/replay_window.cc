@@ -37,10 +37,16 @@ DropReason SenderTable::Check(std::string_view sender, std::uint64_t epoch,
   }
   if (entry == nullptr) {
     if (used_ == kMaxSenders) return DropReason::kTooManySenders;
+    // take a slot only for a datagram that passes, so bad first datagrams cannot fill the table
+    ReplayWindow fresh;
+    const DropReason reason = fresh.Check(sequence);
+    if (reason != DropReason::kNone) return reason;
     entry = &entries_[used_++];
     std::copy(sender.begin(), sender.end(), entry->name.begin());
     entry->name_length = static_cast<std::uint8_t>(sender.size());
     entry->epoch = epoch;
+    entry->window = fresh;
+    return DropReason::kNone;
   } else if (epoch < entry->epoch) {
     return DropReason::kStaleEpoch;
   } else if (epoch > entry->epoch) {

@@ -29,7 +29,7 @@ void LatencyHistogram::Record(std::int64_t value_ns) {
   ++buckets_[static_cast<std::size_t>(BucketOf(static_cast<std::uint64_t>(value)))];
   if (count_ == 0 || value < min_ns_) min_ns_ = value;
   max_ns_ = std::max(max_ns_, value);
-  sum_ns_ += value;
+  sum_ns_ += static_cast<double>(value);
   ++count_;
 }
 

@@ -21,7 +21,7 @@ class LatencyHistogram final {
   std::uint64_t count() const { return count_; }
   std::int64_t min_ns() const { return count_ ? min_ns_ : 0; }
   std::int64_t max_ns() const { return max_ns_; }
-  double mean_ns() const { return count_ ? static_cast<double>(sum_ns_) / static_cast<double>(count_) : 0.0; }
+  double mean_ns() const { return count_ ? sum_ns_ / static_cast<double>(count_) : 0.0; }
   /// Value below which a fraction q (0..1) of the samples lie; 0 when empty. Exact at the max.
   double Percentile(double q) const;
 
@@ -31,7 +31,7 @@ class LatencyHistogram final {
 
   std::array<std::uint64_t, kBucketCount> buckets_{};
   std::uint64_t count_ = 0;
-  std::int64_t sum_ns_ = 0;
+  double sum_ns_ = 0.0;  // double: huge samples must not overflow it
   std::int64_t min_ns_ = 0;
   std::int64_t max_ns_ = 0;
 };

@@ -75,9 +75,15 @@ void CheckVec(const Message& parent, const char* field, const v1::Vec3& v, doubl
 }
 
 void CheckLoads(const v1::Scene& scene, const FieldLocator& where, Checker& c) {
+  const std::uint64_t particles = std::uint64_t{scene.cloth().particles_u() ? scene.cloth().particles_u() : 41} *
+                                  (scene.cloth().particles_v() ? scene.cloth().particles_v() : 41);
   for (int i = 0; i < scene.loads_size(); ++i) {
     const v1::Load& load = scene.loads(i);
     const FieldLocator at = where.Nested(scene, "loads", i);
+    if (load.kind() == v1::Load::KIND_POINT && load.particle() >= particles) {
+      c.Add(at.At(load, "particle", -1, "particle " + std::to_string(load.particle()) +
+                                            " does not exist (the grid has " + std::to_string(particles) + ")"));
+    }
     if (load.kind() == v1::Load::KIND_UNSPECIFIED) {
       c.Add(at.Here("load needs a kind (KIND_POINT or KIND_BOTTOM_EDGE)"));
     }
@@ -267,6 +273,14 @@ std::vector<TextIssue> ValidateScene(const v1::Scene& scene, const FieldLocator&
     const FieldLocator at = where.Nested(scene, "tactile");
     if (scene.fingers_size() == 0) c.Add(at.At(scene.tactile(), "enabled", -1, "tactile display needs fingers"));
     c.ZeroOrRange(scene.tactile(), "display_rate_hz", scene.tactile().display_rate_hz(), 10, 5000, "Hz", at);
+    if (!scene.tactile().mock_display()) {
+      try {
+        net::ResolveUdpAddress(scene.tactile().display_address());
+      } catch (const std::exception& e) {
+        c.Add(at.At(scene.tactile(), "display_address", -1,
+                    std::string("a real display needs display_address (or mock_display: true): ") + e.what()));
+      }
+    }
   }
   CheckRatesAndModel(scene, where, c);
   CheckPlacement(scene, where, c);

@@ -6,6 +6,15 @@
 #include <stdexcept>
 
 namespace haptex::scene {
+namespace {
+
+std::string DescribeSource(const v1::SessionKey& source) {
+  return "session key from " + (source.has_env()    ? "environment variable " + source.env()
+                                : source.has_file() ? "file " + source.file()
+                                                    : std::string("session_key.hex"));
+}
+
+}  // namespace
 
 net::SessionKey ResolveSessionKey(const v1::SessionKey& source) {
   try {
@@ -27,11 +36,10 @@ net::SessionKey ResolveSessionKey(const v1::SessionKey& source) {
       default:
         return net::SessionKey::Generate();
     }
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(DescribeSource(source) + ": " + e.what());
   } catch (const std::exception& e) {
-    const std::string where = source.has_env()    ? "environment variable " + source.env()
-                              : source.has_file() ? "file " + source.file()
-                                                  : "session_key.hex";
-    throw std::runtime_error("session key from " + where + ": " + e.what());
+    throw std::runtime_error(DescribeSource(source) + ": " + e.what());
   }
 }
 

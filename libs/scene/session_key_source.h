@@ -7,7 +7,8 @@
 namespace haptex::scene {
 
 /// hex: parsed; env: read from the variable; file: read from the file; generate or unset: a fresh
-/// key. Throws std::runtime_error saying which source failed and why.
+/// key. Throws std::invalid_argument when the key text is malformed and std::runtime_error when
+/// the source cannot be read, each saying which source failed and why.
 net::SessionKey ResolveSessionKey(const v1::SessionKey& source);
 
 }  // namespace haptex::scene

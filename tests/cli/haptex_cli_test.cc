@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <csignal>
+#include <cstdio>
 #include <random>
 #include <regex>
 #include <thread>
@@ -32,25 +35,24 @@ double JsonNumber(const std::string& json, const std::string& key) {
   return std::stod(match[1]);
 }
 
-// Picks a free UDP port by binding port 0 and releasing it.
-int FreePort() {
-  net::UdpEndpoint probe("127.0.0.1:0");
-  return probe.local_port();
-}
-
 class NetcheckTest : public ::testing::Test {
  protected:
   void StartServer(const net::SessionKey& key) {
-    port_ = FreePort();
+    // port 0: the server picks a free port and tells us (parallel tests never collide)
     server_ = std::make_unique<Subprocess>(
-        std::vector<std::string>{Haptex(), "netcheck", "serve", "--bind",
-                                 "127.0.0.1:" + std::to_string(port_), "--seconds", "60"},
+        std::vector<std::string>{Haptex(), "netcheck", "serve", "--bind", "127.0.0.1:0", "--seconds", "60"},
         std::vector<std::string>{KeyEnv(key)});
-    // wait until it listens
-    for (int i = 0; i < 200 && server_->Stdout().find("listening") == std::string::npos; ++i) {
+    std::smatch match;
+    const std::regex listening("listening on 127\\.0\\.0\\.1:([0-9]+)");
+    for (int i = 0; i < 500; ++i) {
+      const std::string out = server_->Stdout();
+      if (std::regex_search(out, match, listening)) {
+        port_ = std::stoi(match[1]);
+        return;
+      }
       std::this_thread::sleep_for(10ms);
     }
-    ASSERT_NE(server_->Stdout().find("listening"), std::string::npos) << server_->Stderr();
+    FAIL() << "server did not start: " << server_->Stderr();
   }
   std::string Address() const { return "127.0.0.1:" + std::to_string(port_); }
 
@@ -158,9 +160,33 @@ TEST(HaptexCliTest, SceneCheckReportsFileLineColumn) {
 
 TEST(HaptexCliTest, KeyGenerateWritesAPrivateKeyFile) {
   const std::string path = ::testing::TempDir() + "/haptex_generated.key";
+  std::remove(path.c_str());
   Subprocess generate({Haptex(), "key", "generate", "--out", path});
   ASSERT_EQ(generate.WaitFor(10s), 0);
   EXPECT_NO_THROW(net::SessionKey::FromHex(testing::ReadFileOrEmpty(path)));
+  struct stat st {};
+  ASSERT_EQ(stat(path.c_str(), &st), 0);
+  EXPECT_EQ(st.st_mode & 0777, 0600u);
+}
+
+TEST(HaptexCliTest, MalformedKeyIsBadInput) {
+  Subprocess probe({Haptex(), "netcheck", "probe", "--to", "127.0.0.1:9"}, {"HAPTEX_SESSION_KEY=abc"});
+  EXPECT_EQ(probe.WaitFor(10s), 2);
+  EXPECT_NE(probe.Stderr().find("environment variable HAPTEX_SESSION_KEY"), std::string::npos) << probe.Stderr();
+}
+
+TEST_F(NetcheckTest, TwoProbesAtOnceDoNotDisturbEachOther) {
+  StartServer(key_);
+  std::vector<std::string> argv = {Haptex(), "netcheck", "probe", "--to", Address(), "--rate", "300",
+                                   "--seconds", "1", "--json"};
+  Subprocess first(argv, {KeyEnv(key_)});
+  Subprocess second(argv, {KeyEnv(key_)});
+  ASSERT_EQ(first.WaitFor(30s), 0) << first.Stdout();
+  ASSERT_EQ(second.WaitFor(30s), 0) << second.Stdout();
+  EXPECT_EQ(JsonNumber(first.Stdout(), "lost"), 0);
+  EXPECT_EQ(JsonNumber(second.Stdout(), "lost"), 0);
+  EXPECT_EQ(StopServer(), 0);
+  EXPECT_NE(server_->Stdout().find("600 replies"), std::string::npos) << server_->Stdout();
 }
 
 }  // namespace

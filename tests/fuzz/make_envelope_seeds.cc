@@ -1,5 +1,5 @@
 // Writes a seed corpus for the envelope fuzz target: one serialized Envelope (the part inside
-// the framing) per body type, plus framed datagrams.
+// the framing) per body type. The target frames and signs each input itself.
 //
 // usage: make_envelope_seeds OUT_DIR
 

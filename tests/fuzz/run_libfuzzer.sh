@@ -12,7 +12,8 @@ out=$build/fuzz-libfuzzer
 mkdir -p "$out/corpus"
 cp -n "$build"/tests/fuzz/seeds/* "$out/corpus/" 2>/dev/null || true
 sources=("$src"/tests/fuzz/envelope_open_fuzz.cc "$src"/libs/net/{drop_reason,sodium_init,session_key,datagram_mac,replay_window,envelope_codec}.cc "$build"/proto/haptex/v1/*.pb.cc)
-if [[ ! -x "$out/envelope_open_fuzz" ]] || [[ -n "$(find "${sources[@]}" -newer "$out/envelope_open_fuzz" 2>/dev/null | head -1)" ]]; then
+inputs=("${sources[@]}" "$src"/libs/net/*.h "$build"/proto/haptex/v1/*.pb.h)
+if [[ ! -x "$out/envelope_open_fuzz" ]] || [[ -n "$(find "${inputs[@]}" -newer "$out/envelope_open_fuzz" 2>/dev/null | head -1)" ]]; then
   if ! echo 'extern "C" int LLVMFuzzerTestOneInput(const unsigned char*, unsigned long){return 0;}' \
       | "$clang" -x c++ -fsanitize=fuzzer - -o "$out/probe" 2>/dev/null; then
     echo "clang has no libFuzzer runtime: libFuzzer run skipped"; exit 77

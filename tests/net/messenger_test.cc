@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
 #include <thread>
 #include <vector>
@@ -124,6 +125,61 @@ TEST_F(MessengerTest, TooLargeBodyFailsToSendAndIsCounted) {
   probe.set_padding(std::string(70000, 'x'));
   EXPECT_FALSE(bridge_.Send(to_contact_, probe));
   EXPECT_EQ(bridge_.send_failures(), 1u);
+}
+
+TEST_F(MessengerTest, DrainStopsAtItsBoundAndLeavesTheRestForLater) {
+  for (std::uint64_t i = 1; i <= 150; ++i) {
+    states_.set_controller_sequence(i);
+    ASSERT_TRUE(bridge_.Send(to_contact_, states_));
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));  // all delivered on loopback
+  auto ignore = [](const v1::Envelope&, const Messenger::Endpoint&) {};
+  EXPECT_EQ(contact_.Drain(ignore, 64), 64u);
+  EXPECT_EQ(contact_.Drain(ignore), Messenger::kDefaultDrainBound);
+  EXPECT_EQ(contact_.Drain(ignore, 64), 150u - 64u - Messenger::kDefaultDrainBound);
+  EXPECT_EQ(contact_.Drain(ignore, 64), 0u);
+}
+
+TEST_F(MessengerTest, OneThreadSendsWhileAnotherDrains) {
+  // The probe pattern: a sender thread and a receiver thread on one Messenger.
+  constexpr std::uint64_t kMessages = 2000;
+  std::atomic<bool> done{false};
+  std::uint64_t echoed = 0;
+  std::thread drainer([&] {
+    while (!done.load()) {
+      bridge_.WaitReadable(std::chrono::milliseconds(5));
+      bridge_.Drain([&](const v1::Envelope& e, const Messenger::Endpoint&) {
+        if (e.body_case() == v1::Envelope::kForceModel) ++echoed;
+      });
+    }
+  });
+  v1::ForceModel force;
+  std::thread echo([&] {  // the far end answers each state with a force model
+    std::uint64_t answered = 0;
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (answered < kMessages && std::chrono::steady_clock::now() < until) {
+      contact_.WaitReadable(std::chrono::milliseconds(5));
+      contact_.Drain([&](const v1::Envelope&, const Messenger::Endpoint&) {
+        contact_.Send(to_bridge_, force);
+        ++answered;
+      });
+    }
+  });
+  for (std::uint64_t i = 1; i <= kMessages; ++i) {
+    states_.set_controller_sequence(i);
+    ASSERT_TRUE(bridge_.Send(to_contact_, states_));
+    if (i % 100 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  echo.join();
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (bridge_.received().accepted() < kMessages && std::chrono::steady_clock::now() < until) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  done.store(true);
+  drainer.join();
+  EXPECT_EQ(echoed, kMessages);
+  EXPECT_EQ(bridge_.sent(), kMessages);
+  EXPECT_EQ(bridge_.received().TotalDropped(), 0u);
 }
 
 TEST_F(MessengerTest, WarmedUpSendAndDrainOfMixedBodiesDoNotAllocate) {

@@ -48,6 +48,14 @@ TEST(SenderTableTest, RestartWithLaterEpochResetsAndEarlierEpochIsStale) {
   EXPECT_EQ(table.Check("bridge", 200, 2), DropReason::kNone);
 }
 
+TEST(SenderTableTest, BadFirstDatagramTakesNoSlot) {
+  SenderTable table;
+  EXPECT_EQ(table.Check("newcomer", 5, 0), DropReason::kStale);
+  EXPECT_EQ(table.size(), 0u);
+  EXPECT_EQ(table.Check("newcomer", 5, 1), DropReason::kNone);
+  EXPECT_EQ(table.size(), 1u);
+}
+
 TEST(SenderTableTest, MissingIdentityAndFullTable) {
   SenderTable table;
   EXPECT_EQ(table.Check("", 1, 1), DropReason::kMissingSender);

@@ -115,6 +115,19 @@ friction { finger_fabric_mu_static: 0.2 finger_fabric_mu_dynamic: 0.4 }
   EXPECT_TRUE(Mentions(issues, "must not exceed static"));
 }
 
+TEST_F(SceneLoaderTest, LoadsAndDisplaysMustExist) {
+  const auto issues = Refused(R"(name: "x"
+fabric { database_name: "test_cotton" }
+cloth { particles_u: 3 particles_v: 3 }
+loads { kind: KIND_POINT particle: 9 }
+fingers { finger: FINGER_INDEX }
+device { mock {} }
+tactile { enabled: true }
+)");
+  EXPECT_TRUE(Mentions(issues, "particle 9 does not exist (the grid has 9)"));
+  EXPECT_TRUE(Mentions(issues, "display_address"));
+}
+
 TEST_F(SceneLoaderTest, MissingSceneFileIsAnError) {
   EXPECT_THROW(LoadScene("/nonexistent.textproto", db_), TextProtoError);
 }

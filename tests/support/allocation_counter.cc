@@ -6,8 +6,6 @@
 namespace {
 // Thread-local so that other threads (loggers, receivers) do not disturb a measurement.
 thread_local std::int64_t t_allocations = 0;
-
-void CountOne() { ++t_allocations; }
 }  // namespace
 
 namespace haptex::testing {
@@ -27,6 +25,10 @@ std::int64_t AllocationCounter::count() const { return t_allocations - start_; }
 }  // namespace haptex::testing
 
 #if !defined(HAPTEX_SANITIZED) && !defined(__SANITIZE_ADDRESS__)
+namespace {
+void CountOne() { ++t_allocations; }
+}  // namespace
+
 // glibc's own entry points, so that the interposed malloc family can forward to them.
 extern "C" {
 void* __libc_malloc(std::size_t size);

@@ -22,8 +22,15 @@ Subprocess::Subprocess(std::vector<std::string> argv, std::vector<std::string> e
   stdout_path_ = std::string(dir) + "/stdout";
   stderr_path_ = std::string(dir) + "/stderr";
 
+  // extra variables replace inherited ones of the same name (getenv returns the first match)
   std::vector<std::string> env;
-  for (char** e = environ; *e != nullptr; ++e) env.emplace_back(*e);
+  for (char** e = environ; *e != nullptr; ++e) {
+    const std::string entry(*e);
+    const std::string name = entry.substr(0, entry.find('='));
+    bool overridden = false;
+    for (const auto& extra : extra_env) overridden |= extra.substr(0, extra.find('=')) == name;
+    if (!overridden) env.push_back(entry);
+  }
   for (auto& extra : extra_env) env.push_back(std::move(extra));
   std::vector<char*> argv_c, env_c;
   for (auto& a : argv) argv_c.push_back(a.data());

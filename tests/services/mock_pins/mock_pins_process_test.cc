@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <csignal>
 #include <regex>
 #include <thread>
@@ -30,7 +32,10 @@ class MockPinsProcessTest : public ::testing::Test {
   }
 
   void Start(std::vector<std::string> extra = {}) {
-    csv_ = ::testing::TempDir() + "/mock_pins_test.csv";
+    // ctest runs each case as its own process, in parallel: one file per case
+    csv_ = ::testing::TempDir() + "/mock_pins_" +
+           ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
+           std::to_string(getpid()) + ".csv";
     std::vector<std::string> argv = {haptex::testing::BuildDir() + "/services/mock_pins/haptex-mock-pins",
                                      "--bind", "127.0.0.1:0", "--session-id", std::to_string(kSession),
                                      "--peer", "launcher=" + net::FormatUdpAddress(launcher_->local_endpoint()),
