@@ -28,8 +28,13 @@ int List() {
     try {
       const v1::Fabric f = db.Load(name);
       std::ostringstream emt, b;
-      emt << std::fixed << std::setprecision(1) << f.warp_tensile().emt_percent() << "/"
-          << f.weft_tensile().emt_percent();
+      // sources with a digitized tensile curve have no EMT
+      if (f.warp_tensile().loading_curve_size() > 0) {
+        emt << "curve";
+      } else {
+        emt << std::fixed << std::setprecision(1) << f.warp_tensile().emt_percent() << "/"
+            << f.weft_tensile().emt_percent();
+      }
       b << std::fixed << std::setprecision(1) << f.warp_bending().b_gfcm2_per_cm() * textile::kGfCm2PerCmToNm * 1e6
         << "/" << f.weft_bending().b_gfcm2_per_cm() * textile::kGfCm2PerCmToNm * 1e6;
       std::cout << std::left << std::setw(34) << name << std::right << std::setw(8) << std::fixed

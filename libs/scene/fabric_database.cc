@@ -62,7 +62,12 @@ std::vector<TextIssue> ValidateFabric(const v1::Fabric& fabric, const FieldLocat
     RequireRange(bending, "b_gfcm2_per_cm", bending.b_gfcm2_per_cm(), 0.0, 100.0, "gf cm^2/cm",
                  where.Nested(fabric, direction), &issues);
   }
-  RequireRange(fabric, "thickness_mm", fabric.thickness_mm(), 0.0, 20.0, "mm", where, &issues);
+  // thickness 0: the source does not give it (contact uses a default offset)
+  if (!std::isfinite(fabric.thickness_mm()) || fabric.thickness_mm() < 0.0 || fabric.thickness_mm() > 20.0) {
+    issues.push_back(where.At(fabric, "thickness_mm", -1,
+                              "thickness_mm must be in [0, 20] mm (0: not given), got " +
+                                  std::to_string(fabric.thickness_mm())));
+  }
   RequireRange(fabric, "weight_mg_per_cm2", fabric.weight_mg_per_cm2(), 0.0, 200.0, "mg/cm^2",
                where, &issues);
   if (fabric.has_finger_friction()) {

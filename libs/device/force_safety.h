@@ -1,0 +1,89 @@
+#pragma once
+// The last stage before the device: watchdog and start-up ramps, peak and continuous force
+// limits, slew limit, NaN guard. One instance per manipulator.
+
+#include <Eigen/Core>
+#include <cstdint>
+
+namespace haptex::device {
+
+/// What the GRAB hardware can do (paper section 3.1); configs may only be stricter.
+inline constexpr double kDevicePeakForce_N = 20.0;
+inline constexpr double kDeviceContinuousForce_N = 6.0;
+/// The force reaches zero at most this long after the last fresh ForceModel.
+inline constexpr double kMaxForceModelSilence_s = 0.020;
+
+/// Limits of the safety stage. Validate() throws std::invalid_argument with a clear message.
+struct ForceSafetyConfig {
+  double peak_force_N = 20.0;        ///< |F| never exceeds this (direction kept)
+  /// RMS |F| over the window below never exceeds this (i^2 t style thermal limit). The allowed
+  /// magnitude is peak when cold and falls linearly to this as the mean square approaches its square.
+  double continuous_force_N = 6.0;
+  /// Time constant of the exponentially weighted mean of |F|^2 used for the continuous limit.
+  double continuous_window_s = 1.0;
+  double slew_N_per_tick = 0.5;      ///< max |F(k) - F(k-1)| per Step (2.5 kN/s at 5 kHz)
+  double stale_after_s = 0.010;      ///< a ForceModel is fresh for min(ttl, this) after arrival
+  double stale_ramp_s = 0.010;       ///< then the force ramps linearly to zero over this
+  double startup_ramp_s = 0.5;       ///< force scales in linearly over this after (re)arming
+
+  void Validate() const;
+};
+
+/// Inputs of one safety step.
+struct SafetyInput {
+  Eigen::Vector3d requested_W_N{Eigen::Vector3d::Zero()};  ///< evaluated ForceModel (may be NaN)
+  double model_age_s = 0.0;    ///< now minus arrival of the model; +inf if there is none
+  double model_ttl_s = 0.0;    ///< the model's own ttl
+  bool output_allowed = false; ///< device present, calibrated, not shut down
+};
+
+/// Result of one safety step.
+struct SafetyOutput {
+  Eigen::Vector3d force_W_N{Eigen::Vector3d::Zero()};
+  bool limited = false;  ///< peak, continuous or slew limit changed the force
+  bool ramping = false;  ///< start-up or watchdog ramp below full scale
+};
+
+/// Counters of everything the stage changed (one count per Step in which it happened).
+struct SafetyCounters {
+  std::uint64_t steps = 0;
+  std::uint64_t non_finite = 0;          ///< NaN/Inf request replaced by zero
+  std::uint64_t peak_limited = 0;
+  std::uint64_t continuous_limited = 0;
+  std::uint64_t slew_limited = 0;
+  std::uint64_t stale_steps = 0;         ///< model older than its freshness limit
+  std::uint64_t watchdog_zero_steps = 0; ///< force held at zero by the watchdog
+};
+
+/// Per-manipulator safety stage. Order: NaN -> ramps (watchdog x start-up) -> peak and continuous
+/// clamp -> slew -> final envelope. The envelope is a magnitude cap applied after the slew limit,
+/// so zero force is reached on time whatever the slew limit: safety wins over smoothness.
+class ForceSafety {
+ public:
+  /// @throws std::invalid_argument if `config` is invalid.
+  explicit ForceSafety(const ForceSafetyConfig& config);
+
+  /// One tick: `dt_s` is the time since the previous Step (used by the continuous limit and the
+  /// start-up ramp; the slew limit is per Step).
+  SafetyOutput Step(const SafetyInput& input, double dt_s);
+
+  /// Back to the just-constructed state (zero force, unarmed, empty continuous average).
+  void Reset();
+
+  const ForceSafetyConfig& config() const { return config_; }
+  const SafetyCounters& counters() const { return counters_; }
+  /// Current estimate of the RMS force over the continuous window [N].
+  double rms_force_N() const;
+  const Eigen::Vector3d& last_force_W_N() const { return previous_W_N_; }
+
+ private:
+  double WatchdogGain(const SafetyInput& input) const;
+
+  ForceSafetyConfig config_;
+  SafetyCounters counters_;
+  Eigen::Vector3d previous_W_N_{Eigen::Vector3d::Zero()};
+  double mean_square_N2_ = 0.0;
+  double armed_s_ = 0.0;
+};
+
+}  // namespace haptex::device

@@ -1,0 +1,59 @@
+#pragma once
+// Scripted "artificial user" for the mock GRAB controller: where each fingertip wants to be over
+// time. The mock pulls the fingers toward these targets; the rendered force pushes back.
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "libs/device/grab_protocol.h"
+#include "libs/device/trajectory_csv.h"
+
+namespace haptex::device {
+
+enum class ScriptKind : std::uint8_t {
+  kIdle,              ///< both fingers rest in front of / behind the fabric
+  kApproachAndTouch,  ///< one finger moves to the fabric and presses lightly
+  kGraspAndSqueeze,   ///< both fingers close on the fabric and squeeze it
+  kPinchAndStretch,   ///< grasp, then move both fingers along stretch_D_m
+  kRub,               ///< grasp, then the thumb slides back and forth while squeezing
+  kLift,              ///< grasp, then lift both fingers
+  kPlayback,          ///< follow a recorded trajectory (ScriptParams::trajectory)
+};
+
+/// Script parameters, filled by the scene. Geometry in the device workspace frame D
+/// (docs/grab-protocol.md). Validate() throws std::invalid_argument with a clear message.
+struct ScriptParams {
+  ScriptKind kind = ScriptKind::kIdle;
+  Eigen::Vector3d fabric_point_D_m{Eigen::Vector3d::Zero()};  ///< where the fingers meet the fabric
+  /// Unit normal of the fabric, from the thumb's (front) side to the index's (back) side.
+  Eigen::Vector3d fabric_normal_D{0.0, 1.0, 0.0};
+  double rest_gap_m = 0.030;          ///< each finger's distance from the fabric at rest
+  double approach_duration_s = 1.0;   ///< rest -> touching the fabric
+  double press_duration_s = 0.3;      ///< touching -> pressed by press_depth_m
+  double press_depth_m = 0.004;       ///< target beyond the fabric plane (how hard the user presses)
+  Manipulator touch_finger = Manipulator::kThumb;  ///< which finger kApproachAndTouch uses
+  Eigen::Vector3d stretch_D_m{0.020, 0.0, 0.0};    ///< kPinchAndStretch displacement
+  double stretch_duration_s = 1.0;
+  Eigen::Vector3d rub_direction_D{1.0, 0.0, 0.0};  ///< kRub slide direction (unit, in the fabric)
+  double rub_amplitude_m = 0.005;
+  double rub_frequency_Hz = 2.0;
+  double lift_height_m = 0.030;       ///< kLift, along +z of D
+  double lift_duration_s = 1.0;
+  std::vector<TrajectorySample> trajectory;  ///< kPlayback samples (strictly increasing t_s)
+
+  void Validate() const;
+};
+
+/// Target position and velocity of each finger (index by Manipulator), frame D.
+struct FingerTargets {
+  std::array<Eigen::Vector3d, kManipulatorCount> p_D_m{};
+  std::array<Eigen::Vector3d, kManipulatorCount> v_D_m_per_s{};
+};
+
+/// Targets at script time `t_s` (t_s < 0 is treated as 0; after the script ends the last pose is
+/// held). No allocation. @pre params.Validate() passed.
+FingerTargets EvaluateScript(const ScriptParams& params, double t_s);
+
+}  // namespace haptex::device

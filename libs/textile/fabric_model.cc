@@ -1,0 +1,127 @@
+#include "libs/textile/fabric_model.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include <Eigen/Dense>
+
+namespace haptex::textile {
+namespace {
+
+void RequireNonNegative(const char* name, double value) {
+  if (!std::isfinite(value) || value < 0.0) {
+    throw std::invalid_argument(std::string("ModelOptions.") + name + " must be finite and >= 0 (got " +
+                                std::to_string(value) + ")");
+  }
+}
+
+void ValidateInputs(const FabricMaterial& m, const ModelOptions& o) {
+  RequireNonNegative("damping.stretch_s", o.damping.stretch_s);
+  RequireNonNegative("damping.shear_s", o.damping.shear_s);
+  RequireNonNegative("damping.bend_s", o.damping.bend_s);
+  RequireNonNegative("drag.linear_N_s_per_m3", o.drag.linear_N_s_per_m3);
+  RequireNonNegative("drag.quadratic_coefficient", o.drag.quadratic_coefficient);
+  RequireNonNegative("drag.air_density_kg_per_m3", o.drag.air_density_kg_per_m3);
+  if (!o.gravity_m_per_s2.allFinite()) {
+    throw std::invalid_argument("ModelOptions.gravity_m_per_s2 must be finite");
+  }
+  if (!(std::isfinite(m.density_kg_per_m2) && m.density_kg_per_m2 > 0.0)) {
+    throw std::invalid_argument("FabricMaterial.density_kg_per_m2 must be finite and > 0");
+  }
+  if (!(std::isfinite(m.bending_warp_Nm) && m.bending_warp_Nm >= 0.0 &&
+        std::isfinite(m.bending_weft_Nm) && m.bending_weft_Nm >= 0.0)) {
+    throw std::invalid_argument("FabricMaterial.bending_*_Nm must be finite and >= 0");
+  }
+  if (m.tensile_warp.loading().empty() || m.tensile_weft.loading().empty() ||
+      m.shear.loading().empty()) {
+    throw std::invalid_argument("FabricMaterial: tensile and shear curves must be set");
+  }
+}
+
+std::array<int, 9> Slots(const BlockPattern& pattern, const std::array<int, 3>& p) {
+  std::array<int, 9> s{};
+  for (int k = 0; k < 3; ++k) {
+    for (int l = 0; l < 3; ++l) {
+      s[static_cast<std::size_t>(k * 3 + l)] =
+          pattern.Slot(p[static_cast<std::size_t>(k)], p[static_cast<std::size_t>(l)]);
+    }
+  }
+  return s;
+}
+
+}  // namespace
+
+FabricModel BuildFabricModel(const FabricMaterial& material, const GridSpec& grid,
+                             const ModelOptions& options) {
+  ValidateInputs(material, options);
+  FabricModel model{GridMesh(grid), material, options, 0, {}, {}, {}, {}, {}, {}, {}};
+  const GridMesh& mesh = model.mesh;
+  const int n = mesh.num_particles();
+  model.num_particles = n;
+  model.mass_kg = Eigen::VectorXd::Zero(n);
+  model.area_m2 = Eigen::VectorXd::Zero(n);
+
+  // Triangles: constant weights mapping positions to warp/weft vectors.
+  for (const auto& t : mesh.triangles()) {
+    const Eigen::Vector2d& q0 = mesh.rest_uv_m(t[0]);
+    const Eigen::Vector2d& q1 = mesh.rest_uv_m(t[1]);
+    const Eigen::Vector2d& q2 = mesh.rest_uv_m(t[2]);
+    Eigen::Matrix2d d;
+    d << q1.x() - q0.x(), q2.x() - q0.x(), q1.y() - q0.y(), q2.y() - q0.y();
+    const Eigen::Matrix2d inv = d.inverse();
+    TriangleElement e;
+    e.p = t;
+    e.a = {-inv(0, 0) - inv(1, 0), inv(0, 0), inv(1, 0)};
+    e.b = {-inv(0, 1) - inv(1, 1), inv(0, 1), inv(1, 1)};
+    e.area_m2 = 0.5 * std::abs(d.determinant());
+    for (int k : t) model.area_m2[k] += e.area_m2 / 3.0;
+    model.triangles.push_back(e);
+  }
+  model.mass_kg = model.area_m2 * material.density_kg_per_m2;
+
+  // Bending triplets along warp lines (curvature along u) and weft lines (curvature along v).
+  const int nu = mesh.particles_warp(), nv = mesh.particles_weft();
+  const double du = grid.length_warp_m / (nu - 1), dv = grid.width_weft_m / (nv - 1);
+  auto add_line = [&](int p0, int p1, int p2, double l0, double l1, double width, double b) {
+    BendElement e;
+    e.p = {p0, p1, p2};
+    e.alpha = {1.0 / l0, -(1.0 / l0 + 1.0 / l1), 1.0 / l1};
+    e.lambda_N_per_m = 2.0 * b * width / (l0 + l1);
+    model.bends.push_back(e);
+  };
+  for (int j = 0; j < nv; ++j) {
+    const double w = (j == 0 || j == nv - 1) ? 0.5 * dv : dv;
+    for (int i = 1; i + 1 < nu; ++i) {
+      add_line(mesh.Index(i - 1, j), mesh.Index(i, j), mesh.Index(i + 1, j), du, du, w,
+               material.bending_warp_Nm);
+    }
+  }
+  for (int i = 0; i < nu; ++i) {
+    const double w = (i == 0 || i == nu - 1) ? 0.5 * du : du;
+    for (int j = 1; j + 1 < nv; ++j) {
+      add_line(mesh.Index(i, j - 1), mesh.Index(i, j), mesh.Index(i, j + 1), dv, dv, w,
+               material.bending_weft_Nm);
+    }
+  }
+
+  // Matrix pattern: every particle pair coupled by an element.
+  std::vector<std::pair<int, int>> pairs;
+  for (const auto& e : model.triangles) {
+    pairs.emplace_back(e.p[0], e.p[1]);
+    pairs.emplace_back(e.p[1], e.p[2]);
+    pairs.emplace_back(e.p[0], e.p[2]);
+  }
+  for (const auto& e : model.bends) {
+    pairs.emplace_back(e.p[0], e.p[1]);
+    pairs.emplace_back(e.p[1], e.p[2]);
+    pairs.emplace_back(e.p[0], e.p[2]);
+  }
+  model.pattern = BlockPattern::FromPairs(n, pairs);
+  for (const auto& e : model.triangles) model.triangle_slots.push_back(Slots(model.pattern, e.p));
+  for (const auto& e : model.bends) model.bend_slots.push_back(Slots(model.pattern, e.p));
+  return model;
+}
+
+}  // namespace haptex::textile

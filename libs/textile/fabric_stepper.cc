@@ -1,0 +1,74 @@
+#include "libs/textile/fabric_stepper.h"
+
+#include <cmath>
+
+#include "libs/textile/check.h"
+#include "libs/textile/symplectic_euler.h"
+
+namespace haptex::textile {
+
+const char* ToString(StepStatus status) {
+  switch (status) {
+    case StepStatus::kOk: return "ok";
+    case StepStatus::kCgNotConverged: return "cg_not_converged";
+    case StepStatus::kSpeedCapped: return "speed_capped";
+    case StepStatus::kNanRecovered: return "nan_recovered";
+  }
+  return "unknown";
+}
+
+FabricStepper::FabricStepper(const FabricModel& model, const StepOptions& options)
+    : model_(model), options_(options), ws_(model) {
+  ValidateStepOptions(options_);
+  if (options_.method == Integrator::kSymplecticEuler) {
+    substeps_ = SymplecticSubsteps(model_, options_);
+  }
+}
+
+StepResult FabricStepper::Step(FabricState* state) {
+  HAPTEX_TEXTILE_DEMAND(state->num_particles() == model_.num_particles);
+  StepResult result;
+  ws_.x_backup = state->x_W_m;
+  ws_.v_backup = state->v_W_m_per_s;
+  const double t0 = state->time_s;
+  if (options_.method == Integrator::kImplicitEuler) {
+    result.cg = ImplicitEulerStep(model_, options_, state, &ws_);
+    state->diagnostics.last_cg_iterations = result.cg.iterations;
+    state->diagnostics.last_cg_relative_residual = result.cg.relative_residual;
+    if (result.cg.preconditioner_fallback) ++state->diagnostics.preconditioner_fallbacks;
+    if (result.cg.finite && !result.cg.converged) {
+      result.status = StepStatus::kCgNotConverged;
+      ++state->diagnostics.cg_not_converged;
+    }
+  } else {
+    SymplecticEulerStep(model_, options_, substeps_, state, &ws_);
+  }
+  ++state->diagnostics.steps;
+
+  // NaN/Inf: roll back to the last good positions, at rest.
+  if (!result.cg.finite || !state->x_W_m.allFinite() || !state->v_W_m_per_s.allFinite()) {
+    state->x_W_m = ws_.x_backup;
+    state->v_W_m_per_s.setZero();
+    state->time_s = t0 + options_.dt_s;
+    ++state->diagnostics.nan_events;
+    result.status = StepStatus::kNanRecovered;
+    return result;
+  }
+  // Speed cap: keep the direction, count the event.
+  const double cap = options_.max_speed_m_per_s;
+  for (int p = 0; p < model_.num_particles; ++p) {
+    auto v = state->v_W_m_per_s.segment<3>(3 * p);
+    const double speed = v.norm();
+    if (speed > cap) {
+      v *= cap / speed;
+      ++result.capped_particles;
+    }
+  }
+  if (result.capped_particles > 0) {
+    ++state->diagnostics.speed_capped;
+    result.status = StepStatus::kSpeedCapped;
+  }
+  return result;
+}
+
+}  // namespace haptex::textile

@@ -1,0 +1,49 @@
+#pragma once
+// Advances a fabric by one step with the configured integrator, and reports numerical trouble
+// as a status plus counters in FabricState::diagnostics (never a silent blow-up).
+
+#include "libs/textile/fabric_model.h"
+#include "libs/textile/fabric_state.h"
+#include "libs/textile/fabric_workspace.h"
+#include "libs/textile/implicit_euler.h"
+#include "libs/textile/step_options.h"
+
+namespace haptex::textile {
+
+/// Outcome of one step, worst first.
+enum class StepStatus {
+  kOk = 0,
+  kCgNotConverged = 1,  ///< CG stopped at cg_max_iterations; the step was still taken
+  kSpeedCapped = 2,     ///< some particle exceeded max_speed_m_per_s and was slowed down
+  kNanRecovered = 3,    ///< the step produced NaN/Inf; state rolled back and velocities zeroed
+};
+
+const char* ToString(StepStatus status);
+
+struct StepResult {
+  StepStatus status = StepStatus::kOk;
+  CgReport cg;              ///< implicit Euler only
+  int capped_particles = 0;
+};
+
+/// Owns the workspace for one model and validated options. Step() never allocates or throws.
+class FabricStepper {
+ public:
+  /// @throws std::invalid_argument for invalid options, or a symplectic configuration that the
+  /// stability estimate refuses.
+  FabricStepper(const FabricModel& model, const StepOptions& options);
+
+  StepResult Step(FabricState* state);
+
+  const StepOptions& options() const { return options_; }
+  /// Symplectic substeps per step (1 for implicit Euler).
+  int substeps() const { return substeps_; }
+
+ private:
+  const FabricModel& model_;
+  StepOptions options_;
+  int substeps_ = 1;
+  FabricWorkspace ws_;
+};
+
+}  // namespace haptex::textile

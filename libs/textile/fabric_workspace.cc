@@ -1,0 +1,14 @@
+#include "libs/textile/fabric_workspace.h"
+
+namespace haptex::textile {
+
+FabricWorkspace::FabricWorkspace(const FabricModel& model) : multilevel(model) {
+  const int n3 = 3 * model.num_particles;
+  for (Eigen::VectorXd* v : {&force_N, &dfdx_v, &rhs, &dv, &dv0, &r, &c, &q, &s, &x_backup, &v_backup}) {
+    *v = Eigen::VectorXd::Zero(n3);
+  }
+  system.assign(static_cast<std::size_t>(model.pattern.num_blocks()), Eigen::Matrix3d::Zero());
+  precond.assign(static_cast<std::size_t>(model.num_particles), Eigen::Matrix3d::Zero());
+}
+
+}  // namespace haptex::textile

@@ -1,0 +1,26 @@
+#pragma once
+// Scratch memory of a step, sized once from the model; a warmed-up step allocates nothing.
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "libs/textile/fabric_model.h"
+#include "libs/textile/multilevel_preconditioner.h"
+
+namespace haptex::textile {
+
+struct FabricWorkspace {
+  /// Allocates every buffer for `model`.
+  explicit FabricWorkspace(const FabricModel& model);
+
+  Eigen::VectorXd force_N;        ///< 3n total force
+  Eigen::VectorXd dfdx_v;         ///< 3n (df/dx) v, for the implicit right-hand side
+  std::vector<Eigen::Matrix3d> system;   ///< blocks of M - h df/dv - h^2 df/dx (model.pattern)
+  std::vector<Eigen::Matrix3d> precond;  ///< inverted diagonal blocks
+  Eigen::VectorXd rhs, dv, dv0, r, c, q, s;  ///< 3n CG vectors (dv0: initial guess)
+  Eigen::VectorXd x_backup, v_backup;    ///< roll-back copy of the state
+  MultilevelPreconditioner multilevel;   ///< used when StepOptions::preconditioner says so
+};
+
+}  // namespace haptex::textile

@@ -1,0 +1,189 @@
+#include "libs/textile/implicit_euler.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Dense>
+
+#include "libs/textile/fabric_forces.h"
+
+namespace haptex::textile {
+namespace {
+
+bool IsFree(const FabricState& s, int p) {
+  return s.mode[static_cast<std::size_t>(p)] == ParticleMode::kFree;
+}
+
+// y = filter(A x).
+void FilteredMultiply(const FabricModel& model, const FabricState& state,
+                      const std::vector<Eigen::Matrix3d>& a, const Eigen::VectorXd& x,
+                      Eigen::VectorXd* y) {
+  const BlockPattern& pat = model.pattern;
+  for (int r = 0; r < model.num_particles; ++r) {
+    Eigen::Vector3d acc = Eigen::Vector3d::Zero();
+    if (IsFree(state, r)) {
+      const int end = pat.row_start[static_cast<std::size_t>(r) + 1];
+      for (int k = pat.row_start[static_cast<std::size_t>(r)]; k < end; ++k) {
+        acc.noalias() += a[static_cast<std::size_t>(k)] *
+                         x.segment<3>(3 * pat.cols[static_cast<std::size_t>(k)]);
+      }
+    }
+    y->segment<3>(3 * r) = acc;
+  }
+}
+
+// y = P^-1 x for free particles, 0 for constrained ones.
+void Precondition(const FabricModel& model, const FabricState& state, const StepOptions& options,
+                  FabricWorkspace* ws, const Eigen::VectorXd& x, Eigen::VectorXd* y) {
+  if (options.preconditioner == Preconditioner::kMultilevel) {
+    ws->multilevel.Apply(x, y);
+    return;
+  }
+  const std::vector<Eigen::Matrix3d>& p_inv = ws->precond;
+  for (int r = 0; r < model.num_particles; ++r) {
+    if (IsFree(state, r)) {
+      y->segment<3>(3 * r).noalias() = p_inv[static_cast<std::size_t>(r)] * x.segment<3>(3 * r);
+    } else {
+      y->segment<3>(3 * r).setZero();
+    }
+  }
+}
+
+// Filtered PCG from the guess in ws->dv (Baraff-Witkin's modified PCG). Returns true on a
+// breakdown (an indefinite preconditioner or matrix), leaving the best iterate in ws->dv.
+bool RunPcg(const FabricModel& model, const FabricState& state, const StepOptions& options,
+            Preconditioner pc, FabricWorkspace* ws, CgReport* report) {
+  const int n = model.num_particles;
+  StepOptions o = options;
+  o.preconditioner = pc;
+  // Reference size: the preconditioned norm of the filtered right-hand side.
+  Precondition(model, state, o, ws, ws->rhs, &ws->s);
+  double delta0 = 0.0, rhs_norm2 = 0.0;
+  for (int p = 0; p < n; ++p) {
+    if (!IsFree(state, p)) continue;
+    delta0 += ws->rhs.segment<3>(3 * p).dot(ws->s.segment<3>(3 * p));
+    rhs_norm2 += ws->rhs.segment<3>(3 * p).squaredNorm();
+  }
+  report->iterations = 0;
+  report->relative_residual = 0.0;
+  report->converged = true;
+  report->finite = std::isfinite(delta0) && std::isfinite(rhs_norm2);
+  if (!report->finite) return false;
+  if (rhs_norm2 == 0.0) {
+    // Nothing drives the free particles: the exact answer is dv = 0 there.
+    for (int p = 0; p < n; ++p) {
+      if (IsFree(state, p)) ws->dv.segment<3>(3 * p).setZero();
+    }
+    return false;
+  }
+  if (!(delta0 > 0.0)) return true;
+  FilteredMultiply(model, state, ws->system, ws->dv, &ws->q);
+  for (int p = 0; p < n; ++p) {
+    if (IsFree(state, p)) {
+      ws->r.segment<3>(3 * p) = ws->rhs.segment<3>(3 * p) - ws->q.segment<3>(3 * p);
+    } else {
+      ws->r.segment<3>(3 * p).setZero();
+    }
+  }
+  Precondition(model, state, o, ws, ws->r, &ws->c);
+  double delta = ws->r.dot(ws->c);
+  const double eps2 = options.cg_tolerance * options.cg_tolerance;
+  bool breakdown = !(delta >= 0.0);
+  int it = 0;
+  while (!breakdown && delta > eps2 * delta0 && it < options.cg_max_iterations) {
+    FilteredMultiply(model, state, ws->system, ws->c, &ws->q);
+    const double cq = ws->c.dot(ws->q);
+    if (!(cq > 0.0)) {
+      breakdown = true;
+      break;
+    }
+    const double alpha = delta / cq;
+    ws->dv += alpha * ws->c;
+    ws->r -= alpha * ws->q;
+    Precondition(model, state, o, ws, ws->r, &ws->s);
+    const double delta_old = delta;
+    delta = ws->r.dot(ws->s);
+    ++it;
+    if (!(delta >= 0.0)) {
+      breakdown = true;
+      break;
+    }
+    ws->c = ws->s + (delta / delta_old) * ws->c;
+  }
+  report->iterations = it;
+  report->relative_residual = std::sqrt(std::max(delta, 0.0) / delta0);
+  report->converged = !breakdown && delta <= eps2 * delta0;
+  report->finite = std::isfinite(delta);
+  return breakdown;
+}
+
+}  // namespace
+
+CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options,
+                           FabricState* state, FabricWorkspace* ws) {
+  const double h = options.dt_s;
+  const int n = model.num_particles;
+
+  // Forces and the system matrix A = M - h df/dv - h^2 df/dx.
+  ws->force_N.setZero();
+  ws->dfdx_v.setZero();
+  for (auto& b : ws->system) b.setZero();
+  for (int p = 0; p < n; ++p) {
+    ws->system[static_cast<std::size_t>(model.pattern.diag_slot[static_cast<std::size_t>(p)])] +=
+        model.mass_kg[p] * Eigen::Matrix3d::Identity();
+  }
+  ForceSink sink;
+  sink.force_N = &ws->force_N;
+  sink.system = &ws->system;
+  sink.dx_scale = -h * h;
+  sink.dv_scale = -h;
+  sink.dfdx_v = &ws->dfdx_v;
+  sink.v = &state->v_W_m_per_s;
+  AccumulateForces(model, *state, &sink);
+  ws->rhs = h * (ws->force_N + h * ws->dfdx_v);
+
+  // Block-Jacobi preconditioner; initial guess carries the prescribed velocity change (z).
+  for (int p = 0; p < n; ++p) {
+    const Eigen::Matrix3d& d =
+        ws->system[static_cast<std::size_t>(model.pattern.diag_slot[static_cast<std::size_t>(p)])];
+    ws->precond[static_cast<std::size_t>(p)] = d.inverse();
+    if (IsFree(*state, p)) {
+      // Warm start: the previous step's velocity change is a good guess for a smooth motion.
+      if (!options.cg_warm_start) ws->dv.segment<3>(3 * p).setZero();
+    } else {
+      ws->dv.segment<3>(3 * p) = state->prescribed_v_W_m_per_s.segment<3>(3 * p) -
+                                 state->v_W_m_per_s.segment<3>(3 * p);
+    }
+  }
+
+  if (options.preconditioner == Preconditioner::kMultilevel) {
+    ws->multilevel.Update(model, *state, ws->system);
+  }
+
+  // Modified PCG; on a preconditioner breakdown retry from the same guess with block Jacobi.
+  ws->dv0 = ws->dv;
+  CgReport report;
+  Preconditioner pc = options.preconditioner;
+  bool breakdown = RunPcg(model, *state, options, pc, ws, &report);
+  if (breakdown && pc == Preconditioner::kMultilevel) {
+    report.preconditioner_fallback = true;
+    ws->dv = ws->dv0;
+    pc = Preconditioner::kBlockJacobi;
+    breakdown = RunPcg(model, *state, options, pc, ws, &report);
+  }
+  if (breakdown) report.converged = false;
+
+  report.finite = report.finite && ws->dv.allFinite();
+  if (!report.finite) {
+    ws->dv.setZero();  // never warm-start from garbage
+    return report;
+  }
+
+  // Update: v += dv, x += h v.
+  state->v_W_m_per_s += ws->dv;
+  state->x_W_m += h * state->v_W_m_per_s;
+  state->time_s += h;
+  return report;
+}
+
+}  // namespace haptex::textile

@@ -1,0 +1,225 @@
+#include "libs/textile/multilevel_preconditioner.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include <Eigen/Dense>
+
+#include "libs/textile/check.h"
+
+namespace haptex::textile {
+namespace {
+
+constexpr int kAggregate = 2;      // particles per aggregate along each grid direction
+constexpr int kCoarsestNodes = 32; // stop coarsening at or below this many nodes
+
+}  // namespace
+
+MultilevelPreconditioner::MultilevelPreconditioner(const FabricModel& model) {
+  int nu = model.mesh.particles_warp(), nv = model.mesh.particles_weft();
+  levels_.emplace_back();
+  levels_[0].n = model.num_particles;
+  fine_pattern_ = &model.pattern;
+  levels_[0].active.assign(static_cast<std::size_t>(model.num_particles), 1);
+  while (levels_.back().n > kCoarsestNodes && (nu > 1 || nv > 1)) {
+    const int cu = (nu + kAggregate - 1) / kAggregate, cv = (nv + kAggregate - 1) / kAggregate;
+    Level& fine = levels_.back();
+    fine.to_coarse.resize(static_cast<std::size_t>(fine.n));
+    for (int j = 0; j < nv; ++j) {
+      for (int i = 0; i < nu; ++i) {
+        fine.to_coarse[static_cast<std::size_t>(i + nu * j)] = i / kAggregate + cu * (j / kAggregate);
+      }
+    }
+    std::vector<std::pair<int, int>> pairs;
+    const BlockPattern& fp = Pattern(levels_.size() - 1);
+    for (int r = 0; r < fine.n; ++r) {
+      for (int k = fp.row_start[static_cast<std::size_t>(r)]; k < fp.row_start[static_cast<std::size_t>(r) + 1]; ++k) {
+        const int a = fine.to_coarse[static_cast<std::size_t>(r)];
+        const int b = fine.to_coarse[static_cast<std::size_t>(fp.cols[static_cast<std::size_t>(k)])];
+        if (a != b) pairs.emplace_back(a, b);
+      }
+    }
+    Level coarse;
+    coarse.n = cu * cv;
+    coarse.own_pattern = BlockPattern::FromPairs(coarse.n, pairs);
+    fine.slot_to_coarse.resize(fp.cols.size());
+    for (int r = 0; r < fine.n; ++r) {
+      for (int k = fp.row_start[static_cast<std::size_t>(r)]; k < fp.row_start[static_cast<std::size_t>(r) + 1]; ++k) {
+        fine.slot_to_coarse[static_cast<std::size_t>(k)] = coarse.own_pattern.Slot(
+            fine.to_coarse[static_cast<std::size_t>(r)],
+            fine.to_coarse[static_cast<std::size_t>(fp.cols[static_cast<std::size_t>(k)])]);
+      }
+    }
+    levels_.push_back(std::move(coarse));
+    nu = cu;
+    nv = cv;
+  }
+  for (std::size_t l = 0; l < levels_.size(); ++l) {
+    Level& lev = levels_[l];
+    if (l > 0) {
+      lev.a.assign(lev.own_pattern.cols.size(), Eigen::Matrix3d::Zero());
+      lev.active.assign(static_cast<std::size_t>(lev.n), 1);
+    }
+    lev.d_inv.assign(static_cast<std::size_t>(lev.n), Eigen::Matrix3d::Zero());
+    lev.r = Eigen::VectorXd::Zero(3 * lev.n);
+    lev.z = Eigen::VectorXd::Zero(3 * lev.n);
+    lev.t = Eigen::VectorXd::Zero(3 * lev.n);
+  }
+  dense_ = Eigen::MatrixXd::Zero(3 * levels_.back().n, 3 * levels_.back().n);
+  dense_rhs_ = Eigen::VectorXd::Zero(3 * levels_.back().n);
+}
+
+void MultilevelPreconditioner::Update(const FabricModel& model, const FabricState& state,
+                                      const std::vector<Eigen::Matrix3d>& a) {
+  Level& top = levels_[0];
+  fine_blocks_ = &a;
+  for (int p = 0; p < model.num_particles; ++p) {
+    top.active[static_cast<std::size_t>(p)] =
+        state.mode[static_cast<std::size_t>(p)] == ParticleMode::kFree ? 1 : 0;
+  }
+  for (std::size_t l = 0; l < levels_.size(); ++l) {
+    Level& lev = levels_[l];
+    const BlockPattern& pat = Pattern(l);
+    const std::vector<Eigen::Matrix3d>& blocks = Blocks(l);
+    // Damped inverse diagonal (zero where filtered or where a whole aggregate is constrained).
+    // If the damping is too strong for this matrix the V-cycle can lose positive definiteness;
+    // the CG detects that and falls back to block Jacobi (implicit_euler.cc).
+    for (int p = 0; p < lev.n; ++p) {
+      const Eigen::Matrix3d& d = blocks[static_cast<std::size_t>(pat.diag_slot[static_cast<std::size_t>(p)])];
+      Eigen::Matrix3d& d_inv = lev.d_inv[static_cast<std::size_t>(p)];
+      if (!lev.active[static_cast<std::size_t>(p)] || !(d.trace() > 0.0)) {
+        d_inv.setZero();
+      } else {
+        d_inv = omega_ * d.inverse();
+      }
+    }
+    if (l + 1 == levels_.size()) break;
+    // Galerkin coarse matrix: sum of the active fine blocks of each aggregate pair.
+    Level& next = levels_[l + 1];
+    for (auto& b : next.a) b.setZero();
+    for (int r = 0; r < lev.n; ++r) {
+      if (!lev.active[static_cast<std::size_t>(r)]) continue;
+      for (int k = pat.row_start[static_cast<std::size_t>(r)]; k < pat.row_start[static_cast<std::size_t>(r) + 1]; ++k) {
+        if (!lev.active[static_cast<std::size_t>(pat.cols[static_cast<std::size_t>(k)])]) continue;
+        next.a[static_cast<std::size_t>(lev.slot_to_coarse[static_cast<std::size_t>(k)])] +=
+            blocks[static_cast<std::size_t>(k)];
+      }
+    }
+    for (int p = 0; p < next.n; ++p) {
+      Eigen::Matrix3d& d = next.a[static_cast<std::size_t>(next.own_pattern.diag_slot[static_cast<std::size_t>(p)])];
+      next.active[static_cast<std::size_t>(p)] = d.trace() > 0.0 ? 1 : 0;
+    }
+  }
+  // Coarsest level: dense Cholesky (identity rows for empty aggregates).
+  const Level& last = levels_.back();
+  const BlockPattern& last_pattern = Pattern(levels_.size() - 1);
+  const std::vector<Eigen::Matrix3d>& last_blocks = Blocks(levels_.size() - 1);
+  dense_.setZero();
+  for (int r = 0; r < last.n; ++r) {
+    if (!last.active[static_cast<std::size_t>(r)]) {
+      dense_.block<3, 3>(3 * r, 3 * r).setIdentity();
+      continue;
+    }
+    for (int k = last_pattern.row_start[static_cast<std::size_t>(r)]; k < last_pattern.row_start[static_cast<std::size_t>(r) + 1]; ++k) {
+      const int c = last_pattern.cols[static_cast<std::size_t>(k)];
+      if (last.active[static_cast<std::size_t>(c)]) {
+        dense_.block<3, 3>(3 * r, 3 * c) = last_blocks[static_cast<std::size_t>(k)];
+      }
+    }
+  }
+  // In-place lower Cholesky (no allocation).
+  const Eigen::Index m = dense_.rows();
+  for (Eigen::Index j = 0; j < m; ++j) {
+    double d = dense_(j, j);
+    for (Eigen::Index k = 0; k < j; ++k) d -= dense_(j, k) * dense_(j, k);
+    d = d > 1e-300 ? std::sqrt(d) : 1.0;  // semi-definite fallback; CG still converges
+    dense_(j, j) = d;
+    for (Eigen::Index i = j + 1; i < m; ++i) {
+      double s = dense_(i, j);
+      for (Eigen::Index k = 0; k < j; ++k) s -= dense_(i, k) * dense_(j, k);
+      dense_(i, j) = s / d;
+    }
+  }
+}
+
+void MultilevelPreconditioner::Multiply(std::size_t level, const Eigen::VectorXd& x,
+                                        Eigen::VectorXd* y) const {
+  const Level& l = levels_[level];
+  const BlockPattern& pat = Pattern(level);
+  const std::vector<Eigen::Matrix3d>& blocks = Blocks(level);
+  for (int r = 0; r < l.n; ++r) {
+    Eigen::Vector3d acc = Eigen::Vector3d::Zero();
+    if (l.active[static_cast<std::size_t>(r)]) {
+      for (int k = pat.row_start[static_cast<std::size_t>(r)]; k < pat.row_start[static_cast<std::size_t>(r) + 1]; ++k) {
+        acc.noalias() += blocks[static_cast<std::size_t>(k)] *
+                         x.segment<3>(3 * pat.cols[static_cast<std::size_t>(k)]);
+      }
+    }
+    y->segment<3>(3 * r) = acc;
+  }
+}
+
+// z += D^-1 (r - A z).
+void MultilevelPreconditioner::Smooth(std::size_t level, const Eigen::VectorXd& r,
+                                      Eigen::VectorXd* z, Eigen::VectorXd* t) const {
+  const Level& l = levels_[level];
+  Multiply(level, *z, t);
+  for (int p = 0; p < l.n; ++p) {
+    z->segment<3>(3 * p) +=
+        l.d_inv[static_cast<std::size_t>(p)] * (r.segment<3>(3 * p) - t->segment<3>(3 * p));
+  }
+}
+
+void MultilevelPreconditioner::Cycle(std::size_t k) {
+  Level& l = levels_[k];
+  if (k + 1 == levels_.size()) {
+    // Dense solve L L^T z = r.
+    const Eigen::Index m = dense_.rows();
+    for (Eigen::Index i = 0; i < m; ++i) {
+      double s = l.r[i];
+      for (Eigen::Index j = 0; j < i; ++j) s -= dense_(i, j) * dense_rhs_[j];
+      dense_rhs_[i] = s / dense_(i, i);
+    }
+    for (Eigen::Index i = m - 1; i >= 0; --i) {
+      double s = dense_rhs_[i];
+      for (Eigen::Index j = i + 1; j < m; ++j) s -= dense_(j, i) * l.z[j];
+      l.z[i] = s / dense_(i, i);
+    }
+    for (int p = 0; p < l.n; ++p) {
+      if (!l.active[static_cast<std::size_t>(p)]) l.z.segment<3>(3 * p).setZero();
+    }
+    return;
+  }
+  // Symmetric V-cycle: Jacobi sweep from z = 0 (needs no product), restrict the residual,
+  // coarse correction, one more Jacobi sweep.
+  for (int p = 0; p < l.n; ++p) {
+    l.z.segment<3>(3 * p).noalias() = l.d_inv[static_cast<std::size_t>(p)] * l.r.segment<3>(3 * p);
+  }
+  Multiply(k, l.z, &l.t);
+  Level& c = levels_[k + 1];
+  c.r.setZero();
+  for (int p = 0; p < l.n; ++p) {
+    if (!l.active[static_cast<std::size_t>(p)]) continue;
+    c.r.segment<3>(3 * l.to_coarse[static_cast<std::size_t>(p)]) +=
+        l.r.segment<3>(3 * p) - l.t.segment<3>(3 * p);
+  }
+  Cycle(k + 1);
+  for (int p = 0; p < l.n; ++p) {
+    if (!l.active[static_cast<std::size_t>(p)]) continue;
+    l.z.segment<3>(3 * p) += c.z.segment<3>(3 * l.to_coarse[static_cast<std::size_t>(p)]);
+  }
+  Smooth(k, l.r, &l.z, &l.t);
+}
+
+void MultilevelPreconditioner::Apply(const Eigen::VectorXd& r, Eigen::VectorXd* z) {
+  Level& top = levels_[0];
+  top.r = r;
+  for (int p = 0; p < top.n; ++p) {
+    if (!top.active[static_cast<std::size_t>(p)]) top.r.segment<3>(3 * p).setZero();
+  }
+  Cycle(0);
+  *z = top.z;
+}
+
+}  // namespace haptex::textile

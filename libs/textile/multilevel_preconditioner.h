@@ -1,0 +1,59 @@
+#pragma once
+// Aggregation multigrid V-cycle used as a CG preconditioner: particles are grouped 2 x 2 on the
+// grid per level (piecewise-constant prolongation), coarse matrices are Galerkin sums of the fine
+// blocks, damped block-Jacobi smoothing, a dense Cholesky solve on the coarsest level.
+// Constrained particles are filtered out at the finest level. Built once; Update/Apply never
+// allocate.
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "libs/textile/block_pattern.h"
+#include "libs/textile/fabric_model.h"
+#include "libs/textile/fabric_state.h"
+
+namespace haptex::textile {
+
+class MultilevelPreconditioner {
+ public:
+  explicit MultilevelPreconditioner(const FabricModel& model);
+
+  /// Rebuilds the hierarchy for system blocks `a` (model.pattern) and the state's constraints.
+  void Update(const FabricModel& model, const FabricState& state, const std::vector<Eigen::Matrix3d>& a);
+  /// z = B r, an SPD approximation of A^-1 (z = 0 at constrained particles).
+  void Apply(const Eigen::VectorXd& r, Eigen::VectorXd* z);
+
+  int num_levels() const { return static_cast<int>(levels_.size()); }
+
+ private:
+  struct Level {
+    int n = 0;                          // nodes
+    BlockPattern own_pattern;           // coarse levels (level 0 uses the model's)
+    std::vector<Eigen::Matrix3d> a;     // coarse levels (level 0 uses the system passed to Update)
+    std::vector<Eigen::Matrix3d> d_inv; // damped inverse diagonal (0 where filtered)
+    std::vector<int> to_coarse;         // node -> node of the next level (empty on the coarsest)
+    std::vector<int> slot_to_coarse;    // block slot -> slot of the next level
+    std::vector<unsigned char> active;  // level 0: free particle
+    Eigen::VectorXd r, z, t;
+  };
+
+  const BlockPattern& Pattern(std::size_t k) const {
+    return k == 0 ? *fine_pattern_ : levels_[k].own_pattern;
+  }
+  const std::vector<Eigen::Matrix3d>& Blocks(std::size_t k) const {
+    return k == 0 ? *fine_blocks_ : levels_[k].a;
+  }
+  void Multiply(std::size_t k, const Eigen::VectorXd& x, Eigen::VectorXd* y) const;
+  void Smooth(std::size_t k, const Eigen::VectorXd& r, Eigen::VectorXd* z, Eigen::VectorXd* t) const;
+  void Cycle(std::size_t k);
+
+  const BlockPattern* fine_pattern_ = nullptr;                // the model's (outlives this)
+  const std::vector<Eigen::Matrix3d>* fine_blocks_ = nullptr;  // set by Update
+  std::vector<Level> levels_;
+  Eigen::MatrixXd dense_;  // coarsest matrix, then its Cholesky factor
+  Eigen::VectorXd dense_rhs_;
+  double omega_ = 0.6;     // Jacobi damping, lowered per level when a bound requires it
+};
+
+}  // namespace haptex::textile

@@ -1,0 +1,28 @@
+#include "libs/textile/step_options.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace haptex::textile {
+
+void ValidateStepOptions(const StepOptions& o) {
+  auto fail = [](const std::string& what) {
+    throw std::invalid_argument("StepOptions." + what);
+  };
+  if (!(std::isfinite(o.dt_s) && o.dt_s > 0.0)) fail("dt_s must be finite and > 0");
+  if (!(o.cg_tolerance > 0.0 && o.cg_tolerance < 1.0)) fail("cg_tolerance must be in (0, 1)");
+  if (o.cg_max_iterations < 1) fail("cg_max_iterations must be >= 1");
+  if (o.substeps < 0) fail("substeps must be >= 0 (0 = automatic)");
+  if (o.max_substeps < 1) fail("max_substeps must be >= 1");
+  if (!(o.max_speed_m_per_s > 0.0)) fail("max_speed_m_per_s must be > 0");
+  if (o.method != Integrator::kImplicitEuler && o.method != Integrator::kSymplecticEuler) {
+    fail("method is unknown");
+  }
+  if (o.preconditioner != Preconditioner::kBlockJacobi &&
+      o.preconditioner != Preconditioner::kMultilevel) {
+    fail("preconditioner is unknown");
+  }
+}
+
+}  // namespace haptex::textile

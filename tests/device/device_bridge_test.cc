@@ -1,0 +1,277 @@
+#include "libs/device/device_bridge.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include "tests/support/allocation_counter.h"
+
+namespace haptex::device {
+namespace {
+
+constexpr double kTick_s = 2e-4;
+using StatusBytes = std::array<std::byte, kStatusFrameSize>;
+using CommandBytes = std::array<std::byte, kCommandFrameSize>;
+
+DeviceBridgeConfig FastConfig() {
+  DeviceBridgeConfig c;
+  c.safety.startup_ramp_s = 0.002;
+  return c;
+}
+
+StatusBytes Status(std::uint32_t sequence, double t_s, const Eigen::Vector3f& thumb_D_m = {0.01f, -0.02f, 0.0f},
+                   std::uint16_t flags = manipulator_flags::kCalibrated) {
+  StatusFrame f;
+  f.sequence = sequence;
+  f.controller_time_ns = static_cast<std::uint64_t>(std::llround(t_s * 1e9));
+  f.manipulators[0].p_D_m = thumb_D_m;
+  f.manipulators[0].flags = flags;
+  f.manipulators[1].p_D_m = {0.01f, 0.02f, 0.0f};
+  f.manipulators[1].flags = flags;
+  StatusBytes b{};
+  EncodeStatusFrame(f, b);
+  return b;
+}
+
+CommandFrame Decode(const CommandBytes& bytes) {
+  CommandFrame c;
+  EXPECT_EQ(DecodeCommandFrame(bytes, GrabValueLimits{}, &c), FrameError::kNone);
+  return c;
+}
+
+ForceModel ConstantForce(const Eigen::Vector3d& force_W_N) {
+  ForceModel m;
+  m.force0_W_N = force_W_N;
+  m.ttl_s = 0.010;
+  return m;
+}
+
+TEST(DeviceBridgeTest, NoControllerMeansLostAndZeroForce) {
+  auto dut = std::make_unique<DeviceBridge>(FastConfig());
+  dut->SetForceModel(Manipulator::kThumb, ConstantForce({1.0, 0.0, 0.0}), 0.0);
+  CommandBytes out{};
+  dut->Tick(0.0, kTick_s, out);
+  const CommandFrame c = Decode(out);
+  EXPECT_TRUE(dut->device_lost());
+  EXPECT_EQ(c.manipulators[0].force_D_N, Eigen::Vector3f::Zero());
+  EXPECT_EQ(c.manipulators[0].flags & command_flags::kForceEnable, 0);
+  EXPECT_EQ(c.sequence, 1u);
+}
+
+TEST(DeviceBridgeTest, CountsRejectedFramesAndIgnoresOldOnes) {
+  auto dut = std::make_unique<DeviceBridge>(FastConfig());
+  StatusBytes good = Status(10, 0.001);
+  EXPECT_EQ(dut->OnStatusDatagram(good, 0.001), FrameError::kNone);
+  StatusBytes bad = good;
+  bad[40] ^= std::byte{4};
+  EXPECT_EQ(dut->OnStatusDatagram(bad, 0.0012), FrameError::kBadChecksum);
+  EXPECT_EQ(dut->OnStatusDatagram(std::span(good).first(20), 0.0013), FrameError::kTooShort);
+  // sequence 9 after 10: valid but out of order, ignored
+  EXPECT_EQ(dut->OnStatusDatagram(Status(9, 0.0008, {0.05f, 0.0f, 0.0f}), 0.0014), FrameError::kNone);
+  EXPECT_EQ(dut->counters().status_out_of_order, 1u);
+  EXPECT_EQ(dut->finger_state(Manipulator::kThumb).controller_sequence, 10u);
+  EXPECT_EQ(dut->frame_counters().accepted(), 2u);
+  EXPECT_EQ(dut->frame_counters().Get(FrameError::kBadChecksum), 1u);
+  EXPECT_EQ(dut->frame_counters().TotalRejected(), 2u);
+}
+
+TEST(DeviceBridgeTest, MapsPosesAndForcesBetweenDeviceAndWorldFrames) {
+  DeviceBridgeConfig config = FastConfig();
+  config.X_WD = Eigen::Translation3d(0.0, 0.0, -0.1) * Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitZ());
+  auto dut = std::make_unique<DeviceBridge>(config);
+  dut->SetForceModel(Manipulator::kThumb, ConstantForce({1.0, 2.0, 3.0}), 0.0);
+  CommandBytes out{};
+  for (int k = 1; k <= 100; ++k) {
+    const double t = k * kTick_s;
+    dut->OnStatusDatagram(Status(static_cast<std::uint32_t>(k), t), t);
+    dut->SetForceModel(Manipulator::kThumb, ConstantForce({1.0, 2.0, 3.0}), t);
+    dut->Tick(t, kTick_s, out);
+  }
+  const FingerState& s = dut->finger_state(Manipulator::kThumb);
+  EXPECT_TRUE(s.p_W_m.isApprox(Eigen::Vector3d(-0.01, 0.02, -0.1), 1e-6));
+  // world force (1, 2, 3) is (-1, -2, 3) in D
+  const CommandFrame c = Decode(out);
+  EXPECT_TRUE(c.manipulators[0].force_D_N.isApprox(Eigen::Vector3f(-1.0f, -2.0f, 3.0f), 1e-5f));
+  EXPECT_NE(c.manipulators[0].flags & command_flags::kForceEnable, 0);
+  EXPECT_EQ(c.echo_controller_sequence, 100u);
+  EXPECT_EQ(c.manipulators[1].force_D_N, Eigen::Vector3f::Zero());  // index has no model
+}
+
+// The controller streams at 5 kHz; ForceModels stop arriving at t0. The force holds for 10 ms,
+// ramps down, and is exactly zero at every tick from t0 + 20 ms on.
+TEST(DeviceBridgeTest, WatchdogZeroesForceWithinTwentyMilliseconds) {
+  auto dut = std::make_unique<DeviceBridge>(FastConfig());
+  CommandBytes out{};
+  const Eigen::Vector3d force_W_N(0.0, 8.0, -6.0);
+  double t0 = 0.0;
+  for (int k = 1; k <= 1500; ++k) {
+    const double t = k * kTick_s;
+    dut->OnStatusDatagram(Status(static_cast<std::uint32_t>(k), t), t);
+    if (t <= 0.1) {
+      if (k % 5 == 0) {  // models at 1 kHz
+        dut->SetForceModel(Manipulator::kThumb, ConstantForce(force_W_N), t);
+        t0 = t;
+      }
+    }
+    dut->Tick(t, kTick_s, out);
+    const CommandFrame c = Decode(out);
+    const double age = t - t0;
+    if (t > 0.05 && age <= 0.010 + 1e-9) {
+      EXPECT_NEAR((c.manipulators[0].force_D_N.cast<double>() - force_W_N).norm(), 0.0, 1e-5) << t;
+    }
+    if (age >= 0.020 - 1e-9) {
+      ASSERT_EQ(c.manipulators[0].force_D_N, Eigen::Vector3f::Zero()) << "age " << age;
+      EXPECT_NE(c.manipulators[0].flags & command_flags::kRamping, 0);
+    }
+  }
+  EXPECT_GT(dut->safety(Manipulator::kThumb).counters().watchdog_zero_steps, 0u);
+}
+
+TEST(DeviceBridgeTest, ControllerSilenceMeansDeviceLostThenRampsBackIn) {
+  auto dut = std::make_unique<DeviceBridge>(FastConfig());
+  CommandBytes out{};
+  std::uint32_t seq = 0;
+  auto run = [&](double from, double to, bool controller_talks) {
+    for (double t = from; t < to - 1e-9; t += kTick_s) {
+      if (controller_talks) dut->OnStatusDatagram(Status(++seq, t), t);
+      dut->SetForceModel(Manipulator::kThumb, ConstantForce({3.0, 0.0, 0.0}), t);
+      dut->Tick(t, kTick_s, out);
+    }
+  };
+  run(0.0, 0.05, true);
+  EXPECT_FALSE(dut->device_lost());
+  EXPECT_NEAR(dut->last_force_W_N(Manipulator::kThumb).x(), 3.0, 1e-9);
+  run(0.05, 0.0995, false);  // < 50 ms of silence
+  EXPECT_FALSE(dut->device_lost());
+  run(0.0995, 0.11, false);
+  EXPECT_TRUE(dut->device_lost());
+  EXPECT_EQ(dut->last_force_W_N(Manipulator::kThumb), Eigen::Vector3d::Zero());
+  EXPECT_EQ(dut->counters().device_lost_events, 1u);
+  // the controller restarts with a lower sequence: accepted, force ramps in again
+  seq = 0;
+  dut->OnStatusDatagram(Status(++seq, 0.11), 0.11);
+  dut->Tick(0.11, kTick_s, out);
+  EXPECT_FALSE(dut->device_lost());
+  const double first = dut->last_force_W_N(Manipulator::kThumb).x();
+  EXPECT_GT(first, 0.0);
+  EXPECT_LT(first, 3.0);
+}
+
+TEST(DeviceBridgeTest, NonFiniteForceModelGivesZeroForceAndIsCounted) {
+  auto dut = std::make_unique<DeviceBridge>(FastConfig());
+  CommandBytes out{};
+  ForceModel broken;
+  broken.stiffness_W_N_per_m(1, 1) = std::numeric_limits<double>::quiet_NaN();
+  for (int k = 1; k <= 100; ++k) {
+    const double t = k * kTick_s;
+    dut->OnStatusDatagram(Status(static_cast<std::uint32_t>(k), t), t);
+    dut->SetForceModel(Manipulator::kThumb, k < 50 ? ConstantForce({0.2, 0.0, 0.0}) : broken, t);
+    dut->Tick(t, kTick_s, out);
+  }
+  const CommandFrame c = Decode(out);  // the frame is still valid: finite and encodable
+  EXPECT_EQ(c.manipulators[0].force_D_N, Eigen::Vector3f::Zero());
+  EXPECT_EQ(dut->safety(Manipulator::kThumb).counters().non_finite, 51u);
+}
+
+TEST(DeviceBridgeTest, UncalibratedFingerGetsNoForce) {
+  auto dut = std::make_unique<DeviceBridge>(FastConfig());
+  CommandBytes out{};
+  for (int k = 1; k <= 100; ++k) {
+    const double t = k * kTick_s;
+    dut->OnStatusDatagram(Status(static_cast<std::uint32_t>(k), t, {0.0f, 0.0f, 0.0f}, 0), t);
+    dut->SetForceModel(Manipulator::kThumb, ConstantForce({3.0, 0.0, 0.0}), t);
+    dut->Tick(t, kTick_s, out);
+  }
+  EXPECT_FALSE(dut->finger_state(Manipulator::kThumb).valid);
+  EXPECT_EQ(Decode(out).manipulators[0].force_D_N, Eigen::Vector3f::Zero());
+}
+
+TEST(DeviceBridgeTest, ShutdownCommandsZeroWithTheShutdownFlag) {
+  auto dut = std::make_unique<DeviceBridge>(FastConfig());
+  CommandBytes out{};
+  for (int k = 1; k <= 100; ++k) {
+    const double t = k * kTick_s;
+    dut->OnStatusDatagram(Status(static_cast<std::uint32_t>(k), t), t);
+    dut->SetForceModel(Manipulator::kThumb, ConstantForce({0.3, 0.0, 0.0}), t);
+    dut->Tick(t, kTick_s, out);
+  }
+  ASSERT_NE(Decode(out).manipulators[0].force_D_N, Eigen::Vector3f::Zero());
+  dut->RequestShutdown();
+  dut->Tick(0.0202, kTick_s, out);
+  const CommandFrame c = Decode(out);
+  EXPECT_EQ(c.host_flags & host_flags::kShutdown, host_flags::kShutdown);
+  EXPECT_EQ(c.manipulators[0].force_D_N, Eigen::Vector3f::Zero());
+  EXPECT_EQ(c.manipulators[0].flags & command_flags::kForceEnable, 0);
+}
+
+TEST(DeviceBridgeTest, MeasuresMotionToForceLatencyAndRoundTrip) {
+  auto dut = std::make_unique<DeviceBridge>(FastConfig());
+  CommandBytes out{};
+  for (int k = 1; k <= 1000; ++k) {
+    const double t = k * kTick_s;
+    StatusFrame f;
+    f.sequence = static_cast<std::uint32_t>(k);
+    f.controller_time_ns = static_cast<std::uint64_t>(k) * 200000u;
+    // echo the command of the previous period's second tick (sent at t - 70 us)
+    f.echo_host_sequence = k > 1 ? static_cast<std::uint32_t>(2 * (k - 1)) : 0;
+    f.manipulators[0].flags = manipulator_flags::kCalibrated;
+    StatusBytes b{};
+    EncodeStatusFrame(f, b);
+    dut->OnStatusDatagram(b, t);
+    dut->Tick(t + 30e-6, kTick_s, out);  // force leaves 30 us after the packet arrived
+    dut->Tick(t + 130e-6, kTick_s, out); // a second tick from the same packet: not a new sample
+  }
+  const LatencyTracker& m2f = dut->motion_to_force_latency();
+  EXPECT_EQ(m2f.count(), 1000u);
+  EXPECT_NEAR(m2f.p50_s(), 31e-6, 1.01e-6);
+  EXPECT_NEAR(m2f.max_s(), 30e-6, 1e-9);
+  const LatencyTracker& rtt = dut->link_round_trip();
+  EXPECT_EQ(rtt.count(), 999u);
+  EXPECT_NEAR(rtt.max_s(), 70e-6, 1e-9);
+  EXPECT_NEAR(rtt.p50_s(), 71e-6, 1.01e-6);
+}
+
+TEST(DeviceBridgeTest, InvalidConfigThrows) {
+  DeviceBridgeConfig config;
+  config.device_lost_after_s = 0.0;
+  EXPECT_THROW(DeviceBridge{config}, std::invalid_argument);
+  config = DeviceBridgeConfig{};
+  config.X_WD.linear() *= 2.0;
+  try {
+    DeviceBridge dut(config);
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("X_WD"), std::string::npos) << e.what();
+  }
+  config = DeviceBridgeConfig{};
+  config.safety.peak_force_N = 30.0;
+  EXPECT_THROW(DeviceBridge{config}, std::invalid_argument);
+}
+
+TEST(DeviceBridgeTest, WarmedUpTickDoesNotAllocate) {
+  if (!testing::AllocationCountingSupported()) GTEST_SKIP() << "allocation counting unavailable";
+  auto dut = std::make_unique<DeviceBridge>(FastConfig());
+  CommandBytes out{};
+  ForceModel model;
+  model.stiffness_W_N_per_m = -1250.0 * Eigen::Matrix3d::Identity();
+  for (int k = 1; k <= 100; ++k) {
+    const double t = k * kTick_s;
+    dut->OnStatusDatagram(Status(static_cast<std::uint32_t>(k), t), t);
+    dut->SetForceModel(Manipulator::kThumb, model, t);
+    dut->Tick(t, kTick_s, out);
+  }
+  const StatusBytes next = Status(101, 101 * kTick_s);
+  testing::AllocationCounter counter;
+  dut->OnStatusDatagram(next, 101 * kTick_s);
+  dut->SetForceModel(Manipulator::kIndex, model, 101 * kTick_s);
+  dut->Tick(101 * kTick_s, kTick_s, out);
+  EXPECT_EQ(counter.count(), 0);
+}
+
+}  // namespace
+}  // namespace haptex::device

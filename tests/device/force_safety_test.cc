@@ -1,0 +1,175 @@
+#include "libs/device/force_safety.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace haptex::device {
+namespace {
+
+constexpr double kTick_s = 2e-4;
+
+SafetyInput Request(const Eigen::Vector3d& force_N) {
+  SafetyInput in;
+  in.requested_W_N = force_N;
+  in.model_age_s = 0.0;
+  in.model_ttl_s = 0.010;
+  in.output_allowed = true;
+  return in;
+}
+
+// A ForceModel asking for 100 N for 10 s: never above 20 N, never more than 0.5 N change per
+// tick, always along the requested direction, and the RMS settles at the 6 N continuous limit.
+TEST(ForceSafetyTest, ClampsAndSlewHoldUnderAHundredNewtonRequest) {
+  ForceSafetyConfig config;
+  config.startup_ramp_s = 0.05;
+  ForceSafety dut(config);
+  const Eigen::Vector3d dir = Eigen::Vector3d(1.0, -2.0, 0.5).normalized();
+  Eigen::Vector3d previous = Eigen::Vector3d::Zero();
+  double peak_seen_N = 0.0;
+  for (int k = 0; k < 50000; ++k) {
+    const SafetyOutput out = dut.Step(Request(100.0 * dir), kTick_s);
+    const double n = out.force_W_N.norm();
+    peak_seen_N = std::max(peak_seen_N, n);
+    ASSERT_LE(n, 20.0 + 1e-9) << "tick " << k;
+    ASSERT_LE((out.force_W_N - previous).norm(), 0.5 + 1e-9) << "tick " << k;
+    if (n > 1e-9) {
+      ASSERT_LT(out.force_W_N.normalized().cross(dir).norm(), 1e-9) << "tick " << k;
+    }
+    ASSERT_LE(dut.rms_force_N(), 6.0 + 1e-9) << "tick " << k;
+    previous = out.force_W_N;
+  }
+  EXPECT_GT(peak_seen_N, 15.0);                    // short bursts may go well above 6 N
+  EXPECT_NEAR(previous.norm(), 6.0, 1e-3);         // sustained force is the continuous limit
+  EXPECT_GT(dut.counters().peak_limited, 0u);
+  EXPECT_GT(dut.counters().continuous_limited, 0u);
+  EXPECT_GT(dut.counters().slew_limited, 0u);
+}
+
+TEST(ForceSafetyTest, SlewLimitsASuddenReversal) {
+  ForceSafetyConfig config;
+  config.startup_ramp_s = 0.0;
+  ForceSafety dut(config);
+  for (int k = 0; k < 100; ++k) dut.Step(Request({5.0, 0.0, 0.0}), kTick_s);
+  ASSERT_NEAR(dut.last_force_W_N().x(), 5.0, 1e-12);
+  const SafetyOutput out = dut.Step(Request({-5.0, 0.0, 0.0}), kTick_s);
+  EXPECT_NEAR(out.force_W_N.x(), 4.5, 1e-12);
+  EXPECT_TRUE(out.limited);
+}
+
+TEST(ForceSafetyTest, NonFiniteRequestBecomesZeroAndIsCounted) {
+  ForceSafetyConfig config;
+  config.startup_ramp_s = 0.0;
+  ForceSafety dut(config);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 20; ++k) dut.Step(Request({0.0, 0.4, 0.0}), kTick_s);
+  SafetyOutput out = dut.Step(Request({nan, 1.0, 0.0}), kTick_s);
+  EXPECT_TRUE(out.force_W_N.allFinite());
+  // zero request, reached within the slew limit (0.4 N < 0.5 N per tick)
+  EXPECT_EQ(out.force_W_N, Eigen::Vector3d::Zero());
+  out = dut.Step(Request({0.0, -inf, 0.0}), kTick_s);
+  EXPECT_EQ(out.force_W_N, Eigen::Vector3d::Zero());
+  EXPECT_EQ(dut.counters().non_finite, 2u);
+  EXPECT_TRUE(std::isfinite(dut.rms_force_N()));
+}
+
+TEST(ForceSafetyTest, WatchdogHoldsThenRampsToExactlyZeroAtTwentyMilliseconds) {
+  ForceSafetyConfig config;
+  config.startup_ramp_s = 0.0;
+  ForceSafety dut(config);
+  const Eigen::Vector3d request(0.0, 0.0, 15.0);
+  for (int k = 0; k < 200; ++k) dut.Step(Request(request), kTick_s);
+  ASSERT_NEAR(dut.last_force_W_N().z(), 15.0, 1e-9);
+  // the model stops arriving: age grows by one tick per step
+  for (int k = 1; k <= 150; ++k) {
+    SafetyInput in = Request(request);
+    in.model_age_s = k * kTick_s;
+    const SafetyOutput out = dut.Step(in, kTick_s);
+    if (in.model_age_s <= 0.010 + 1e-9) {
+      EXPECT_NEAR(out.force_W_N.z(), 15.0, 1e-9) << "still fresh at " << in.model_age_s;
+    } else if (in.model_age_s >= 0.020 - 1e-9) {
+      EXPECT_EQ(out.force_W_N, Eigen::Vector3d::Zero()) << "age " << in.model_age_s;
+    } else {
+      const double expected = 15.0 * (1.0 - (in.model_age_s - 0.010) / 0.010);
+      EXPECT_NEAR(out.force_W_N.z(), expected, 1e-6) << "age " << in.model_age_s;
+      EXPECT_TRUE(out.ramping);
+    }
+  }
+  EXPECT_GT(dut.counters().watchdog_zero_steps, 0u);
+}
+
+TEST(ForceSafetyTest, ShortTtlEndsFreshnessEarlier) {
+  ForceSafetyConfig config;
+  config.startup_ramp_s = 0.0;
+  ForceSafety dut(config);
+  SafetyInput in = Request({1.0, 0.0, 0.0});
+  in.model_ttl_s = 0.002;
+  in.model_age_s = 0.012 + kTick_s;  // 2 ms ttl + 10 ms ramp are over
+  for (int k = 0; k < 5; ++k) dut.Step(in, kTick_s);
+  EXPECT_EQ(dut.last_force_W_N(), Eigen::Vector3d::Zero());
+}
+
+TEST(ForceSafetyTest, NoModelOrNotAllowedMeansZero) {
+  ForceSafety dut(ForceSafetyConfig{});
+  SafetyInput in = Request({3.0, 0.0, 0.0});
+  in.model_age_s = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(dut.Step(in, kTick_s).force_W_N, Eigen::Vector3d::Zero());
+  in = Request({3.0, 0.0, 0.0});
+  in.output_allowed = false;
+  EXPECT_EQ(dut.Step(in, kTick_s).force_W_N, Eigen::Vector3d::Zero());
+}
+
+TEST(ForceSafetyTest, StartupRampScalesForceIn) {
+  ForceSafetyConfig config;
+  config.startup_ramp_s = 0.5;
+  ForceSafety dut(config);
+  const Eigen::Vector3d request(4.0, 0.0, 0.0);
+  for (int k = 1; k <= 1250; ++k) dut.Step(Request(request), kTick_s);  // 0.25 s
+  EXPECT_NEAR(dut.last_force_W_N().x(), 2.0, 1e-6);
+  for (int k = 0; k < 1500; ++k) dut.Step(Request(request), kTick_s);
+  EXPECT_NEAR(dut.last_force_W_N().x(), 4.0, 1e-9);
+  // a forced zero (device not allowed) re-arms the ramp
+  SafetyInput off = Request(request);
+  off.output_allowed = false;
+  dut.Step(off, kTick_s);
+  EXPECT_EQ(dut.last_force_W_N(), Eigen::Vector3d::Zero());
+  dut.Step(Request(request), kTick_s);
+  EXPECT_NEAR(dut.last_force_W_N().x(), 4.0 * kTick_s / 0.5, 1e-9);
+}
+
+void ExpectConfigError(const ForceSafetyConfig& config, const std::string& field) {
+  try {
+    config.Validate();
+    FAIL() << "expected std::invalid_argument for " << field;
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+  }
+}
+
+TEST(ForceSafetyTest, InvalidConfigsThrowWithClearMessages) {
+  EXPECT_NO_THROW(ForceSafetyConfig{}.Validate());
+  ForceSafetyConfig c;
+  c.peak_force_N = 25.0;
+  ExpectConfigError(c, "peak_force_N");
+  c = {};
+  c.continuous_force_N = 8.0;
+  ExpectConfigError(c, "continuous_force_N");
+  c = {};
+  c.slew_N_per_tick = 0.0;
+  ExpectConfigError(c, "slew_N_per_tick");
+  c = {};
+  c.stale_after_s = 0.015;
+  ExpectConfigError(c, "stale_after_s + stale_ramp_s");
+  c = {};
+  c.continuous_window_s = std::numeric_limits<double>::quiet_NaN();
+  ExpectConfigError(c, "continuous_window_s");
+  EXPECT_THROW(ForceSafety{c}, std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace haptex::device

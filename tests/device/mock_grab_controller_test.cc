@@ -1,0 +1,181 @@
+#include "libs/device/mock_grab_controller.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+
+#include "tests/support/allocation_counter.h"
+
+namespace haptex::device {
+namespace {
+
+constexpr double kTick_s = 2e-4;
+using StatusBytes = std::array<std::byte, kStatusFrameSize>;
+using CommandBytes = std::array<std::byte, kCommandFrameSize>;
+
+StatusFrame DecodeStatus(const StatusBytes& b) {
+  StatusFrame f;
+  EXPECT_EQ(DecodeStatusFrame(b, GrabValueLimits{}, &f), FrameError::kNone);
+  return f;
+}
+
+CommandBytes Command(std::uint32_t sequence, const Eigen::Vector3f& thumb_N,
+                     std::uint16_t flags = command_flags::kForceEnable) {
+  CommandFrame c;
+  c.sequence = sequence;
+  c.manipulators[0].force_D_N = thumb_N;
+  c.manipulators[0].flags = flags;
+  CommandBytes b{};
+  EncodeCommandFrame(c, b);
+  return b;
+}
+
+TEST(MockGrabControllerTest, IdleFingersStayAtRestWithQuantisedPositions) {
+  MockGrabController dut(MockControllerConfig{}, ScriptParams{});
+  StatusBytes out{};
+  for (int k = 0; k < 5000; ++k) dut.Step(k * kTick_s, kTick_s, out);
+  const StatusFrame f = DecodeStatus(out);
+  EXPECT_EQ(f.sequence, 5000u);
+  EXPECT_EQ(f.controller_time_ns, 1000000000u);
+  EXPECT_NEAR(f.manipulators[0].p_D_m.y(), -0.03f, 0.032e-3f);
+  for (int axis = 0; axis < 3; ++axis) {
+    const double counts = static_cast<double>(f.manipulators[0].p_D_m[axis]) / 0.032e-3;
+    EXPECT_NEAR(counts, std::round(counts), 1e-3) << "axis " << axis;
+  }
+  EXPECT_NE(f.manipulators[0].flags & manipulator_flags::kCalibrated, 0);
+  EXPECT_NE(f.controller_flags & controller_flags::kHostTimeout, 0);  // no host yet
+}
+
+TEST(MockGrabControllerTest, ForceNoiseIsBoundedAndSeeded) {
+  MockControllerConfig config;
+  MockGrabController a(config, ScriptParams{});
+  MockGrabController b(config, ScriptParams{});
+  config.seed = 2;
+  MockGrabController c(config, ScriptParams{});
+  StatusBytes oa{}, ob{}, oc{};
+  bool any_difference = false;
+  for (int k = 0; k < 2000; ++k) {
+    a.Step(k * kTick_s, kTick_s, oa);
+    b.Step(k * kTick_s, kTick_s, ob);
+    c.Step(k * kTick_s, kTick_s, oc);
+    ASSERT_EQ(oa, ob) << "same seed, same bytes";
+    any_difference |= oa != oc;
+    const StatusFrame f = DecodeStatus(oa);
+    for (const ManipulatorStatus& m : f.manipulators) {
+      ASSERT_LE(m.force_D_N.cwiseAbs().maxCoeff(), 0.1f);  // zero force plus +-0.1 N noise
+    }
+  }
+  EXPECT_TRUE(any_difference);
+}
+
+TEST(MockGrabControllerTest, AppliesCommandsAndTimesOutAfterFiveMilliseconds) {
+  MockGrabController dut(MockControllerConfig{}, ScriptParams{});
+  StatusBytes out{};
+  double t = 0.0;
+  std::uint32_t seq = 0;
+  for (int k = 0; k < 100; ++k, t += kTick_s) {
+    dut.OnCommandDatagram(Command(++seq, {2.0f, 0.0f, 0.0f}), t);
+    dut.Step(t, kTick_s, out);
+  }
+  EXPECT_NEAR(dut.finger(Manipulator::kThumb).applied_force_D_N.x(), 2.0, 1e-6);
+  EXPECT_FALSE(dut.host_timed_out());
+  EXPECT_GT(dut.finger(Manipulator::kThumb).v_D_m_per_s.x(), 0.0);  // pushed along +x
+  const double last_command_s = t - kTick_s;
+  for (int k = 0; k < 40; ++k, t += kTick_s) {
+    dut.Step(t, kTick_s, out);
+    const double silence = t - last_command_s;
+    if (silence <= 0.005 - 1e-9) {
+      EXPECT_EQ(dut.finger(Manipulator::kThumb).commanded_force_D_N.x(), 2.0) << silence;
+    } else {
+      EXPECT_EQ(dut.finger(Manipulator::kThumb).commanded_force_D_N, Eigen::Vector3d::Zero()) << silence;
+      EXPECT_TRUE(dut.host_timed_out());
+      EXPECT_NE(DecodeStatus(out).controller_flags & controller_flags::kHostTimeout, 0);
+    }
+  }
+  EXPECT_EQ(dut.counters().host_timeouts, 1u);
+}
+
+TEST(MockGrabControllerTest, ClampsToPeakAndHonoursEnableAndShutdown) {
+  MockGrabController dut(MockControllerConfig{}, ScriptParams{});
+  StatusBytes out{};
+  dut.OnCommandDatagram(Command(1, {0.0f, 0.0f, 24.0f}), 0.0);
+  dut.Step(0.0, kTick_s, out);
+  EXPECT_NEAR(dut.finger(Manipulator::kThumb).commanded_force_D_N.z(), 20.0, 1e-9);
+  EXPECT_NE(DecodeStatus(out).manipulators[0].flags & manipulator_flags::kForceSaturated, 0);
+  dut.OnCommandDatagram(Command(2, {0.0f, 0.0f, 5.0f}, 0), kTick_s);  // enable clear
+  dut.Step(kTick_s, kTick_s, out);
+  EXPECT_EQ(dut.finger(Manipulator::kThumb).commanded_force_D_N, Eigen::Vector3d::Zero());
+  CommandFrame shutdown;
+  shutdown.sequence = 3;
+  shutdown.host_flags = host_flags::kShutdown;
+  shutdown.manipulators[0].force_D_N = {1.0f, 0.0f, 0.0f};
+  shutdown.manipulators[0].flags = command_flags::kForceEnable;
+  CommandBytes b{};
+  EncodeCommandFrame(shutdown, b);
+  dut.OnCommandDatagram(b, 2 * kTick_s);
+  dut.Step(2 * kTick_s, kTick_s, out);
+  EXPECT_EQ(dut.finger(Manipulator::kThumb).commanded_force_D_N, Eigen::Vector3d::Zero());
+  EXPECT_EQ(DecodeStatus(out).echo_host_sequence, 3u);
+}
+
+TEST(MockGrabControllerTest, RejectsBadCommandsAndReportsIt) {
+  MockGrabController dut(MockControllerConfig{}, ScriptParams{});
+  StatusBytes out{};
+  CommandBytes bad = Command(1, {1.0f, 0.0f, 0.0f});
+  bad[20] ^= std::byte{1};
+  EXPECT_EQ(dut.OnCommandDatagram(bad, 0.0), FrameError::kBadChecksum);
+  dut.Step(0.0, kTick_s, out);
+  EXPECT_NE(DecodeStatus(out).controller_flags & controller_flags::kCommandRejected, 0);
+  dut.Step(kTick_s, kTick_s, out);
+  EXPECT_EQ(DecodeStatus(out).controller_flags & controller_flags::kCommandRejected, 0);
+  EXPECT_EQ(dut.frame_counters().Get(FrameError::kBadChecksum), 1u);
+}
+
+TEST(MockGrabControllerTest, StopsAtTheWorkspaceFaces) {
+  ScriptParams script;
+  script.kind = ScriptKind::kPinchAndStretch;
+  script.stretch_D_m = {0.19, 0.0, 0.0};  // target beyond x = 0.2 m for the pressed fingers
+  script.fabric_point_D_m = {0.05, 0.0, 0.0};
+  MockGrabController dut(MockControllerConfig{}, script);
+  StatusBytes out{};
+  bool limit_seen = false;
+  for (int k = 0; k < 20000; ++k) {
+    dut.Step(k * kTick_s, kTick_s, out);
+    const StatusFrame f = DecodeStatus(out);
+    ASSERT_LE(std::abs(f.manipulators[0].p_D_m.x()), 0.2f);
+    limit_seen |= (f.manipulators[0].flags & manipulator_flags::kWorkspaceLimit) != 0;
+  }
+  EXPECT_TRUE(limit_seen);
+  EXPECT_NEAR(dut.finger(Manipulator::kThumb).p_D_m.x(), 0.2, 1e-6);
+}
+
+TEST(MockGrabControllerTest, InvalidConfigThrows) {
+  MockControllerConfig config;
+  config.finger.mass_kg = 0.0;
+  EXPECT_THROW(MockGrabController(config, ScriptParams{}), std::invalid_argument);
+  ScriptParams script;
+  script.kind = ScriptKind::kPlayback;  // without a trajectory
+  EXPECT_THROW(MockGrabController(MockControllerConfig{}, script), std::invalid_argument);
+}
+
+TEST(MockGrabControllerTest, WarmedUpStepDoesNotAllocate) {
+  if (!testing::AllocationCountingSupported()) GTEST_SKIP() << "allocation counting unavailable";
+  ScriptParams script;
+  script.kind = ScriptKind::kRub;
+  MockGrabController dut(MockControllerConfig{}, script);
+  StatusBytes out{};
+  for (int k = 0; k < 100; ++k) {
+    dut.OnCommandDatagram(Command(static_cast<std::uint32_t>(k + 1), {0.5f, 0.0f, 0.0f}), k * kTick_s);
+    dut.Step(k * kTick_s, kTick_s, out);
+  }
+  const CommandBytes next = Command(101, {0.5f, 0.0f, 0.0f});
+  testing::AllocationCounter counter;
+  dut.OnCommandDatagram(next, 100 * kTick_s);
+  dut.Step(100 * kTick_s, kTick_s, out);
+  EXPECT_EQ(counter.count(), 0);
+}
+
+}  // namespace
+}  // namespace haptex::device
