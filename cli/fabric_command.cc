@@ -97,7 +97,7 @@ void Plot(const CurveTables& t, const std::string& name, const std::string& png)
     }
   }
   const std::string script = png + ".gp";
-  std::ofstream(script) << "set terminal pngcairo size 1200,450\nset output '" << png << "'\n"
+  std::ofstream(script) << "set terminal pngcairo size 1200,450 noenhanced\nset output '" << png << "'\n"
                         << "set multiplot layout 1,2 title '" << name << "'\nset grid\n"
                         << "set xlabel 'strain [%]'\nset ylabel 'force per width [N/m]'\n"
                         << "plot '" << data << "' u 1:2 w lp t 'warp', '' u 1:3 w lp t 'weft'\n"

@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <sys/stat.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <csignal>
 #include <cstdio>
 #include <random>
@@ -156,6 +158,49 @@ TEST(HaptexCliTest, SceneCheckReportsFileLineColumn) {
   EXPECT_EQ(check.WaitFor(10s), 2);
   EXPECT_NE(check.Stderr().find(path + ":3:9: particles_v must be in [2, 401]"), std::string::npos)
       << check.Stderr();
+}
+
+TEST(HaptexCliTest, SimWritesParticlesMeshAndSummary) {
+  const std::string out = ::testing::TempDir() + "/haptex_sim_" + std::to_string(getpid());
+  Subprocess sim({Haptex(), "sim", testing::SourceDir() + "/launch/scenes/hanging.textproto",
+                  "--duration", "0.2", "--out", out, "--quiet"});
+  ASSERT_EQ(sim.WaitFor(120s), 0) << sim.Stderr();
+  const std::string summary = testing::ReadFileOrEmpty(out + "/summary.json");
+  EXPECT_EQ(JsonNumber(summary, "steps"), 20);
+  EXPECT_EQ(JsonNumber(summary, "nan_count"), 0);
+  EXPECT_EQ(JsonNumber(summary, "particles"), 41 * 41);
+  EXPECT_GT(JsonNumber(summary, "step_ms_p50"), 0);
+  const std::string csv = testing::ReadFileOrEmpty(out + "/particles.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 41 * 41);
+  EXPECT_EQ(csv.rfind("id,u,v,x,y,z\n", 0), 0u);
+  const std::string obj = testing::ReadFileOrEmpty(out + "/mesh.obj");
+  EXPECT_NE(obj.find("\nf "), std::string::npos);
+}
+
+TEST(HaptexCliTest, SimRefusesASceneWithoutDuration) {
+  const std::string path = ::testing::TempDir() + "/no_duration_" + std::to_string(getpid()) + ".textproto";
+  {
+    std::FILE* f = std::fopen(path.c_str(), "w");
+    std::fputs("name: \"x\"\nfabric { database_name: \"wang2011_black_denim_11oz\" }\n", f);
+    std::fclose(f);
+  }
+  Subprocess sim({Haptex(), "sim", path});
+  EXPECT_EQ(sim.WaitFor(30s), 2);
+  EXPECT_NE(sim.Stderr().find("needs a duration"), std::string::npos) << sim.Stderr();
+}
+
+TEST(HaptexCliTest, FabricListAndShowPrintTheDatabase) {
+  Subprocess list({Haptex(), "fabric", "list"});
+  ASSERT_EQ(list.WaitFor(30s), 0) << list.Stderr();
+  EXPECT_NE(list.Stdout().find("wang2011_black_denim_11oz"), std::string::npos);
+  const std::string png = ::testing::TempDir() + "/denim_" + std::to_string(getpid()) + ".png";
+  Subprocess show({Haptex(), "fabric", "show", "wang2011_black_denim_11oz", "--plot", png});
+  ASSERT_EQ(show.WaitFor(60s), 0) << show.Stderr();
+  EXPECT_NE(show.Stdout().find("strain %"), std::string::npos);
+  EXPECT_EQ(testing::ReadFileOrEmpty(png).substr(1, 3), "PNG");
+  Subprocess missing({Haptex(), "fabric", "show", "silk"});
+  EXPECT_EQ(missing.WaitFor(30s), 2);
+  EXPECT_NE(missing.Stderr().find("no fabric 'silk'"), std::string::npos);
 }
 
 TEST(HaptexCliTest, KeyGenerateWritesAPrivateKeyFile) {
