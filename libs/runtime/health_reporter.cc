@@ -15,7 +15,15 @@ void HealthReporter::AddLoop(const LoopStats* loop) {
 }
 
 void HealthReporter::AddLatency(std::string name, const LatencyHistogram* histogram) {
-  latencies_.push_back(histogram);
+  AddLatency(std::move(name), [histogram] {
+    return LatencySummary{histogram->count(), histogram->Percentile(0.50) * 1e-3,
+                          histogram->Percentile(0.99) * 1e-3,
+                          static_cast<double>(histogram->max_ns()) * 1e-3};
+  });
+}
+
+void HealthReporter::AddLatency(std::string name, LatencySource source) {
+  latencies_.push_back(std::move(source));
   health_.add_latencies()->set_name(std::move(name));
 }
 
@@ -33,10 +41,11 @@ const v1::Health& HealthReporter::Build(double uptime_s) {
   }
   for (std::size_t i = 0; i < latencies_.size(); ++i) {
     v1::LatencyStats* out = health_.mutable_latencies(static_cast<int>(i));
-    out->set_samples(latencies_[i]->count());
-    out->set_p50_us(latencies_[i]->Percentile(0.50) * 1e-3);
-    out->set_p99_us(latencies_[i]->Percentile(0.99) * 1e-3);
-    out->set_max_us(static_cast<double>(latencies_[i]->max_ns()) * 1e-3);
+    const LatencySummary summary = latencies_[i]();
+    out->set_samples(summary.samples);
+    out->set_p50_us(summary.p50_us);
+    out->set_p99_us(summary.p99_us);
+    out->set_max_us(summary.max_us);
   }
   for (std::size_t i = 0; i < counter_values_.size(); ++i) {
     health_.mutable_counters(static_cast<int>(i))->set_value(counter_values_[i]);

@@ -3,6 +3,7 @@
 // at start-up; Build() then reuses the message and does not allocate.
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -12,15 +13,25 @@
 
 namespace haptex::runtime {
 
+/// One latency distribution as Health reports it.
+struct LatencySummary {
+  std::uint64_t samples = 0;
+  double p50_us = 0, p99_us = 0, max_us = 0;
+};
+
 class HealthReporter final {
  public:
   using CounterId = std::size_t;
+  /// Called at every Build; must not allocate.
+  using LatencySource = std::function<LatencySummary()>;
 
   explicit HealthReporter(std::string service);
 
   /// The loop's statistics are read at every Build; the pointer must outlive the reporter.
   void AddLoop(const LoopStats* loop);
   void AddLatency(std::string name, const LatencyHistogram* histogram);
+  /// A latency kept elsewhere (e.g. a core's own tracker).
+  void AddLatency(std::string name, LatencySource source);
   CounterId AddCounter(std::string name);
 
   void SetCounter(CounterId id, std::uint64_t value) { counter_values_[id] = value; }
@@ -32,7 +43,7 @@ class HealthReporter final {
 
  private:
   std::vector<const LoopStats*> loops_;
-  std::vector<const LatencyHistogram*> latencies_;
+  std::vector<LatencySource> latencies_;
   std::vector<std::uint64_t> counter_values_;
   v1::Health::State state_ = v1::Health::STATE_STARTING;
   v1::Health health_;

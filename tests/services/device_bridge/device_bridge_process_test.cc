@@ -1,0 +1,278 @@
+// The device bridge and the mock GRAB controller as real processes over loopback UDP; the test
+// plays local_contact (FingerStates in, ForceModels out) and the launcher (Health in). What the
+// finger felt is read from the mock's force log (CLOCK_MONOTONIC times, shared by processes).
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <csignal>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <thread>
+
+#include "libs/net/messenger.h"
+#include "libs/net/udp_address.h"
+#include "libs/runtime/clock.h"
+#include "tests/support/subprocess.h"
+#include "tests/support/test_paths.h"
+
+namespace haptex {
+namespace {
+
+using namespace std::chrono_literals;
+constexpr std::uint64_t kSession = 4242;
+
+struct LogRow {
+  std::int64_t time_ns;
+  double thumb_cmd[3];
+  double index_cmd[3];
+};
+
+std::vector<LogRow> ReadForceLog(const std::string& path) {
+  std::vector<LogRow> rows;
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) {
+    std::stringstream s(line);
+    std::string cell;
+    std::vector<double> v;
+    while (std::getline(s, cell, ',')) v.push_back(std::stod(cell));
+    if (v.size() != 14) continue;
+    rows.push_back({static_cast<std::int64_t>(v[0]), {v[1], v[2], v[3]}, {v[7], v[8], v[9]}});
+  }
+  return rows;
+}
+
+double Norm(const double f[3]) { return std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]); }
+
+class DeviceBridgeProcessTest : public ::testing::Test {
+ protected:
+  DeviceBridgeProcessTest() : key_(net::SessionKey::Generate()) {
+    net::MessengerConfig config;
+    config.identity = {"local_contact", 0, kSession};
+    contact_ = std::make_unique<net::Messenger>(key_, config);
+    config.identity = {"launcher", 0, kSession};
+    launcher_ = std::make_unique<net::Messenger>(key_, config);
+    log_ = ::testing::TempDir() + "/mock_grab_" + std::to_string(getpid()) + ".csv";
+  }
+
+  std::string Bin(const std::string& path) { return testing::BuildDir() + "/services/" + path; }
+  std::vector<std::string> Env() { return {"HAPTEX_SESSION_KEY=" + key_.ToHex()}; }
+
+  static std::string WaitForLine(testing::Subprocess& p, const std::string& pattern) {
+    const std::regex re(pattern);
+    std::smatch match;
+    for (int i = 0; i < 500; ++i) {
+      const std::string out = p.Stdout();
+      if (std::regex_search(out, match, re)) return match[1];
+      std::this_thread::sleep_for(10ms);
+    }
+    ADD_FAILURE() << "no line matching " << pattern << "; stderr: " << p.Stderr();
+    return "";
+  }
+
+  void Start(const std::string& script) {
+    // the bridge's GRAB port must be known before the mock starts: reserve one
+    int bridge_port = 0;
+    {
+      net::UdpEndpoint reserve("127.0.0.1:0");
+      bridge_port = reserve.local_port();
+    }
+    mock_ = std::make_unique<testing::Subprocess>(
+        std::vector<std::string>{Bin("mock_grab/haptex-mock-grab"), "--script", script, "--bridge",
+                                 "127.0.0.1:" + std::to_string(bridge_port), "--force-log", log_,
+                                 "--session-id", std::to_string(kSession)},
+        Env());
+    const std::string mock_port = WaitForLine(*mock_, "listening on 127\\.0\\.0\\.1:([0-9]+)");
+    bridge_ = std::make_unique<testing::Subprocess>(
+        std::vector<std::string>{Bin("device_bridge/haptex-device-bridge"), "--controller-bind",
+                                 "127.0.0.1:" + std::to_string(bridge_port), "--controller",
+                                 "127.0.0.1:" + mock_port, "--session-id", std::to_string(kSession),
+                                 "--peer", "local_contact=" + net::FormatUdpAddress(contact_->local_endpoint()),
+                                 "--peer", "launcher=" + net::FormatUdpAddress(launcher_->local_endpoint()),
+                                 "--health-hz", "20"},
+        Env());
+    WaitForLine(*bridge_, "controller socket on 127\\.0\\.0\\.1:([0-9]+)");
+    // the first FingerStates tell us where the bridge listens
+    const auto until = std::chrono::steady_clock::now() + 5s;
+    while (!have_bridge_ && std::chrono::steady_clock::now() < until) {
+      DrainContact();
+      std::this_thread::sleep_for(1ms);
+    }
+    ASSERT_TRUE(have_bridge_) << bridge_->Stderr();
+    to_bridge_ = contact_->AddPeer("device_bridge", bridge_endpoint_);
+  }
+
+  void DrainContact() {
+    contact_->Drain([&](const v1::Envelope& e, const net::Messenger::Endpoint& from) {
+      if (e.body_case() != v1::Envelope::kFingerStates) return;
+      bridge_endpoint_ = from;
+      have_bridge_ = true;
+      last_states_ = e.finger_states();
+      ++states_received_;
+    });
+  }
+
+  // Sends a thumb ForceModel at ~1 kHz for `duration`; returns the steady time of the last send.
+  std::int64_t SendForce(double fx, double fy, double fz, std::chrono::milliseconds duration) {
+    v1::ForceModel model;
+    auto* thumb = model.add_fingers();
+    thumb->set_finger(v1::FINGER_THUMB);
+    thumb->mutable_f0_w_n()->set_x(fx);
+    thumb->mutable_f0_w_n()->set_y(fy);
+    thumb->mutable_f0_w_n()->set_z(fz);
+    for (int i = 0; i < 9; ++i) thumb->add_stiffness_w_n_per_m(0.0);
+    thumb->set_ttl_s(0.010);
+    std::int64_t last = 0;
+    const auto until = std::chrono::steady_clock::now() + duration;
+    while (std::chrono::steady_clock::now() < until) {
+      model.set_based_on_controller_sequence(last_states_.controller_sequence());
+      contact_->Send(to_bridge_, model);
+      last = runtime::SteadyNowNs();
+      std::this_thread::sleep_for(1ms);
+      DrainContact();
+    }
+    return last;
+  }
+
+  int Stop(testing::Subprocess& p) {
+    p.Signal(SIGTERM);
+    return p.WaitFor(10s).value_or(-1);
+  }
+
+  net::SessionKey key_;
+  std::unique_ptr<net::Messenger> contact_;
+  std::unique_ptr<net::Messenger> launcher_;
+  std::unique_ptr<testing::Subprocess> mock_;
+  std::unique_ptr<testing::Subprocess> bridge_;
+  std::string log_;
+  bool have_bridge_ = false;
+  net::Messenger::Endpoint bridge_endpoint_;
+  net::Messenger::PeerId to_bridge_ = 0;
+  v1::FingerStates last_states_;
+  std::uint64_t states_received_ = 0;
+};
+
+TEST_F(DeviceBridgeProcessTest, StatesFlowAndTheForceReachesTheFingerThenZeroOnShutdown) {
+  Start("grasp");
+  const auto first_sequence = last_states_.controller_sequence();
+  SendForce(0, 0, 1.0, 1200ms);  // past the 0.5 s start-up ramp
+  EXPECT_TRUE(last_states_.device_ok());
+  EXPECT_GT(last_states_.controller_sequence(), first_sequence + 1000);  // ~5 kHz controller
+  EXPECT_GT(states_received_, 500u);                                     // ~1 kHz to local_contact
+  ASSERT_EQ(last_states_.fingers_size(), 2);
+  EXPECT_EQ(last_states_.fingers(0).finger(), v1::FINGER_THUMB);
+  // still commanding 1 N when the bridge is told to stop: it must zero the force before exiting
+  SendForce(0, 0, 1.0, 5ms);
+  EXPECT_EQ(Stop(*bridge_), 0) << bridge_->Stderr();
+  std::this_thread::sleep_for(50ms);
+  EXPECT_EQ(Stop(*mock_), 0);
+  const auto rows = ReadForceLog(log_);
+  ASSERT_GT(rows.size(), 5000u);
+  int at_one_newton = 0;
+  for (const auto& r : rows) at_one_newton += std::abs(r.thumb_cmd[2] - 1.0) < 0.02;
+  EXPECT_GT(at_one_newton, 1000) << "the commanded 1 N never reached the finger steadily";
+  // the last commands the controller received before the bridge exited were zero
+  EXPECT_EQ(Norm(rows.back().thumb_cmd), 0.0);
+}
+
+TEST_F(DeviceBridgeProcessTest, WatchdogZeroesTheForceWithin20msOfTheLastModel) {
+  Start("grasp");
+  const std::int64_t last_model_ns = SendForce(0, 0, 3.0, 1000ms);  // then local_contact goes silent
+  std::this_thread::sleep_for(200ms);
+  EXPECT_EQ(Stop(*bridge_), 0);
+  EXPECT_EQ(Stop(*mock_), 0);
+  const auto rows = ReadForceLog(log_);
+  // two loopback hops and one tick of each loop on top of the bridge's 20 ms
+  const std::int64_t margin_ns = 2'000'000;
+  std::int64_t first_zero_ns = -1;
+  bool nonzero_before = false;
+  for (const auto& r : rows) {
+    if (r.time_ns < last_model_ns && Norm(r.thumb_cmd) > 2.9) nonzero_before = true;
+    if (r.time_ns > last_model_ns && first_zero_ns < 0 && Norm(r.thumb_cmd) == 0.0) first_zero_ns = r.time_ns;
+    if (r.time_ns > last_model_ns + 20'000'000 + margin_ns) {
+      ASSERT_EQ(Norm(r.thumb_cmd), 0.0) << "force still " << Norm(r.thumb_cmd) << " N at "
+                                        << (r.time_ns - last_model_ns) * 1e-6 << " ms";
+    }
+  }
+  EXPECT_TRUE(nonzero_before) << "the 3 N force never reached the finger: the test would prove nothing";
+  ASSERT_GT(first_zero_ns, 0);
+  std::cout << "[measured] force reached zero " << (first_zero_ns - last_model_ns) * 1e-6
+            << " ms after the last ForceModel was sent\n";
+}
+
+TEST_F(DeviceBridgeProcessTest, ClampsAndSlewHoldWhenAModelAsksFor100N) {
+  Start("grasp");
+  SendForce(0, 0, 100.0, 1500ms);
+  SendForce(std::nan(""), 0, 0, 100ms);  // NaN: zero, counted
+  EXPECT_EQ(Stop(*bridge_), 0);
+  EXPECT_EQ(Stop(*mock_), 0);
+  const auto rows = ReadForceLog(log_);
+  double peak = 0, max_step = 0, previous = 0;
+  for (const auto& r : rows) {
+    const double f = Norm(r.thumb_cmd);
+    peak = std::max(peak, f);
+    max_step = std::max(max_step, std::abs(f - previous));
+    previous = f;
+    EXPECT_NEAR(r.thumb_cmd[0], 0.0, 1e-6);  // direction kept: +z only
+  }
+  EXPECT_LE(peak, 20.0 + 1e-3);
+  EXPECT_GE(peak, 5.9);  // it did push, up to the limits
+  // the bridge slews 0.5 N per tick; a mock step may see two bridge ticks at once
+  EXPECT_LE(max_step, 1.0 + 1e-3);
+  std::cout << "[measured] peak " << peak << " N, largest change per controller step " << max_step << " N\n";
+}
+
+TEST_F(DeviceBridgeProcessTest, SilentControllerIsReportedAsDeviceLost) {
+  Start("idle");
+  EXPECT_EQ(Stop(*mock_), 0);
+  bool lost = false;
+  const auto until = std::chrono::steady_clock::now() + 5s;
+  while (!lost && std::chrono::steady_clock::now() < until) {
+    launcher_->WaitReadable(20ms);
+    launcher_->Drain([&](const v1::Envelope& e, const net::Messenger::Endpoint&) {
+      if (e.body_case() != v1::Envelope::kHealth) return;
+      for (const auto& c : e.health().counters()) {
+        if (c.name() == "device_lost_events" && c.value() >= 1 &&
+            e.health().state() == v1::Health::STATE_DEGRADED) {
+          lost = true;
+        }
+      }
+    });
+  }
+  EXPECT_TRUE(lost);
+  EXPECT_EQ(Stop(*bridge_), 0);
+}
+
+TEST_F(DeviceBridgeProcessTest, GarbageOnTheControllerSocketIsRejectedAndCounted) {
+  Start("idle");
+  // find the bridge's GRAB port from its stdout and flood it
+  const std::string port = WaitForLine(*bridge_, "controller socket on 127\\.0\\.0\\.1:([0-9]+)");
+  net::UdpEndpoint attacker("127.0.0.1:0");
+  const auto target = net::ResolveUdpAddress("127.0.0.1:" + port);
+  std::vector<std::uint8_t> junk(116, 0x5a);
+  for (int i = 0; i < 2000; ++i) {
+    junk[static_cast<std::size_t>(i % 116)] ^= 0xff;
+    attacker.SendTo(junk, target);
+  }
+  std::uint64_t rejected = 0;
+  const auto until = std::chrono::steady_clock::now() + 5s;
+  while (rejected < 1000 && std::chrono::steady_clock::now() < until) {
+    launcher_->WaitReadable(20ms);
+    launcher_->Drain([&](const v1::Envelope& e, const net::Messenger::Endpoint&) {
+      if (e.body_case() != v1::Envelope::kHealth) return;
+      for (const auto& c : e.health().counters()) {
+        if (c.name() == "status_frames_rejected") rejected = c.value();
+      }
+    });
+  }
+  EXPECT_GE(rejected, 1000u);
+  EXPECT_EQ(Stop(*bridge_), 0) << "the bridge did not survive the flood";
+  EXPECT_EQ(Stop(*mock_), 0);
+}
+
+}  // namespace
+}  // namespace haptex
