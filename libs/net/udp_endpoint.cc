@@ -2,6 +2,10 @@
 
 #include <poll.h>
 #include <sys/socket.h>
+#include <time.h>
+
+#include <cerrno>
+#include <cstring>
 
 #include <stdexcept>
 #include <string>
@@ -38,6 +42,48 @@ std::optional<std::size_t> UdpEndpoint::ReceiveOne(std::span<std::uint8_t> buffe
     // ICMP errors of earlier sends (connection refused) surface here; skip them.
     if (error == asio::error::connection_refused || error == asio::error::interrupted) continue;
     return std::nullopt;
+  }
+}
+
+std::optional<std::size_t> UdpEndpoint::ReceiveOne(std::span<std::uint8_t> buffer, Endpoint* from,
+                                                   std::int64_t* arrival_ns) {
+  if (!timestamps_enabled_) {
+    const int on = 1;
+    setsockopt(socket_.native_handle(), SOL_SOCKET, SO_TIMESTAMPNS, &on, sizeof(on));
+    timestamps_enabled_ = true;
+  }
+  for (;;) {
+    iovec io{buffer.data(), buffer.size()};
+    alignas(cmsghdr) char control[CMSG_SPACE(sizeof(timespec))];
+    sockaddr_storage address{};
+    msghdr message{};
+    message.msg_name = &address;
+    message.msg_namelen = sizeof(address);
+    message.msg_iov = &io;
+    message.msg_iovlen = 1;
+    message.msg_control = control;
+    message.msg_controllen = sizeof(control);
+    const ssize_t bytes = recvmsg(socket_.native_handle(), &message, MSG_TRUNC | MSG_DONTWAIT);
+    if (bytes < 0) {
+      if (errno == EINTR || errno == ECONNREFUSED) continue;
+      return std::nullopt;
+    }
+    from->resize(message.msg_namelen);
+    std::memcpy(from->data(), &address, message.msg_namelen);
+    // the kernel stamps in CLOCK_REALTIME; move it onto the steady clock by the clocks' offset now
+    timespec real_now{}, steady_now{};
+    clock_gettime(CLOCK_REALTIME, &real_now);
+    clock_gettime(CLOCK_MONOTONIC, &steady_now);
+    const auto ns = [](const timespec& t) { return std::int64_t{t.tv_sec} * 1000000000 + t.tv_nsec; };
+    *arrival_ns = ns(steady_now);
+    for (cmsghdr* c = CMSG_FIRSTHDR(&message); c != nullptr; c = CMSG_NXTHDR(&message, c)) {
+      if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_TIMESTAMPNS) {
+        timespec stamp{};
+        std::memcpy(&stamp, CMSG_DATA(c), sizeof(stamp));
+        *arrival_ns = ns(steady_now) - (ns(real_now) - ns(stamp));
+      }
+    }
+    return static_cast<std::size_t>(bytes);
   }
 }
 

@@ -31,6 +31,12 @@ class UdpEndpoint final {
   /// is the datagram's real size, which exceeds buffer.size() when it was cut (oversized).
   std::optional<std::size_t> ReceiveOne(std::span<std::uint8_t> buffer, Endpoint* from);
 
+  /// Same, and *arrival_ns is when the kernel received the datagram, on the steady clock
+  /// (SO_TIMESTAMPNS, converted), so latency counts the time a datagram waited in the socket.
+  /// Falls back to the time of the call when the kernel gives no timestamp.
+  std::optional<std::size_t> ReceiveOne(std::span<std::uint8_t> buffer, Endpoint* from,
+                                        std::int64_t* arrival_ns);
+
   /// Sends without blocking; false when the kernel refuses (buffer full, unreachable, too large).
   bool SendTo(std::span<const std::uint8_t> datagram, const Endpoint& to);
 
@@ -41,6 +47,7 @@ class UdpEndpoint final {
   asio::io_context io_;
   asio::ip::udp::socket socket_;
   Endpoint local_;
+  bool timestamps_enabled_ = false;
 };
 
 }  // namespace haptex::net

@@ -32,10 +32,12 @@ struct Options {
   std::string controller;
   double rate_hz = 5000;
   double stop_zero_force_s = 0.030;  // zero commands sent before exiting
+  double prediction_horizon_ms = 1.0;
 };
 
-device::DeviceBridgeConfig MakeConfig(const services::ServiceContext& context) {
+device::DeviceBridgeConfig MakeConfig(const services::ServiceContext& context, const Options& options) {
   device::DeviceBridgeConfig config;
+  config.estimator.prediction_horizon_s = options.prediction_horizon_ms * 1e-3;
   if (context.scene() != nullptr) {
     const v1::DeviceSpec& d = context.scene()->scene.device();
     if (d.peak_force_n() > 0) config.safety.peak_force_N = d.peak_force_n();
@@ -51,7 +53,7 @@ device::DeviceBridgeConfig MakeConfig(const services::ServiceContext& context) {
 double RateOr(double value, double fallback) { return value > 0 ? value : fallback; }
 
 int Run(services::ServiceContext& context, const Options& options) {
-  const device::DeviceBridgeConfig config = MakeConfig(context);
+  const device::DeviceBridgeConfig config = MakeConfig(context, options);
   auto bridge = std::make_unique<device::DeviceBridge>(config);
   net::UdpEndpoint socket(options.controller_bind);
   const auto controller = net::ResolveUdpAddress(options.controller);
@@ -99,10 +101,14 @@ int Run(services::ServiceContext& context, const Options& options) {
       [&](const runtime::TickInfo& tick) {
         const double t_s = static_cast<double>(tick.now_ns - start_ns) * 1e-9;
         // read: controller frames (bounded against floods), then models and control
+        // frames carry their kernel arrival time, so motion-to-force latency includes the wait
         for (int i = 0; i < 64; ++i) {
-          const auto bytes = socket.ReceiveOne(rx, &from);
+          std::int64_t arrival_ns = 0;
+          const auto bytes = socket.ReceiveOne(rx, &from, &arrival_ns);
           if (!bytes) break;
-          bridge->OnStatusDatagram(std::as_bytes(std::span(rx.data(), std::min(*bytes, rx.size()))), t_s);
+          const double arrival_s = static_cast<double>(arrival_ns - start_ns) * 1e-9;
+          bridge->OnStatusDatagram(std::as_bytes(std::span(rx.data(), std::min(*bytes, rx.size()))),
+                                   std::min(arrival_s, t_s));
         }
         context.messenger().Drain([&](const v1::Envelope& e, const net::Messenger::Endpoint&) {
           if (context.HandleControl(e)) {
@@ -156,10 +162,11 @@ int Run(services::ServiceContext& context, const Options& options) {
   const auto& m2f = bridge->motion_to_force_latency();
   const auto& rtt = bridge->link_round_trip();
   context.log().info(
-      "device_bridge: {} ticks, overruns {}; status frames {} accepted, {} rejected; {} force models; "
+      "device_bridge: {} ticks, overruns {}, tick compute p50 {:.1f} us p99 {:.1f} us; status frames {} accepted, {} rejected; {} force models; "
       "motion-to-force p50 {:.1f} us p99 {:.1f} us max {:.1f} us; controller round trip p50 {:.1f} us "
       "p99 {:.1f} us max {:.1f} us",
-      loop.stats().ticks, loop.stats().overruns, bridge->frame_counters().accepted(),
+      loop.stats().ticks, loop.stats().overruns, loop.stats().compute.Percentile(0.5) * 1e-3,
+      loop.stats().compute.Percentile(0.99) * 1e-3, bridge->frame_counters().accepted(),
       bridge->frame_counters().TotalRejected(), bridge->counters().force_models, m2f.p50_s() * 1e6,
       m2f.p99_s() * 1e6, m2f.max_s() * 1e6, rtt.p50_s() * 1e6, rtt.p99_s() * 1e6, rtt.max_s() * 1e6);
   return 0;
@@ -177,6 +184,9 @@ int main(int argc, char** argv) {
             ->capture_default_str();
         app.add_option("--controller", options->controller, "the GRAB controller (or haptex-mock-grab), HOST:PORT")
             ->required();
+        app.add_option("--prediction-horizon-ms", options->prediction_horizon_ms,
+                       "predict finger poses this far ahead: the latency from measurement to force")
+            ->check(CLI::Range(0.0, 50.0))->capture_default_str();
         app.add_option("--rate", options->rate_hz, "bridge rate [Hz] (the controller's)")
             ->check(CLI::Range(100.0, 20000.0))->capture_default_str();
       },

@@ -59,7 +59,8 @@ device::ScriptKind KindFromScene(v1::MockUserScript::Kind kind) {
   }
 }
 
-device::ScriptParams MakeScript(const services::ServiceContext& context, const Options& options) {
+device::ScriptParams MakeScript(const services::ServiceContext& context, const Options& options,
+                                const device::MockControllerConfig& config) {
   device::ScriptParams script;
   std::string playback = options.playback_csv;
   if (!options.script.empty()) {
@@ -67,6 +68,21 @@ device::ScriptParams MakeScript(const services::ServiceContext& context, const O
   } else if (context.scene() != nullptr && context.scene()->scene.device().has_mock()) {
     const v1::MockUserScript& user = context.scene()->scene.device().mock().user();
     script.kind = KindFromScene(user.kind());
+    // frame D = W until the scene carries the device's pose (DeviceBridgeConfig::X_WD)
+    if (user.has_touch_point_w_m()) {
+      script.fabric_point_D_m = {user.touch_point_w_m().x(), user.touch_point_w_m().y(),
+                                 user.touch_point_w_m().z()};
+    }
+    if (user.speed_m_per_s() > 0) {
+      // the user moves at this speed through each phase
+      script.approach_duration_s = script.rest_gap_m / user.speed_m_per_s();
+      if (user.stretch_m() > 0) script.stretch_duration_s = user.stretch_m() / user.speed_m_per_s();
+      script.lift_duration_s = script.lift_height_m / user.speed_m_per_s();
+    }
+    if (user.squeeze_force_n() > 0) {
+      // the user aims beyond the fabric so that its grip spring pulls with the squeeze force
+      script.press_depth_m = user.squeeze_force_n() / config.finger.user_stiffness_N_per_m;
+    }
     if (user.stretch_m() > 0) script.stretch_D_m = Eigen::Vector3d(user.stretch_m(), 0, 0);
     if (user.rub_amplitude_m() > 0) script.rub_amplitude_m = user.rub_amplitude_m();
     if (playback.empty()) playback = user.playback_csv();
@@ -83,7 +99,7 @@ int Run(services::ServiceContext& context, const Options& options) {
   device::MockControllerConfig config;
   config.seed = options.seed;
   config.Validate();
-  auto controller = std::make_unique<device::MockGrabController>(config, MakeScript(context, options));
+  auto controller = std::make_unique<device::MockGrabController>(config, MakeScript(context, options, config));
   net::UdpEndpoint socket(options.controller_bind);
   const auto bridge = net::ResolveUdpAddress(options.bridge);
   std::unique_ptr<ForceLog> log;

@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <stdexcept>
+#include <thread>
 #include <vector>
 
 namespace haptex::net {
@@ -36,6 +37,27 @@ TEST(UdpEndpointTest, ReportsTheRealSizeOfADatagramLargerThanTheBuffer) {
   const auto bytes = b.ReceiveOne(buffer, &from);
   ASSERT_TRUE(bytes.has_value());
   EXPECT_EQ(*bytes, 3000u);
+}
+
+TEST(UdpEndpointTest, ArrivalTimeIsWhenTheKernelReceivedNotWhenWeRead) {
+  UdpEndpoint a("127.0.0.1:0");
+  UdpEndpoint b("127.0.0.1:0");
+  std::vector<std::uint8_t> buffer(64);
+  UdpEndpoint::Endpoint from;
+  std::int64_t arrival = 0;
+  EXPECT_FALSE(b.ReceiveOne(buffer, &from, &arrival).has_value());  // enables timestamps
+  const auto now_ns = [] {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(
+               std::chrono::steady_clock::now().time_since_epoch()).count();
+  };
+  const std::int64_t sent = now_ns();
+  ASSERT_TRUE(a.SendTo(std::vector<std::uint8_t>{1, 2, 3}, b.local_endpoint()));
+  std::this_thread::sleep_for(std::chrono::milliseconds(30));  // the datagram waits in the socket
+  const std::int64_t read = now_ns();
+  ASSERT_EQ(b.ReceiveOne(buffer, &from, &arrival), 3u);
+  EXPECT_EQ(from.port(), a.local_port());
+  EXPECT_GE(arrival, sent - 1'000'000);         // clock conversion tolerance
+  EXPECT_LT(arrival, read - 20'000'000) << "arrival should be ~30 ms before the read";
 }
 
 TEST(UdpEndpointTest, BindFailureNamesTheAddress) {
