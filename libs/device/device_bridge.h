@@ -63,6 +63,10 @@ class DeviceBridge {
 
   /// From now on every command has zero force, force-enable clear and the shutdown flag set.
   void RequestShutdown() { shutdown_ = true; }
+  /// Predict finger poses this far ahead from now on (both fingers; see FingerStateEstimator).
+  void SetPredictionHorizon(double horizon_s) {
+    for (Finger& f : fingers_) f.estimator.SetPredictionHorizon(horizon_s);
+  }
 
   const FingerState& finger_state(Manipulator finger) const { return fingers_[Index(finger)].state; }
   const ForceSafety& safety(Manipulator finger) const { return fingers_[Index(finger)].safety; }

@@ -1,5 +1,6 @@
 #include "libs/device/finger_state_estimator.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -87,6 +88,11 @@ void FingerStateEstimator::Update(const Eigen::Vector3d& p_W_m, const Eigen::Qua
   state->prediction_horizon_s = h;
   state->p_pred_W_m = p_W_m + h * v_W_m_per_s_;
   state->q_pred_WF = (FromRotationVector(h * w_W_rad_per_s_) * q).normalized();
+}
+
+void FingerStateEstimator::SetPredictionHorizon(double horizon_s) {
+  if (!std::isfinite(horizon_s)) return;
+  config_.prediction_horizon_s = std::clamp(horizon_s, 0.0, 0.1);
 }
 
 }  // namespace haptex::device

@@ -38,6 +38,9 @@ class FingerStateEstimator {
   void Reset();
 
   const FingerStateEstimatorConfig& config() const { return config_; }
+  /// Changes the prediction horizon at run time (e.g. to the measured latency); clamped to
+  /// [0, 0.1] s, non-finite values ignored. Takes effect at the next Update.
+  void SetPredictionHorizon(double horizon_s);
 
  private:
   FingerStateEstimatorConfig config_;

@@ -32,12 +32,12 @@ struct Options {
   std::string controller;
   double rate_hz = 5000;
   double stop_zero_force_s = 0.030;  // zero commands sent before exiting
-  double prediction_horizon_ms = 1.0;
+  double prediction_horizon_ms = -1.0;  // < 0: the measured latency, updated as it runs
 };
 
 device::DeviceBridgeConfig MakeConfig(const services::ServiceContext& context, const Options& options) {
   device::DeviceBridgeConfig config;
-  config.estimator.prediction_horizon_s = options.prediction_horizon_ms * 1e-3;
+  if (options.prediction_horizon_ms >= 0) config.estimator.prediction_horizon_s = options.prediction_horizon_ms * 1e-3;
   if (context.scene() != nullptr) {
     const v1::DeviceSpec& d = context.scene()->scene.device();
     if (d.peak_force_n() > 0) config.safety.peak_force_N = d.peak_force_n();
@@ -68,6 +68,7 @@ int Run(services::ServiceContext& context, const Options& options) {
   const auto global = context.FindPeer("global_sim");
   const auto local_every = std::max<std::int64_t>(1, std::llround(options.rate_hz / local_hz));
   const auto global_every = std::max<std::int64_t>(1, std::llround(options.rate_hz / global_hz));
+  const auto horizon_update_every = static_cast<std::uint64_t>(std::max(1.0, options.rate_hz / 2));
 
   auto& health = context.health();
   runtime::PeriodicLoop loop("device_bridge", options.rate_hz);
@@ -134,6 +135,13 @@ int Run(services::ServiceContext& context, const Options& options) {
           bridge->RequestShutdown();
           stop_at_ns = tick.now_ns + static_cast<std::int64_t>(options.stop_zero_force_s * 1e9);
         }
+        // predict one link latency ahead: measurement -> force computed (motion-to-force) plus
+        // the command's way back to the controller (half the controller round trip)
+        if (options.prediction_horizon_ms < 0 && tick.tick % horizon_update_every == 0 &&
+            bridge->link_round_trip().count() > 100 && bridge->motion_to_force_latency().count() > 100) {
+          bridge->SetPredictionHorizon(bridge->motion_to_force_latency().p50_s() +
+                                       0.5 * bridge->link_round_trip().p50_s());
+        }
         // update + write
         bridge->Tick(t_s, tick.dt_s, command);
         socket.SendTo(std::span(reinterpret_cast<const std::uint8_t*>(command.data()), command.size()), controller);
@@ -185,8 +193,9 @@ int main(int argc, char** argv) {
         app.add_option("--controller", options->controller, "the GRAB controller (or haptex-mock-grab), HOST:PORT")
             ->required();
         app.add_option("--prediction-horizon-ms", options->prediction_horizon_ms,
-                       "predict finger poses this far ahead: the latency from measurement to force")
-            ->check(CLI::Range(0.0, 50.0))->capture_default_str();
+                       "predict finger poses this far ahead (default: the measured latency from a pose's "
+                       "measurement to its force reaching the finger)")
+            ->check(CLI::Range(0.0, 50.0));
         app.add_option("--rate", options->rate_hz, "bridge rate [Hz] (the controller's)")
             ->check(CLI::Range(100.0, 20000.0))->capture_default_str();
       },

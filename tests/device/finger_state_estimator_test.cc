@@ -116,3 +116,21 @@ TEST(FingerStateEstimatorTest, InvalidConfigThrowsWithTheFieldName) {
 
 }  // namespace
 }  // namespace haptex::device
+
+namespace haptex::device {
+namespace {
+
+TEST(FingerStateEstimatorHorizonTest, SetPredictionHorizonIsClampedAndIgnoresNan) {
+  FingerStateEstimator estimator{FingerStateEstimatorConfig{}};
+  estimator.SetPredictionHorizon(0.0004);
+  EXPECT_DOUBLE_EQ(estimator.config().prediction_horizon_s, 0.0004);
+  estimator.SetPredictionHorizon(5.0);
+  EXPECT_DOUBLE_EQ(estimator.config().prediction_horizon_s, 0.1);
+  estimator.SetPredictionHorizon(std::nan(""));
+  EXPECT_DOUBLE_EQ(estimator.config().prediction_horizon_s, 0.1);
+  estimator.SetPredictionHorizon(-1.0);
+  EXPECT_DOUBLE_EQ(estimator.config().prediction_horizon_s, 0.0);
+}
+
+}  // namespace
+}  // namespace haptex::device

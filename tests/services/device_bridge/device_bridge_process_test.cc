@@ -165,6 +165,11 @@ TEST_F(DeviceBridgeProcessTest, StatesFlowAndTheForceReachesTheFingerThenZeroOnS
   EXPECT_GT(states_received_, 500u);                                     // ~1 kHz to local_contact
   ASSERT_EQ(last_states_.fingers_size(), 2);
   EXPECT_EQ(last_states_.fingers(0).finger(), v1::FINGER_THUMB);
+  // the prediction horizon left its 1 ms start value for the measured link latency
+  const double horizon = last_states_.fingers(0).prediction_horizon_s();
+  EXPECT_GT(horizon, 0.0);
+  EXPECT_LT(horizon, 0.001) << "on loopback the latency is far below 1 ms";
+  std::cout << "[measured] prediction horizon " << horizon * 1e6 << " us\n";
   // still commanding 1 N when the bridge is told to stop: it must zero the force before exiting
   SendForce(0, 0, 1.0, 5ms);
   EXPECT_EQ(Stop(*bridge_), 0) << bridge_->Stderr();
