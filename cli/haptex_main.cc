@@ -13,6 +13,7 @@
 #include "cli/netcheck_command.h"
 #include "cli/scene_command.h"
 #include "cli/sim_command.h"
+#include "cli/tactile_command.h"
 #include "libs/scene/text_proto.h"
 
 int main(int argc, char** argv) {
@@ -24,6 +25,7 @@ int main(int argc, char** argv) {
   haptex::cli::AddKeyCommand(app, &exit_code);
   haptex::cli::AddFabricCommand(app, &exit_code);
   haptex::cli::AddSimCommand(app, &exit_code);
+  haptex::cli::AddTactileCommand(app, &exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

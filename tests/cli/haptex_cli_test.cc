@@ -203,6 +203,22 @@ TEST(HaptexCliTest, FabricListAndShowPrintTheDatabase) {
   EXPECT_NE(missing.Stderr().find("no fabric 'silk'"), std::string::npos);
 }
 
+TEST(HaptexCliTest, TactileBuildWritesATileAndPictures) {
+  const std::string dir = ::testing::TempDir() + "/tactile_" + std::to_string(getpid());
+  Subprocess build({Haptex(), "tactile", "build", "wang2011_black_denim_11oz", "--out", dir + "/denim.tile",
+                    "--png", dir + "/denim", "--warp-pitch-mm", "0.6", "--weft-pitch-mm", "0.6",
+                    "--yarn-mm", "0.4", "--smd-um", "3.6"});
+  ASSERT_EQ(build.WaitFor(60s), 0) << build.Stderr();
+  EXPECT_NE(build.Stdout().find("periodic tile"), std::string::npos);
+  EXPECT_GT(testing::ReadFileOrEmpty(dir + "/denim.tile").size(), 100u);
+  for (const char* png : {"_tile.png", "_map.png", "_spectrum.png"}) {
+    EXPECT_EQ(testing::ReadFileOrEmpty(dir + "/denim" + png).substr(1, 3), "PNG") << png;
+  }
+  Subprocess missing({Haptex(), "tactile", "build", "wang2011_black_denim_11oz", "--out", dir + "/x.tile"});
+  EXPECT_EQ(missing.WaitFor(30s), 2);
+  EXPECT_NE(missing.Stderr().find("roughness SMD"), std::string::npos) << missing.Stderr();
+}
+
 TEST(HaptexCliTest, KeyGenerateWritesAPrivateKeyFile) {
   const std::string path = ::testing::TempDir() + "/haptex_generated.key";
   std::remove(path.c_str());
