@@ -8,7 +8,7 @@
 
 #include <unistd.h>
 
-#include "cli/cli_session_key.h"
+#include "libs/scene/session_key_source.h"
 #include "cli/netcheck_report.h"
 #include "libs/net/messenger.h"
 #include "libs/net/udp_address.h"
@@ -46,7 +46,7 @@ void PrintDrops(const net::DropCounters& counters, std::ostream& out) {
 }
 
 int Serve(const ServeOptions& options) {
-  const net::SessionKey key = LoadCliSessionKey(options.key_file);
+  const net::SessionKey key = scene::LoadSessionKey(options.key_file);
   net::MessengerConfig config;
   config.bind_address = options.bind;
   config.identity = {"netcheck_serve", 0, key.DerivedSessionId()};
@@ -84,7 +84,7 @@ int Probe(const ProbeOptions& options) {
     throw std::invalid_argument("rate x seconds = " + std::to_string(probes) + " probes; at most " +
                                 std::to_string(kMaxProbes) + " per run");
   }
-  const net::SessionKey key = LoadCliSessionKey(options.key_file);
+  const net::SessionKey key = scene::LoadSessionKey(options.key_file);
   net::MessengerConfig config;
   config.bind_address = options.bind;
   if (config.bind_address.empty()) {

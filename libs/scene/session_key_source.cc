@@ -43,4 +43,22 @@ net::SessionKey ResolveSessionKey(const v1::SessionKey& source) {
   }
 }
 
+net::SessionKey LoadSessionKey(const std::string& key_file) {
+  v1::SessionKey source;
+  if (!key_file.empty()) {
+    source.set_file(key_file);
+  } else if (const char* env = std::getenv("HAPTEX_SESSION_KEY"); env != nullptr && *env != '\0') {
+    source.set_env("HAPTEX_SESSION_KEY");
+  } else {
+    throw std::invalid_argument(
+        "no session key: pass --key-file FILE or set HAPTEX_SESSION_KEY to 64 hex digits "
+        "(make one with `haptex key generate`); both ends need the same key");
+  }
+  try {
+    return ResolveSessionKey(source);
+  } catch (const std::runtime_error& e) {
+    throw std::invalid_argument(e.what());  // an unreadable key file is bad input too
+  }
+}
+
 }  // namespace haptex::scene

@@ -13,25 +13,6 @@
 #include "libs/scene/session_key_source.h"
 
 namespace haptex::services {
-namespace {
-
-net::SessionKey LoadKey(const ServiceOptions& options) {
-  v1::SessionKey source;
-  if (!options.key_file.empty()) {
-    source.set_file(options.key_file);
-  } else if (const char* env = std::getenv("HAPTEX_SESSION_KEY"); env != nullptr && *env != '\0') {
-    source.set_env("HAPTEX_SESSION_KEY");
-  } else {
-    throw std::invalid_argument("no session key: pass --key-file or set HAPTEX_SESSION_KEY");
-  }
-  try {
-    return scene::ResolveSessionKey(source);
-  } catch (const std::runtime_error& e) {
-    throw std::invalid_argument(e.what());
-  }
-}
-
-}  // namespace
 
 ServiceContext::ServiceContext(std::string name, const ServiceOptions& options)
     : name_(std::move(name)),
@@ -47,7 +28,7 @@ ServiceContext::ServiceContext(std::string name, const ServiceOptions& options)
     const scene::FabricDatabase fabrics(scene::FabricDatabase::DefaultDirectory());
     scene_ = std::make_unique<scene::LoadedScene>(scene::LoadScene(options.scene_path, fabrics));
   }
-  const net::SessionKey key = LoadKey(options);
+  const net::SessionKey key = scene::LoadSessionKey(options.key_file);
   net::MessengerConfig config;
   config.bind_address = options.bind;
   config.identity = {name_, 0, options.session_id != 0 ? options.session_id : key.DerivedSessionId()};

@@ -49,3 +49,28 @@ TEST(SessionKeySourceTest, FailuresNameTheSource) {
 
 }  // namespace
 }  // namespace haptex::scene
+
+namespace haptex::scene {
+namespace {
+
+TEST(LoadSessionKeyTest, FileFirstThenEnvironmentElseAClearError) {
+  constexpr char kFileKey[] = "00112233445566778899aabbccddeeff00112233445566778899aabbccddeeff";
+  constexpr char kOther[] = "ffeeddccbbaa99887766554433221100ffeeddccbbaa99887766554433221100";
+  setenv("HAPTEX_SESSION_KEY", kOther, 1);
+  const std::string path = ::testing::TempDir() + "/haptex_load_key_test";
+  std::ofstream(path) << kFileKey << "\n";
+  EXPECT_EQ(LoadSessionKey(path).ToHex(), kFileKey);
+  EXPECT_EQ(LoadSessionKey("").ToHex(), kOther);
+  setenv("HAPTEX_SESSION_KEY", "", 1);
+  try {
+    LoadSessionKey("");
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("haptex key generate"), std::string::npos);
+  }
+  EXPECT_THROW(LoadSessionKey("/nonexistent/key"), std::invalid_argument);
+  std::remove(path.c_str());
+}
+
+}  // namespace
+}  // namespace haptex::scene
