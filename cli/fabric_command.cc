@@ -1,5 +1,8 @@
 #include "cli/fabric_command.h"
 
+#include <spawn.h>
+#include <sys/wait.h>
+
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -12,6 +15,8 @@
 #include "libs/scene/fabric_conversion.h"
 #include "libs/scene/fabric_database.h"
 #include "libs/textile/kes_material.h"
+
+extern char** environ;
 
 namespace haptex::cli {
 namespace {
@@ -87,6 +92,12 @@ void PrintKes(const v1::Fabric& f) {
   }
 }
 
+std::string GnuplotQuoted(const std::string& text) {
+  std::string out = "'";
+  for (char c : text) out += c == '\'' ? std::string("''") : std::string(1, c);
+  return out + "'";
+}
+
 void Plot(const CurveTables& t, const std::string& name, const std::string& png) {
   const std::string data = png + ".dat";
   {
@@ -97,14 +108,22 @@ void Plot(const CurveTables& t, const std::string& name, const std::string& png)
     }
   }
   const std::string script = png + ".gp";
-  std::ofstream(script) << "set terminal pngcairo size 1200,450 noenhanced\nset output '" << png << "'\n"
-                        << "set multiplot layout 1,2 title '" << name << "'\nset grid\n"
+  std::ofstream(script) << "set terminal pngcairo size 1200,450 noenhanced\nset output " << GnuplotQuoted(png) << "\n"
+                        << "set multiplot layout 1,2 title " << GnuplotQuoted(name) << "\nset grid\n"
                         << "set xlabel 'strain [%]'\nset ylabel 'force per width [N/m]'\n"
-                        << "plot '" << data << "' u 1:2 w lp t 'warp', '' u 1:3 w lp t 'weft'\n"
+                        << "plot " << GnuplotQuoted(data) << " u 1:2 w lp t 'warp', '' u 1:3 w lp t 'weft'\n"
                         << "set xlabel 'shear angle [deg]'\n"
-                        << "plot '" << data << "' u 4:5 w lp t 'shear'\nunset multiplot\n";
-  const std::string command = "gnuplot '" + script + "'";
-  if (std::system(command.c_str()) != 0) throw std::runtime_error("gnuplot failed: " + command);
+                        << "plot " << GnuplotQuoted(data) << " u 4:5 w lp t 'shear'\nunset multiplot\n";
+  // run gnuplot directly (no shell): paths with quotes or spaces stay intact
+  pid_t pid = 0;
+  std::string program = "gnuplot";
+  std::string argument = script;
+  char* argv[] = {program.data(), argument.data(), nullptr};
+  int status = 0;
+  if (posix_spawnp(&pid, "gnuplot", nullptr, nullptr, argv, environ) != 0 || waitpid(pid, &status, 0) < 0 ||
+      !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    throw std::runtime_error("gnuplot failed on " + script + " (is gnuplot installed? scripts/setup installs it)");
+  }
   std::filesystem::remove(script);
   std::filesystem::remove(data);
   std::cout << "wrote " << png << "\n";

@@ -30,6 +30,10 @@ std::string DefaultOutDir(const std::string& scene_name) {
   return "runs/sim-" + scene_name + "-" + stamp;
 }
 
+void CheckWritten(const std::ofstream& out, const std::string& path) {
+  if (!out) throw std::runtime_error("could not write " + path);
+}
+
 void WriteParticles(const std::string& path, const textile::FabricModel& model,
                     const textile::FabricState& state) {
   std::ofstream out(path);
@@ -40,6 +44,8 @@ void WriteParticles(const std::string& path, const textile::FabricModel& model,
     const auto x = state.x(p);
     out << p << ',' << uv(0) << ',' << uv(1) << ',' << x(0) << ',' << x(1) << ',' << x(2) << '\n';
   }
+  out.flush();
+  CheckWritten(out, path);
 }
 
 void WriteObj(const std::string& path, const textile::FabricModel& model, const textile::FabricState& state) {
@@ -51,6 +57,8 @@ void WriteObj(const std::string& path, const textile::FabricModel& model, const 
     out << "v " << x(0) << ' ' << x(1) << ' ' << x(2) << '\n';
   }
   for (const auto& t : model.mesh.triangles()) out << "f " << t[0] + 1 << ' ' << t[1] + 1 << ' ' << t[2] + 1 << '\n';
+  out.flush();
+  CheckWritten(out, path);
 }
 
 int Sim(const SimOptions& options) {
@@ -119,7 +127,12 @@ int Sim(const SimOptions& options) {
       .Field("speed_capped", diag.speed_capped)
       .Field("steps_ok", status_counts[0])
       .EndObject();
-  std::ofstream(out_dir + "/summary.json") << json.str() << "\n";
+  {
+    std::ofstream summary(out_dir + "/summary.json");
+    summary << json.str() << "\n";
+    summary.flush();
+    CheckWritten(summary, out_dir + "/summary.json");
+  }
   std::cout << "sim " << loaded.scene.name() << ": " << steps << " steps in " << wall_s
             << " s wall (step p50 " << step_time.Percentile(0.5) * 1e-6 << " ms, p99 "
             << step_time.Percentile(0.99) * 1e-6 << " ms), NaN events " << diag.nan_events

@@ -108,13 +108,17 @@ void DeviceBridge::Tick(double t_s, double dt_s, std::span<std::byte, kCommandFr
   if (lost && !device_lost_) ++counters_.device_lost_events;
   device_lost_ = lost;
   const bool estop = (controller_flags_ & controller_flags::kEmergencyStop) != 0;
+  // the controller zeroed force because our commands stopped reaching it: disarm, so the force
+  // ramps in again instead of jumping back when commands get through
+  const bool controller_timed_out = (controller_flags_ & controller_flags::kHostTimeout) != 0;
 
   CommandFrame command;
   command.host_flags = shutdown_ ? host_flags::kShutdown : 0;
   for (std::size_t i = 0; i < kManipulatorCount; ++i) {
     Finger& finger = fingers_[i];
     SafetyInput input;
-    input.output_allowed = !lost && !shutdown_ && !estop && finger.state.valid;
+    input.output_allowed =
+        !lost && !shutdown_ && !zero_force_hold_ && !estop && !controller_timed_out && finger.state.valid;
     if (finger.has_model) {
       const Eigen::Vector3d& p_W = config_.evaluate_at_predicted_pose ? finger.state.p_pred_W_m
                                                                       : finger.state.p_W_m;

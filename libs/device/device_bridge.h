@@ -63,6 +63,9 @@ class DeviceBridge {
 
   /// From now on every command has zero force, force-enable clear and the shutdown flag set.
   void RequestShutdown() { shutdown_ = true; }
+  /// Holds every force at zero while `hold` is true (reversible; forces ramp in after release).
+  void SetZeroForceHold(bool hold) { zero_force_hold_ = hold; }
+  bool zero_force_hold() const { return zero_force_hold_; }
   /// Predict finger poses this far ahead from now on (both fingers; see FingerStateEstimator).
   void SetPredictionHorizon(double horizon_s) {
     for (Finger& f : fingers_) f.estimator.SetPredictionHorizon(horizon_s);
@@ -117,6 +120,7 @@ class DeviceBridge {
   bool has_status_ = false;
   bool device_lost_ = true;
   bool shutdown_ = false;
+  bool zero_force_hold_ = false;
   std::uint16_t controller_flags_ = 0;
   std::uint32_t last_status_sequence_ = 0;
   std::uint64_t last_status_time_ns_ = 0;

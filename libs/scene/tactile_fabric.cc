@@ -61,8 +61,13 @@ VirtualFabric BuildVirtualFabric(const v1::Fabric& fabric, const TactileSurfaceO
       throw std::invalid_argument("a height image needs its pixel size and the fabric's SMD to scale it");
     }
     // relief: the image's full grey range; SMD is the mean deviation, about a quarter of it
-    tactile::HeightMap map = tactile::HeightMapFromGreyImage(tactile::ReadPgmFile(o.image_path),
-                                                             o.image_pixel_um * 1e-6, 4 * smd_um);
+    tactile::GreyImage image;
+    try {
+      image = tactile::ReadPgmFile(o.image_path);
+    } catch (const std::runtime_error& e) {
+      throw std::invalid_argument("height image " + o.image_path + ": " + e.what());
+    }
+    tactile::HeightMap map = tactile::HeightMapFromGreyImage(image, o.image_pixel_um * 1e-6, 4 * smd_um);
     tactile::PeriodicTile tile = tactile::AnalysePeriodicity(map);
     return {std::move(map), std::move(tile)};
   }

@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <limits>
 #include <iostream>
@@ -64,13 +65,13 @@ void ServiceContext::Tick(std::int64_t now_ns) {
   if (health_publisher_) health_publisher_->MaybePublish(now_ns);
 }
 
-bool ServiceContext::HandleControl(const v1::Envelope& envelope) {
-  if (envelope.body_case() != v1::Envelope::kControl) return false;
+ServiceContext::ControlResult ServiceContext::HandleControl(const v1::Envelope& envelope) {
+  if (envelope.body_case() != v1::Envelope::kControl) return ControlResult::kNotControl;
   const v1::Control& control = envelope.control();
-  if (!control.target_service().empty() && control.target_service() != name_) return true;
+  if (!control.target_service().empty() && control.target_service() != name_) return ControlResult::kForOthers;
   last_command_ = control.command();
   if (control.command() == v1::Control::COMMAND_SHUTDOWN) shutdown_commanded_ = true;
-  return true;
+  return ControlResult::kForUs;
 }
 
 bool ServiceContext::StopRequested(std::int64_t now_ns) const {
@@ -80,7 +81,9 @@ bool ServiceContext::StopRequested(std::int64_t now_ns) const {
 int RunService(int argc, char** argv, const std::string& name, const std::string& description,
                const std::function<void(CLI::App&)>& add_own_options,
                const std::function<int(ServiceContext&)>& run) {
-  CLI::App app{description, "haptex-" + name};
+  std::string binary = "haptex-" + name;
+  std::replace(binary.begin(), binary.end(), '_', '-');
+  CLI::App app{description, binary};
   ServiceOptions options;
   AddServiceOptions(app, &options);
   if (add_own_options) add_own_options(app);
@@ -95,13 +98,13 @@ int RunService(int argc, char** argv, const std::string& name, const std::string
     context.log().info("{} stopped (exit {})", name, code);
     return code;
   } catch (const scene::TextProtoError& e) {
-    std::cerr << "haptex-" << name << ": " << e.what() << "\n";
+    std::cerr << app.get_name() << ": " << e.what() << "\n";
     return 2;
   } catch (const std::invalid_argument& e) {
-    std::cerr << "haptex-" << name << ": " << e.what() << "\n";
+    std::cerr << app.get_name() << ": " << e.what() << "\n";
     return 2;
   } catch (const std::exception& e) {
-    std::cerr << "haptex-" << name << ": " << e.what() << "\n";
+    std::cerr << app.get_name() << ": " << e.what() << "\n";
     return 1;
   }
 }

@@ -45,8 +45,10 @@ class ServiceContext final {
 
   /// Call once per loop iteration: sends Health when due (no allocation once warmed up).
   void Tick(std::int64_t now_ns);
-  /// Handles a Control addressed to this service (or to all); returns true if it was one.
-  bool HandleControl(const v1::Envelope& envelope);
+  enum class ControlResult { kNotControl, kForOthers, kForUs };
+  /// Handles a Control: kForUs when addressed to this service (or to all), which also records it
+  /// as last_command() and stops the service for SHUTDOWN.
+  ControlResult HandleControl(const v1::Envelope& envelope);
   /// A signal arrived, a Control SHUTDOWN came, or --duration has passed.
   bool StopRequested(std::int64_t now_ns) const;
   /// The last Control command received for us (COMMAND_UNSPECIFIED when none).

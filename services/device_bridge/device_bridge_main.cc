@@ -83,6 +83,7 @@ int Run(services::ServiceContext& context, const Options& options) {
   });
   const auto c_status_ok = health.AddCounter("status_frames_accepted");
   const auto c_status_bad = health.AddCounter("status_frames_rejected");
+  const auto c_foreign = health.AddCounter("status_frames_from_strangers");
   const auto c_models = health.AddCounter("force_models");
   const auto c_models_bad = health.AddCounter("force_models_rejected");
   const auto c_lost = health.AddCounter("device_lost_events");
@@ -95,6 +96,7 @@ int Run(services::ServiceContext& context, const Options& options) {
   v1::FingerStates states;
   net::UdpEndpoint::Endpoint from;
   std::uint64_t bad_models = 0;
+  std::uint64_t foreign_frames = 0;
   const std::int64_t start_ns = runtime::SteadyNowNs();
   std::int64_t stop_at_ns = std::numeric_limits<std::int64_t>::max();
   bool stopping = false;
@@ -107,22 +109,30 @@ int Run(services::ServiceContext& context, const Options& options) {
           std::int64_t arrival_ns = 0;
           const auto bytes = socket.ReceiveOne(rx, &from, &arrival_ns);
           if (!bytes) break;
+          if (from != controller) {  // only the configured controller may move the fingers
+            ++foreign_frames;
+            continue;
+          }
           const double arrival_s = static_cast<double>(arrival_ns - start_ns) * 1e-9;
           bridge->OnStatusDatagram(std::as_bytes(std::span(rx.data(), std::min(*bytes, rx.size()))),
                                    std::min(arrival_s, t_s));
         }
         context.messenger().Drain([&](const v1::Envelope& e, const net::Messenger::Endpoint&) {
-          if (context.HandleControl(e)) {
-            const auto command_kind = context.last_command();
-            if (command_kind == v1::Control::COMMAND_ZERO_FORCE || command_kind == v1::Control::COMMAND_SHUTDOWN) {
-              bridge->RequestShutdown();
-            }
-            return;
+          switch (context.HandleControl(e)) {
+            case services::ServiceContext::ControlResult::kForUs:
+              // SHUTDOWN is handled below through StopRequested (zero force first)
+              if (context.last_command() == v1::Control::COMMAND_ZERO_FORCE) bridge->SetZeroForceHold(true);
+              if (context.last_command() == v1::Control::COMMAND_ENABLE_FORCE) bridge->SetZeroForceHold(false);
+              return;
+            case services::ServiceContext::ControlResult::kForOthers:
+              return;
+            case services::ServiceContext::ControlResult::kNotControl:
+              break;
           }
           if (e.body_case() != v1::Envelope::kForceModel) return;
           for (const v1::FingerForceModel& m : e.force_model().fingers()) {
             device::Manipulator manipulator;
-            if (!ToManipulator(m.finger(), &manipulator)) {
+            if (!ToManipulator(m.finger(), &manipulator) || !IsWellFormed(m)) {
               ++bad_models;
               continue;
             }
@@ -135,15 +145,17 @@ int Run(services::ServiceContext& context, const Options& options) {
           bridge->RequestShutdown();
           stop_at_ns = tick.now_ns + static_cast<std::int64_t>(options.stop_zero_force_s * 1e9);
         }
-        // predict one link latency ahead: measurement -> force computed (motion-to-force) plus
-        // the command's way back to the controller (half the controller round trip)
+        // predict one link latency ahead: from a pose's measurement to its force acting on the
+        // finger = the wait in our socket (motion-to-force) + the way up and the way back down
+        // (about one controller round trip)
         if (options.prediction_horizon_ms < 0 && tick.tick % horizon_update_every == 0 &&
             bridge->link_round_trip().count() > 100 && bridge->motion_to_force_latency().count() > 100) {
           bridge->SetPredictionHorizon(bridge->motion_to_force_latency().p50_s() +
-                                       0.5 * bridge->link_round_trip().p50_s());
+                                       bridge->link_round_trip().p50_s());
         }
         // update + write
-        bridge->Tick(t_s, tick.dt_s, command);
+        // after skipped cycles, the time that really passed (ramps and averages stay true)
+        bridge->Tick(t_s, tick.dt_s * static_cast<double>(1 + tick.skipped), command);
         socket.SendTo(std::span(reinterpret_cast<const std::uint8_t*>(command.data()), command.size()), controller);
         const auto k = static_cast<std::int64_t>(tick.tick);
         if ((local && k % local_every == 0) || (global && k % global_every == 0)) {
@@ -157,6 +169,7 @@ int Run(services::ServiceContext& context, const Options& options) {
         }
         health.SetCounter(c_status_ok, bridge->frame_counters().accepted());
         health.SetCounter(c_status_bad, bridge->frame_counters().TotalRejected());
+        health.SetCounter(c_foreign, foreign_frames);
         health.SetCounter(c_models, bridge->counters().force_models);
         health.SetCounter(c_models_bad, bad_models);
         health.SetCounter(c_lost, bridge->counters().device_lost_events);

@@ -40,6 +40,10 @@ device::ForceModel ToForceModel(const v1::FingerForceModel& in) {
   return model;
 }
 
+bool IsWellFormed(const v1::FingerForceModel& in) {
+  return in.stiffness_w_n_per_m_size() == 9 || in.stiffness_w_n_per_m_size() == 0;
+}
+
 void FillFingerStates(const device::DeviceBridge& bridge, v1::FingerStates* out) {
   while (out->fingers_size() < 2) out->add_fingers();
   std::uint64_t newest = 0;

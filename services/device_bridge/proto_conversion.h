@@ -16,6 +16,10 @@ v1::Finger ToFinger(device::Manipulator manipulator);
 /// without 9 values is treated as zero stiffness.
 device::ForceModel ToForceModel(const v1::FingerForceModel& in);
 
+/// A stiffness of exactly 9 values (or none: zero stiffness). Anything else is a malformed model,
+/// refused and counted rather than applied as a constant force.
+bool IsWellFormed(const v1::FingerForceModel& in);
+
 /// Fills `out` (reused, no allocation once it has two fingers) from the bridge's finger states.
 void FillFingerStates(const device::DeviceBridge& bridge, v1::FingerStates* out);
 

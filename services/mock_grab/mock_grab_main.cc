@@ -151,7 +151,7 @@ int Run(services::ServiceContext& context, const Options& options) {
           log->Push(sample);
         }
         context.messenger().Drain([&](const v1::Envelope& e, const net::Messenger::Endpoint&) {
-          context.HandleControl(e);
+          (void)context.HandleControl(e);  // SHUTDOWN stops the loop
         }, 8);
         health.SetCounter(c_steps, controller->counters().steps);
         health.SetCounter(c_accepted, controller->frame_counters().accepted());

@@ -43,7 +43,7 @@ int Run(services::ServiceContext& context, const Options& options) {
   while (!context.StopRequested(runtime::SteadyNowNs())) {
     context.messenger().WaitReadable(std::chrono::milliseconds(20));
     context.messenger().Drain([&](const v1::Envelope& envelope, const net::Messenger::Endpoint&) {
-      if (context.HandleControl(envelope)) return;
+      if (context.HandleControl(envelope) != services::ServiceContext::ControlResult::kNotControl) return;
       if (envelope.body_case() != v1::Envelope::kPinFrame) return;
       const PinFrameProblem problem = CheckPinFrame(envelope.pin_frame());
       if (problem != PinFrameProblem::kNone) {

@@ -7,6 +7,9 @@ namespace haptex::mock_pins {
 PinFrameProblem CheckPinFrame(const v1::PinFrame& frame) {
   if (frame.fingers_size() == 0) return PinFrameProblem::kNoFingers;
   if (frame.fingers_size() > 2) return PinFrameProblem::kTooManyFingers;
+  if (frame.fingers_size() == 2 && frame.fingers(0).finger() == frame.fingers(1).finger()) {
+    return PinFrameProblem::kBadFinger;
+  }
   for (const v1::FingerPins& finger : frame.fingers()) {
     if (finger.finger() != v1::FINGER_THUMB && finger.finger() != v1::FINGER_INDEX) {
       return PinFrameProblem::kBadFinger;

@@ -25,7 +25,13 @@ struct Options {
 };
 
 tactile::PeriodicTile LoadOrBuildTile(const services::ServiceContext& context, const Options& options) {
-  if (!options.tile.empty()) return tactile::PeriodicTile::LoadFile(options.tile);
+  if (!options.tile.empty()) {
+    try {
+      return tactile::PeriodicTile::LoadFile(options.tile);
+    } catch (const std::runtime_error& e) {
+      throw std::invalid_argument("tile " + options.tile + ": " + e.what());
+    }
+  }
   v1::Fabric fabric;
   if (context.scene() != nullptr) fabric = context.scene()->fabric;
   return scene::BuildVirtualFabric(fabric, options.surface).tile;
@@ -58,12 +64,13 @@ int Run(services::ServiceContext& context, const Options& options) {
         now_ns = tick.now_ns;
         const double t_s = static_cast<double>(tick.now_ns - start_ns) * 1e-9;
         context.messenger().Drain([&](const v1::Envelope& e, const net::Messenger::Endpoint&) {
-          if (context.HandleControl(e)) return;
+          if (context.HandleControl(e) != services::ServiceContext::ControlResult::kNotControl) return;
           if (e.body_case() != v1::Envelope::kTouchTrace) return;
           work.OnTouchTrace(e.touch_trace(), t_s);
           ++traces;
         });
-        if (work.Tick(t_s, tick.dt_s, &frame) && context.messenger().Send(display, frame)) ++frames;
+        const double dt_s = tick.dt_s * static_cast<double>(1 + tick.skipped);
+        if (work.Tick(t_s, dt_s, &frame) && context.messenger().Send(display, frame)) ++frames;
         health.SetCounter(c_frames, frames);
         health.SetCounter(c_traces, traces);
         health.SetCounter(c_bad, work.bad_fingers() + work.counters(0).bad_input + work.counters(1).bad_input);
@@ -71,6 +78,12 @@ int Run(services::ServiceContext& context, const Options& options) {
         context.Tick(tick.now_ns);
       },
       [&] { return context.StopRequested(now_ns); });
+  // leave the display silent
+  for (auto& finger : *frame.mutable_fingers()) {
+    for (auto& a : *finger.mutable_amplitude_40hz()) a = 0.0f;
+    for (auto& a : *finger.mutable_amplitude_320hz()) a = 0.0f;
+  }
+  if (frame.fingers_size() > 0) context.messenger().Send(display, frame);
   context.log().info("tactile: {} pin frames sent, {} touch traces, loop overruns {}", frames, traces,
                      loop.stats().overruns);
   return 0;

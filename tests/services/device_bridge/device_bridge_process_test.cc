@@ -12,6 +12,7 @@
 #include <sstream>
 #include <thread>
 
+#include "libs/device/grab_protocol.h"
 #include "libs/net/messenger.h"
 #include "libs/net/udp_address.h"
 #include "libs/runtime/clock.h"
@@ -28,6 +29,7 @@ struct LogRow {
   std::int64_t time_ns;
   double thumb_cmd[3];
   double index_cmd[3];
+  bool host_timed_out;
 };
 
 std::vector<LogRow> ReadForceLog(const std::string& path) {
@@ -41,7 +43,7 @@ std::vector<LogRow> ReadForceLog(const std::string& path) {
     std::vector<double> v;
     while (std::getline(s, cell, ',')) v.push_back(std::stod(cell));
     if (v.size() != 14) continue;
-    rows.push_back({static_cast<std::int64_t>(v[0]), {v[1], v[2], v[3]}, {v[7], v[8], v[9]}});
+    rows.push_back({static_cast<std::int64_t>(v[0]), {v[1], v[2], v[3]}, {v[7], v[8], v[9]}, v[13] != 0});
   }
   return rows;
 }
@@ -180,8 +182,76 @@ TEST_F(DeviceBridgeProcessTest, StatesFlowAndTheForceReachesTheFingerThenZeroOnS
   int at_one_newton = 0;
   for (const auto& r : rows) at_one_newton += std::abs(r.thumb_cmd[2] - 1.0) < 0.02;
   EXPECT_GT(at_one_newton, 1000) << "the commanded 1 N never reached the finger steadily";
-  // the last commands the controller received before the bridge exited were zero
-  EXPECT_EQ(Norm(rows.back().thumb_cmd), 0.0);
+  // Before the mock's own 5 ms watchdog fired (the bridge had exited), the bridge had been sending
+  // zero commands for a while: the zero came from the bridge, not from the mock's watchdog.
+  std::size_t timeout = rows.size();
+  while (timeout > 0 && rows[timeout - 1].host_timed_out) --timeout;
+  ASSERT_LT(timeout, rows.size()) << "the mock never noticed the bridge leaving";
+  ASSERT_GT(timeout, 60u);
+  for (std::size_t i = timeout - 50; i < timeout; ++i) {  // the last 10 ms of real commands
+    EXPECT_EQ(Norm(rows[i].thumb_cmd), 0.0) << "command " << timeout - i << " before the bridge left";
+  }
+}
+
+TEST_F(DeviceBridgeProcessTest, ControlZeroForceHoldsAndEnableForceRampsBackIn) {
+  Start("grasp");
+  SendForce(0, 0, 1.0, 800ms);  // ramped in
+  v1::Control control;
+  control.set_command(v1::Control::COMMAND_ZERO_FORCE);
+  const auto to_bridge_launcher = launcher_->AddPeer("device_bridge", bridge_endpoint_);
+  ASSERT_TRUE(launcher_->Send(to_bridge_launcher, control));
+  const std::int64_t zero_sent = SendForce(0, 0, 1.0, 300ms);  // models keep coming: held anyway
+  (void)zero_sent;
+  control.set_command(v1::Control::COMMAND_ENABLE_FORCE);
+  ASSERT_TRUE(launcher_->Send(to_bridge_launcher, control));
+  SendForce(0, 0, 1.0, 900ms);
+  EXPECT_EQ(Stop(*bridge_), 0);
+  EXPECT_EQ(Stop(*mock_), 0);
+  const auto rows = ReadForceLog(log_);
+  // three phases in the log: 1 N, then zero while held, then 1 N again
+  int phase = 0;
+  for (const auto& r : rows) {
+    const double f = Norm(r.thumb_cmd);
+    if (phase == 0 && std::abs(f - 1.0) < 0.01) phase = 1;
+    if (phase == 1 && f == 0.0) phase = 2;
+    if (phase == 2 && std::abs(f - 1.0) < 0.01) phase = 3;
+  }
+  EXPECT_EQ(phase, 3) << "expected 1 N, a zero-force hold, then 1 N again";
+}
+
+TEST_F(DeviceBridgeProcessTest, ValidFramesFromAStrangerAreIgnoredAndCounted) {
+  Start("idle");
+  const std::string port = WaitForLine(*bridge_, "controller socket on 127\\.0\\.0\\.1:([0-9]+)");
+  // a perfectly valid StatusFrame, but not from the configured controller
+  device::StatusFrame forged;
+  forged.sequence = 1u << 30;
+  for (auto& m : forged.manipulators) {
+    m.flags = device::manipulator_flags::kCalibrated;
+    m.q_DF = Eigen::Quaternionf::Identity();
+  }
+  std::array<std::byte, device::kStatusFrameSize> bytes{};
+  device::EncodeStatusFrame(forged, bytes);
+  net::UdpEndpoint stranger("127.0.0.1:0");
+  const auto target = net::ResolveUdpAddress("127.0.0.1:" + port);
+  for (int i = 0; i < 200; ++i) {
+    forged.sequence++;
+    device::EncodeStatusFrame(forged, bytes);
+    stranger.SendTo(std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()), target);
+  }
+  std::uint64_t strangers = 0;
+  const auto until = std::chrono::steady_clock::now() + 5s;
+  while (strangers < 200 && std::chrono::steady_clock::now() < until) {
+    launcher_->WaitReadable(20ms);
+    launcher_->Drain([&](const v1::Envelope& e, const net::Messenger::Endpoint&) {
+      if (e.body_case() != v1::Envelope::kHealth) return;
+      for (const auto& c : e.health().counters()) {
+        if (c.name() == "status_frames_from_strangers") strangers = c.value();
+      }
+    });
+  }
+  EXPECT_EQ(strangers, 200u);
+  EXPECT_EQ(Stop(*bridge_), 0);
+  EXPECT_EQ(Stop(*mock_), 0);
 }
 
 TEST_F(DeviceBridgeProcessTest, WatchdogZeroesTheForceWithin20msOfTheLastModel) {
@@ -213,6 +283,18 @@ TEST_F(DeviceBridgeProcessTest, ClampsAndSlewHoldWhenAModelAsksFor100N) {
   Start("grasp");
   SendForce(0, 0, 100.0, 1500ms);
   SendForce(std::nan(""), 0, 0, 100ms);  // NaN: zero, counted
+  std::uint64_t non_finite = 0;
+  const auto until = std::chrono::steady_clock::now() + 5s;
+  while (non_finite == 0 && std::chrono::steady_clock::now() < until) {
+    launcher_->WaitReadable(20ms);
+    launcher_->Drain([&](const v1::Envelope& e, const net::Messenger::Endpoint&) {
+      if (e.body_case() != v1::Envelope::kHealth) return;
+      for (const auto& c : e.health().counters()) {
+        if (c.name() == "non_finite_forces") non_finite = c.value();
+      }
+    });
+  }
+  EXPECT_GT(non_finite, 0u) << "NaN force models were not counted";
   EXPECT_EQ(Stop(*bridge_), 0);
   EXPECT_EQ(Stop(*mock_), 0);
   const auto rows = ReadForceLog(log_);
@@ -223,9 +305,11 @@ TEST_F(DeviceBridgeProcessTest, ClampsAndSlewHoldWhenAModelAsksFor100N) {
     max_step = std::max(max_step, std::abs(f - previous));
     previous = f;
     EXPECT_NEAR(r.thumb_cmd[0], 0.0, 1e-6);  // direction kept: +z only
+    EXPECT_NEAR(r.thumb_cmd[1], 0.0, 1e-6);
   }
   EXPECT_LE(peak, 20.0 + 1e-3);
   EXPECT_GE(peak, 5.9);  // it did push, up to the limits
+  EXPECT_NEAR(Norm(rows.back().thumb_cmd), 0.0, 1e-9);  // the NaN models ended as zero force
   // the bridge slews 0.5 N per tick; a mock step may see two bridge ticks at once
   EXPECT_LE(max_step, 1.0 + 1e-3);
   std::cout << "[measured] peak " << peak << " N, largest change per controller step " << max_step << " N\n";
@@ -252,7 +336,9 @@ TEST_F(DeviceBridgeProcessTest, SilentControllerIsReportedAsDeviceLost) {
   EXPECT_EQ(Stop(*bridge_), 0);
 }
 
-TEST_F(DeviceBridgeProcessTest, GarbageOnTheControllerSocketIsRejectedAndCounted) {
+// The decoder's rejection of garbage is tested in tests/device (200,000 datagrams); here the bridge
+// process survives a flood on its controller socket from another address and counts it.
+TEST_F(DeviceBridgeProcessTest, GarbageFloodFromAStrangerIsDroppedAndCounted) {
   Start("idle");
   // find the bridge's GRAB port from its stdout and flood it
   const std::string port = WaitForLine(*bridge_, "controller socket on 127\\.0\\.0\\.1:([0-9]+)");
@@ -270,7 +356,7 @@ TEST_F(DeviceBridgeProcessTest, GarbageOnTheControllerSocketIsRejectedAndCounted
     launcher_->Drain([&](const v1::Envelope& e, const net::Messenger::Endpoint&) {
       if (e.body_case() != v1::Envelope::kHealth) return;
       for (const auto& c : e.health().counters()) {
-        if (c.name() == "status_frames_rejected") rejected = c.value();
+        if (c.name() == "status_frames_from_strangers") rejected = c.value();
       }
     });
   }

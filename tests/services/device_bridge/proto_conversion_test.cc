@@ -31,9 +31,11 @@ TEST(ProtoConversionTest, ForceModelKeepsEveryValueRowMajor) {
   // NaN passes through: the safety stage, not the parser, zeroes it
   in.mutable_f0_w_n()->set_x(std::nan(""));
   EXPECT_TRUE(std::isnan(ToForceModel(in).force0_W_N.x()));
+  EXPECT_TRUE(IsWellFormed(in));
   in.clear_stiffness_w_n_per_m();
+  EXPECT_TRUE(IsWellFormed(in));  // no stiffness: a constant force
   in.add_stiffness_w_n_per_m(1.0);
-  EXPECT_TRUE(ToForceModel(in).stiffness_W_N_per_m.isZero());
+  EXPECT_FALSE(IsWellFormed(in));  // 1 value: malformed, refused by the bridge
 }
 
 }  // namespace

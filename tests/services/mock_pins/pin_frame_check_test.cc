@@ -21,6 +21,9 @@ TEST(PinFrameCheckTest, RefusesEachKindOfBadFrame) {
   auto unnamed = testing::RampFrame(1);
   unnamed.mutable_fingers(1)->set_finger(v1::FINGER_UNSPECIFIED);
   EXPECT_EQ(CheckPinFrame(unnamed), PinFrameProblem::kBadFinger);
+  auto twice = testing::RampFrame(1);
+  twice.mutable_fingers(1)->set_finger(v1::FINGER_THUMB);
+  EXPECT_EQ(CheckPinFrame(twice), PinFrameProblem::kBadFinger);
   auto short_frame = testing::RampFrame(1);
   short_frame.mutable_fingers(0)->mutable_amplitude_320hz()->RemoveLast();
   EXPECT_EQ(CheckPinFrame(short_frame), PinFrameProblem::kWrongPinCount);
