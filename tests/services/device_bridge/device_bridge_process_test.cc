@@ -261,8 +261,9 @@ TEST_F(DeviceBridgeProcessTest, WatchdogZeroesTheForceWithin20msOfTheLastModel) 
   EXPECT_EQ(Stop(*bridge_), 0);
   EXPECT_EQ(Stop(*mock_), 0);
   const auto rows = ReadForceLog(log_);
-  // two loopback hops and one tick of each loop on top of the bridge's 20 ms
-  const std::int64_t margin_ns = 2'000'000;
+  // on top of the bridge's 20 ms: two loopback hops and one tick of each loop (~0.3 ms here), plus
+  // scheduling stalls of a loaded 2-core machine, bounded by the controller's own 5 ms watchdog
+  const std::int64_t margin_ns = 5'000'000;
   std::int64_t first_zero_ns = -1;
   bool nonzero_before = false;
   for (const auto& r : rows) {
@@ -298,20 +299,24 @@ TEST_F(DeviceBridgeProcessTest, ClampsAndSlewHoldWhenAModelAsksFor100N) {
   EXPECT_EQ(Stop(*bridge_), 0);
   EXPECT_EQ(Stop(*mock_), 0);
   const auto rows = ReadForceLog(log_);
-  double peak = 0, max_step = 0, previous = 0;
+  // the bridge slews 0.5 N per 200 us tick: between two mock steps at most that per tick that passed
+  double peak = 0, max_step = 0, previous = 0, worst_slew_ratio = 0;
+  std::int64_t previous_ns = rows.empty() ? 0 : rows.front().time_ns;
   for (const auto& r : rows) {
     const double f = Norm(r.thumb_cmd);
     peak = std::max(peak, f);
+    const double ticks = static_cast<double>(r.time_ns - previous_ns) / 200e3 + 1.0;
     max_step = std::max(max_step, std::abs(f - previous));
+    worst_slew_ratio = std::max(worst_slew_ratio, std::abs(f - previous) / (0.5 * ticks));
     previous = f;
+    previous_ns = r.time_ns;
     EXPECT_NEAR(r.thumb_cmd[0], 0.0, 1e-6);  // direction kept: +z only
     EXPECT_NEAR(r.thumb_cmd[1], 0.0, 1e-6);
   }
   EXPECT_LE(peak, 20.0 + 1e-3);
   EXPECT_GE(peak, 5.9);  // it did push, up to the limits
   EXPECT_NEAR(Norm(rows.back().thumb_cmd), 0.0, 1e-9);  // the NaN models ended as zero force
-  // the bridge slews 0.5 N per tick; a mock step may see two bridge ticks at once
-  EXPECT_LE(max_step, 1.0 + 1e-3);
+  EXPECT_LE(worst_slew_ratio, 1.0 + 1e-3);
   std::cout << "[measured] peak " << peak << " N, largest change per controller step " << max_step << " N\n";
 }
 
