@@ -8,6 +8,7 @@
 #include <cmath>
 #include <csignal>
 #include <fstream>
+#include <optional>
 #include <regex>
 #include <sstream>
 #include <thread>
@@ -140,6 +141,32 @@ class DeviceBridgeProcessTest : public ::testing::Test {
     return last;
   }
 
+  static std::uint64_t Counter(const v1::Health& health, const std::string& name) {
+    for (const auto& c : health.counters()) {
+      if (c.name() == name) return c.value();
+    }
+    return 0;
+  }
+
+  // The first Health from the bridge (to the launcher) for which `done` holds, within 5 s.
+  template <class Done>
+  std::optional<v1::Health> WaitForHealth(Done&& done) {
+    std::optional<v1::Health> found;
+    const auto until = std::chrono::steady_clock::now() + 5s;
+    while (!found && std::chrono::steady_clock::now() < until) {
+      launcher_->WaitReadable(20ms);
+      launcher_->Drain([&](const v1::Envelope& e, const net::Messenger::Endpoint&) {
+        if (!found && e.body_case() == v1::Envelope::kHealth && done(e.health())) found = e.health();
+      });
+    }
+    return found;
+  }
+
+  std::uint64_t WaitForCounter(const std::string& name, std::uint64_t at_least) {
+    const auto health = WaitForHealth([&](const v1::Health& h) { return Counter(h, name) >= at_least; });
+    return health ? Counter(*health, name) : 0;
+  }
+
   int Stop(testing::Subprocess& p) {
     p.Signal(SIGTERM);
     return p.WaitFor(10s).value_or(-1);
@@ -238,18 +265,7 @@ TEST_F(DeviceBridgeProcessTest, ValidFramesFromAStrangerAreIgnoredAndCounted) {
     device::EncodeStatusFrame(forged, bytes);
     stranger.SendTo(std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()), target);
   }
-  std::uint64_t strangers = 0;
-  const auto until = std::chrono::steady_clock::now() + 5s;
-  while (strangers < 200 && std::chrono::steady_clock::now() < until) {
-    launcher_->WaitReadable(20ms);
-    launcher_->Drain([&](const v1::Envelope& e, const net::Messenger::Endpoint&) {
-      if (e.body_case() != v1::Envelope::kHealth) return;
-      for (const auto& c : e.health().counters()) {
-        if (c.name() == "status_frames_from_strangers") strangers = c.value();
-      }
-    });
-  }
-  EXPECT_EQ(strangers, 200u);
+  EXPECT_EQ(WaitForCounter("status_frames_from_strangers", 200), 200u);
   EXPECT_EQ(Stop(*bridge_), 0);
   EXPECT_EQ(Stop(*mock_), 0);
 }
@@ -284,18 +300,7 @@ TEST_F(DeviceBridgeProcessTest, ClampsAndSlewHoldWhenAModelAsksFor100N) {
   Start("grasp");
   SendForce(0, 0, 100.0, 1500ms);
   SendForce(std::nan(""), 0, 0, 100ms);  // NaN: zero, counted
-  std::uint64_t non_finite = 0;
-  const auto until = std::chrono::steady_clock::now() + 5s;
-  while (non_finite == 0 && std::chrono::steady_clock::now() < until) {
-    launcher_->WaitReadable(20ms);
-    launcher_->Drain([&](const v1::Envelope& e, const net::Messenger::Endpoint&) {
-      if (e.body_case() != v1::Envelope::kHealth) return;
-      for (const auto& c : e.health().counters()) {
-        if (c.name() == "non_finite_forces") non_finite = c.value();
-      }
-    });
-  }
-  EXPECT_GT(non_finite, 0u) << "NaN force models were not counted";
+  EXPECT_GT(WaitForCounter("non_finite_forces", 1), 0u) << "NaN force models were not counted";
   EXPECT_EQ(Stop(*bridge_), 0);
   EXPECT_EQ(Stop(*mock_), 0);
   const auto rows = ReadForceLog(log_);
@@ -323,21 +328,10 @@ TEST_F(DeviceBridgeProcessTest, ClampsAndSlewHoldWhenAModelAsksFor100N) {
 TEST_F(DeviceBridgeProcessTest, SilentControllerIsReportedAsDeviceLost) {
   Start("idle");
   EXPECT_EQ(Stop(*mock_), 0);
-  bool lost = false;
-  const auto until = std::chrono::steady_clock::now() + 5s;
-  while (!lost && std::chrono::steady_clock::now() < until) {
-    launcher_->WaitReadable(20ms);
-    launcher_->Drain([&](const v1::Envelope& e, const net::Messenger::Endpoint&) {
-      if (e.body_case() != v1::Envelope::kHealth) return;
-      for (const auto& c : e.health().counters()) {
-        if (c.name() == "device_lost_events" && c.value() >= 1 &&
-            e.health().state() == v1::Health::STATE_DEGRADED) {
-          lost = true;
-        }
-      }
-    });
-  }
-  EXPECT_TRUE(lost);
+  const auto lost = WaitForHealth([](const v1::Health& h) {
+    return Counter(h, "device_lost_events") >= 1 && h.state() == v1::Health::STATE_DEGRADED;
+  });
+  EXPECT_TRUE(lost.has_value());
   EXPECT_EQ(Stop(*bridge_), 0);
 }
 
@@ -354,18 +348,7 @@ TEST_F(DeviceBridgeProcessTest, GarbageFloodFromAStrangerIsDroppedAndCounted) {
     junk[static_cast<std::size_t>(i % 116)] ^= 0xff;
     attacker.SendTo(junk, target);
   }
-  std::uint64_t rejected = 0;
-  const auto until = std::chrono::steady_clock::now() + 5s;
-  while (rejected < 1000 && std::chrono::steady_clock::now() < until) {
-    launcher_->WaitReadable(20ms);
-    launcher_->Drain([&](const v1::Envelope& e, const net::Messenger::Endpoint&) {
-      if (e.body_case() != v1::Envelope::kHealth) return;
-      for (const auto& c : e.health().counters()) {
-        if (c.name() == "status_frames_from_strangers") rejected = c.value();
-      }
-    });
-  }
-  EXPECT_GE(rejected, 1000u);
+  EXPECT_GE(WaitForCounter("status_frames_from_strangers", 1000), 1000u);
   EXPECT_EQ(Stop(*bridge_), 0) << "the bridge did not survive the flood";
   EXPECT_EQ(Stop(*mock_), 0);
 }
