@@ -8,7 +8,12 @@
 namespace haptex::textile {
 
 /// Adds tensile, shear, bending, damping, drag, gravity and applied loads into `sink` (which the
-/// caller zeroes). Never allocates.
+/// caller zeroes). One pass per element: each system block is written once. Never allocates.
 void AccumulateForces(const FabricModel& model, const FabricState& state, ForceSink* sink);
+
+/// Adds the state-independent Jacobian blocks (bending with its damping, linear drag) into
+/// `sink->system` with the sink's scales; for callers that cache them between steps and set
+/// `sink->constant_jacobians_added`. Never allocates.
+void AddConstantJacobians(const FabricModel& model, ForceSink* sink);
 
 }  // namespace haptex::textile

@@ -16,6 +16,11 @@ void FabricState::Prescribe(int p, const Eigen::Vector3d& v) {
 
 void FabricState::Free(int p) { mode[static_cast<std::size_t>(p)] = ParticleMode::kFree; }
 
+void FabricState::ClearAnchors() {
+  anchor_stiffness_N_per_m.setZero();
+  anchor_W_m = x_W_m;
+}
+
 FabricState MakeRestState(const FabricModel& model, const Placement& placement) {
   const double tol = 1e-9;
   if (std::abs(placement.axis_u_W.norm() - 1.0) > tol ||
@@ -35,6 +40,8 @@ FabricState MakeRestState(const FabricModel& model, const Placement& placement) 
   s.external_force_W_N = Eigen::VectorXd::Zero(3 * n);
   s.mode.assign(static_cast<std::size_t>(n), ParticleMode::kFree);
   s.prescribed_v_W_m_per_s = Eigen::VectorXd::Zero(3 * n);
+  s.anchor_stiffness_N_per_m = Eigen::VectorXd::Zero(n);
+  s.anchor_W_m = s.x_W_m;
   return s;
 }
 

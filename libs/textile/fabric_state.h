@@ -24,6 +24,9 @@ struct FabricDiagnostics {
   std::int64_t cg_not_converged = 0;    ///< steps whose CG hit max iterations
   std::int64_t speed_capped = 0;        ///< particle speeds clamped to the cap
   std::int64_t preconditioner_fallbacks = 0;  ///< multilevel PCG broke down, block Jacobi used
+  /// Symplectic steps whose stability estimate at the state wanted more than max_substeps (the
+  /// step used max_substeps).
+  std::int64_t substeps_limited = 0;
   int last_cg_iterations = 0;
   double last_cg_relative_residual = 0.0;
 };
@@ -42,6 +45,10 @@ struct FabricState {
   Eigen::VectorXd external_force_W_N;     ///< 3n applied loads (point/edge), kept until changed
   std::vector<ParticleMode> mode;         ///< n
   Eigen::VectorXd prescribed_v_W_m_per_s; ///< 3n, used where mode == kPrescribed
+  /// Springs from particles to moving anchors (finger contact): f_p = k_p (anchor_p - x_p),
+  /// integrated implicitly by both integrators so stiff contact stays stable. k_p = 0: none.
+  Eigen::VectorXd anchor_stiffness_N_per_m;  ///< n
+  Eigen::VectorXd anchor_W_m;                ///< 3n, where each anchor is at the end of the step
   FabricDiagnostics diagnostics;
 
   int num_particles() const { return static_cast<int>(mode.size()); }
@@ -55,6 +62,8 @@ struct FabricState {
   /// Moves particle p with constant velocity (local patch borders, tests).
   void Prescribe(int p, const Eigen::Vector3d& v_W_m_per_s);
   void Free(int p);
+  /// Removes every anchor spring.
+  void ClearAnchors();
 };
 
 /// The rest configuration at rest, every particle free, no loads.

@@ -1,5 +1,6 @@
 #include "libs/textile/fabric_stepper.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "libs/textile/check.h"
@@ -22,7 +23,9 @@ FabricStepper::FabricStepper(const FabricModel& model, const StepOptions& option
   ValidateStepOptions(options_);
   if (options_.method == Integrator::kSymplecticEuler) {
     substeps_ = SymplecticSubsteps(model_, options_);
+    config_stable_step_s_ = EstimateExplicitStableStep(model_);
   }
+  last_substeps_ = substeps_;
 }
 
 StepResult FabricStepper::Step(FabricState* state) {
@@ -41,7 +44,21 @@ StepResult FabricStepper::Step(FabricState* state) {
       ++state->diagnostics.cg_not_converged;
     }
   } else {
-    SymplecticEulerStep(model_, options_, substeps_, state, &ws_);
+    // Substeps for the tension at this state (never fewer than configured).
+    const double stable = std::min(
+        config_stable_step_s_, EstimateExplicitStableStep(model_, *state, &ws_.stiffness_row));
+    const double needed = std::ceil(options_.dt_s / stable);
+    int substeps = substeps_;
+    if (needed > substeps) {
+      if (needed > options_.max_substeps) {
+        substeps = options_.max_substeps;
+        ++state->diagnostics.substeps_limited;
+      } else {
+        substeps = static_cast<int>(needed);
+      }
+    }
+    last_substeps_ = substeps;
+    SymplecticEulerStep(model_, options_, substeps, state, &ws_);
   }
   ++state->diagnostics.steps;
 

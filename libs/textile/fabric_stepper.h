@@ -36,13 +36,17 @@ class FabricStepper {
   StepResult Step(FabricState* state);
 
   const StepOptions& options() const { return options_; }
-  /// Symplectic substeps per step (1 for implicit Euler).
-  int substeps() const { return substeps_; }
+  /// Symplectic substeps of the last step (before the first: the configured count; 1 for
+  /// implicit Euler). Each symplectic step uses at least the configured count, more when the
+  /// stability estimate at the current state (tension) asks for it, up to max_substeps.
+  int substeps() const { return last_substeps_; }
 
  private:
   const FabricModel& model_;
   StepOptions options_;
   int substeps_ = 1;
+  int last_substeps_ = 1;
+  double config_stable_step_s_ = 0.0;  // EstimateExplicitStableStep(model), symplectic only
   FabricWorkspace ws_;
 };
 

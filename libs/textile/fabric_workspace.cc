@@ -8,6 +8,8 @@ FabricWorkspace::FabricWorkspace(const FabricModel& model) : multilevel(model) {
     *v = Eigen::VectorXd::Zero(n3);
   }
   system.assign(static_cast<std::size_t>(model.pattern.num_blocks()), Eigen::Matrix3d::Zero());
+  system_base = system;
+  stiffness_row = Eigen::VectorXd::Zero(model.num_particles);
   precond.assign(static_cast<std::size_t>(model.num_particles), Eigen::Matrix3d::Zero());
 }
 

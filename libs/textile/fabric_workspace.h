@@ -18,8 +18,14 @@ struct FabricWorkspace {
   Eigen::VectorXd dfdx_v;         ///< 3n (df/dx) v, for the implicit right-hand side
   std::vector<Eigen::Matrix3d> system;   ///< blocks of M - h df/dv - h^2 df/dx (model.pattern)
   std::vector<Eigen::Matrix3d> precond;  ///< inverted diagonal blocks
+  /// Constant part of `system` (mass, bending, linear drag) for step system_base_dt_s of
+  /// system_base_model; rebuilt when either changes.
+  std::vector<Eigen::Matrix3d> system_base;
+  double system_base_dt_s = 0.0;
+  const FabricModel* system_base_model = nullptr;
   Eigen::VectorXd rhs, dv, dv0, r, c, q, s;  ///< 3n CG vectors (dv0: initial guess)
   Eigen::VectorXd x_backup, v_backup;    ///< roll-back copy of the state
+  Eigen::VectorXd stiffness_row;         ///< n, symplectic stability estimate at the state
   MultilevelPreconditioner multilevel;   ///< used when StepOptions::preconditioner says so
 };
 

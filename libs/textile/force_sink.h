@@ -15,6 +15,9 @@ struct ForceSink {
   double dv_scale = 0.0;                              ///< -h
   Eigen::VectorXd* dfdx_v = nullptr;                  ///< 3n, accumulated (df/dx) v
   const Eigen::VectorXd* v = nullptr;                 ///< 3n velocities
+  /// AccumulateForces only: the constant Jacobian blocks (bending, linear drag) are already in
+  /// `system` (AddConstantJacobians), so it adds only the state-dependent ones.
+  bool constant_jacobians_added = false;
 
   bool wants_jacobians() const { return system != nullptr; }
 

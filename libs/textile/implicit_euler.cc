@@ -5,6 +5,7 @@
 
 #include <Eigen/Dense>
 
+#include "libs/textile/anchor_spring_force.h"
 #include "libs/textile/fabric_forces.h"
 
 namespace haptex::textile {
@@ -18,18 +19,7 @@ bool IsFree(const FabricState& s, int p) {
 void FilteredMultiply(const FabricModel& model, const FabricState& state,
                       const std::vector<Eigen::Matrix3d>& a, const Eigen::VectorXd& x,
                       Eigen::VectorXd* y) {
-  const BlockPattern& pat = model.pattern;
-  for (int r = 0; r < model.num_particles; ++r) {
-    Eigen::Vector3d acc = Eigen::Vector3d::Zero();
-    if (IsFree(state, r)) {
-      const int end = pat.row_start[static_cast<std::size_t>(r) + 1];
-      for (int k = pat.row_start[static_cast<std::size_t>(r)]; k < end; ++k) {
-        acc.noalias() += a[static_cast<std::size_t>(k)] *
-                         x.segment<3>(3 * pat.cols[static_cast<std::size_t>(k)]);
-      }
-    }
-    y->segment<3>(3 * r) = acc;
-  }
+  MultiplyBlockRows(model.pattern, a, [&state](int r) { return IsFree(state, r); }, x, y);
 }
 
 // y = P^-1 x for free particles, 0 for constrained ones.
@@ -46,6 +36,15 @@ void Precondition(const FabricModel& model, const FabricState& state, const Step
     } else {
       y->segment<3>(3 * r).setZero();
     }
+  }
+}
+
+// Block-Jacobi preconditioner: the inverted diagonal blocks of the system.
+void UpdateBlockJacobi(const FabricModel& model, FabricWorkspace* ws) {
+  for (int p = 0; p < model.num_particles; ++p) {
+    ws->precond[static_cast<std::size_t>(p)] =
+        ws->system[static_cast<std::size_t>(model.pattern.diag_slot[static_cast<std::size_t>(p)])]
+            .inverse();
   }
 }
 
@@ -124,14 +123,8 @@ CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options,
   const double h = options.dt_s;
   const int n = model.num_particles;
 
-  // Forces and the system matrix A = M - h df/dv - h^2 df/dx.
-  ws->force_N.setZero();
-  ws->dfdx_v.setZero();
-  for (auto& b : ws->system) b.setZero();
-  for (int p = 0; p < n; ++p) {
-    ws->system[static_cast<std::size_t>(model.pattern.diag_slot[static_cast<std::size_t>(p)])] +=
-        model.mass_kg[p] * Eigen::Matrix3d::Identity();
-  }
+  // Forces and the system matrix A = M - h df/dv - h^2 df/dx, starting from its constant part
+  // (mass, bending, linear drag), built once per model and step.
   ForceSink sink;
   sink.force_N = &ws->force_N;
   sink.system = &ws->system;
@@ -139,14 +132,28 @@ CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options,
   sink.dv_scale = -h;
   sink.dfdx_v = &ws->dfdx_v;
   sink.v = &state->v_W_m_per_s;
+  if (ws->system_base_model != &model || ws->system_base_dt_s != h) {
+    for (auto& b : ws->system_base) b.setZero();
+    for (int p = 0; p < n; ++p) {
+      const int slot = model.pattern.diag_slot[static_cast<std::size_t>(p)];
+      ws->system_base[static_cast<std::size_t>(slot)] += model.mass_kg[p] * Eigen::Matrix3d::Identity();
+    }
+    sink.system = &ws->system_base;
+    AddConstantJacobians(model, &sink);
+    sink.system = &ws->system;
+    ws->system_base_model = &model;
+    ws->system_base_dt_s = h;
+  }
+  ws->force_N.setZero();
+  ws->dfdx_v.setZero();
+  ws->system = ws->system_base;
+  sink.constant_jacobians_added = true;
   AccumulateForces(model, *state, &sink);
+  AddAnchorSpringForces(model, *state, &sink);
   ws->rhs = h * (ws->force_N + h * ws->dfdx_v);
 
-  // Block-Jacobi preconditioner; initial guess carries the prescribed velocity change (z).
+  // Initial guess carries the prescribed velocity change (z).
   for (int p = 0; p < n; ++p) {
-    const Eigen::Matrix3d& d =
-        ws->system[static_cast<std::size_t>(model.pattern.diag_slot[static_cast<std::size_t>(p)])];
-    ws->precond[static_cast<std::size_t>(p)] = d.inverse();
     if (IsFree(*state, p)) {
       // Warm start: the previous step's velocity change is a good guess for a smooth motion.
       if (!options.cg_warm_start) ws->dv.segment<3>(3 * p).setZero();
@@ -158,6 +165,8 @@ CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options,
 
   if (options.preconditioner == Preconditioner::kMultilevel) {
     ws->multilevel.Update(model, *state, ws->system);
+  } else {
+    UpdateBlockJacobi(model, ws);
   }
 
   // Modified PCG; on a preconditioner breakdown retry from the same guess with block Jacobi.
@@ -169,6 +178,7 @@ CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options,
     report.preconditioner_fallback = true;
     ws->dv = ws->dv0;
     pc = Preconditioner::kBlockJacobi;
+    UpdateBlockJacobi(model, ws);
     breakdown = RunPcg(model, *state, options, pc, ws, &report);
   }
   if (breakdown) report.converged = false;

@@ -1,7 +1,9 @@
 #pragma once
-// Aggregation multigrid V-cycle used as a CG preconditioner: particles are grouped 2 x 2 on the
-// grid per level (piecewise-constant prolongation), coarse matrices are Galerkin sums of the fine
-// blocks, damped block-Jacobi smoothing, a dense Cholesky solve on the coarsest level.
+// Aggregation multigrid used as a CG preconditioner: particles are grouped 2 x 2 on the grid per
+// level (piecewise-constant prolongation), coarse matrices are Galerkin sums of the fine blocks,
+// damped block-Jacobi smoothing, a dense Cholesky solve on the coarsest level. The finest level
+// is additive (z = D^-1 r + P B_c P^T r: no product with the fine matrix), the coarser levels form
+// a symmetric V-cycle; both keep B symmetric positive definite.
 // Constrained particles are filtered out at the finest level. Built once; Update/Apply never
 // allocate.
 
@@ -46,6 +48,7 @@ class MultilevelPreconditioner {
   }
   void Multiply(std::size_t k, const Eigen::VectorXd& x, Eigen::VectorXd* y) const;
   void Smooth(std::size_t k, const Eigen::VectorXd& r, Eigen::VectorXd* z, Eigen::VectorXd* t) const;
+  void Prolong(std::size_t k, Eigen::VectorXd* z) const;
   void Cycle(std::size_t k);
 
   const BlockPattern* fine_pattern_ = nullptr;                // the model's (outlives this)

@@ -1,6 +1,7 @@
 #include "libs/textile/symplectic_euler.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -57,6 +58,66 @@ double EstimateExplicitStableStep(const FabricModel& model) {
   return 0.9 * 2.0 / omega * (std::sqrt(1.0 + zeta * zeta) - zeta);
 }
 
+namespace {
+
+// Adds one tensile direction's block-Gershgorin row sums: |A w_k w_l| ||kx||, with
+// kx = slope d d^T + t (I - d d^T) (eigenvalues slope and t, t = |sigma| / |d|).
+void AddTensileRows(const TriangleElement& e, const std::array<double, 3>& w,
+                    const StrainCurve& curve, const Eigen::Vector3d& d, Eigen::VectorXd* row) {
+  const double len = d.norm();
+  if (!(len > 1e-12)) return;
+  double sigma = 0.0, slope = 0.0;
+  curve.Evaluate(len - 1.0, &sigma, &slope);
+  const double k = std::max(std::abs(slope), std::abs(sigma) / len);
+  const double wsum = std::abs(w[0]) + std::abs(w[1]) + std::abs(w[2]);
+  for (std::size_t i = 0; i < 3; ++i) (*row)[e.p[i]] += e.area_m2 * std::abs(w[i]) * wsum * k;
+}
+
+}  // namespace
+
+double EstimateExplicitStableStep(const FabricModel& model, const FabricState& state,
+                                  Eigen::VectorXd* row) {
+  if (row->size() != model.num_particles) row->resize(model.num_particles);
+  row->setZero();
+  const Eigen::VectorXd& x = state.x_W_m;
+  for (const auto& e : model.triangles) {
+    Eigen::Vector3d u = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
+    for (std::size_t k = 0; k < 3; ++k) {
+      u += e.a[k] * x.segment<3>(3 * e.p[k]);
+      w += e.b[k] * x.segment<3>(3 * e.p[k]);
+    }
+    AddTensileRows(e, e.a, model.material.tensile_warp, u, row);
+    AddTensileRows(e, e.b, model.material.tensile_weft, w, row);
+    // Shear: A (slope g_k g_l^T + tau (a_k b_l + b_k a_l) I); ||g_k g_l^T|| = |g_k| |g_l|.
+    double tau = 0.0, slope = 0.0;
+    model.material.shear.Evaluate(u.dot(w), &tau, &slope);
+    std::array<double, 3> g;  // |g_k|, g_k = a_k V + b_k U
+    for (std::size_t k = 0; k < 3; ++k) g[k] = (e.a[k] * w + e.b[k] * u).norm();
+    const double gsum = g[0] + g[1] + g[2];
+    for (std::size_t k = 0; k < 3; ++k) {
+      double geo = 0.0;
+      for (std::size_t l = 0; l < 3; ++l) geo += std::abs(e.a[k] * e.b[l] + e.b[k] * e.a[l]);
+      (*row)[e.p[k]] += e.area_m2 * (std::abs(slope) * g[k] * gsum + std::abs(tau) * geo);
+    }
+  }
+  for (const auto& e : model.bends) {
+    const double asum = std::abs(e.alpha[0]) + std::abs(e.alpha[1]) + std::abs(e.alpha[2]);
+    for (std::size_t k = 0; k < 3; ++k) {
+      (*row)[e.p[k]] += e.lambda_N_per_m * std::abs(e.alpha[k]) * asum;
+    }
+  }
+  double omega2 = 0.0;
+  for (int p = 0; p < model.num_particles; ++p) {
+    if (state.mode[static_cast<std::size_t>(p)] != ParticleMode::kFree) continue;
+    omega2 = std::max(omega2, (*row)[p] / model.mass_kg[p]);
+  }
+  if (!(omega2 > 0.0)) return 1.0;
+  const double omega = std::sqrt(omega2);
+  const DampingOptions& d = model.options.damping;
+  const double zeta = 0.5 * std::max({d.stretch_s, d.shear_s, d.bend_s}) * omega;
+  return 0.9 * 2.0 / omega * (std::sqrt(1.0 + zeta * zeta) - zeta);
+}
+
 int SymplecticSubsteps(const FabricModel& model, const StepOptions& options) {
   ValidateStepOptions(options);
   const double stable = EstimateExplicitStableStep(model);
@@ -87,9 +148,21 @@ void SymplecticEulerStep(const FabricModel& model, const StepOptions& options, i
   for (int s = 0; s < substeps; ++s) {
     ws->force_N.setZero();
     AccumulateForces(model, *state, &sink);
+    const bool anchors = state->anchor_stiffness_N_per_m.size() == model.num_particles;
     for (int p = 0; p < model.num_particles; ++p) {
       if (state->mode[static_cast<std::size_t>(p)] == ParticleMode::kFree) {
-        state->v_W_m_per_s.segment<3>(3 * p) += (h / model.mass_kg[p]) * ws->force_N.segment<3>(3 * p);
+        auto v = state->v_W_m_per_s.segment<3>(3 * p);
+        const double k = anchors ? state->anchor_stiffness_N_per_m[p] : 0.0;
+        if (k == 0.0) {
+          v += (h / model.mass_kg[p]) * ws->force_N.segment<3>(3 * p);
+        } else {
+          // The anchor spring is implicit per particle (stable for any k):
+          // m (v' - v) = h (f + k (a - x - h v')).
+          const double c = h * h * k / model.mass_kg[p];
+          const Eigen::Vector3d spring =
+              k * (state->anchor_W_m.segment<3>(3 * p) - state->x_W_m.segment<3>(3 * p));
+          v = (v + (h / model.mass_kg[p]) * (ws->force_N.segment<3>(3 * p) + spring)) / (1.0 + c);
+        }
       } else {
         state->v_W_m_per_s.segment<3>(3 * p) = state->prescribed_v_W_m_per_s.segment<3>(3 * p);
       }

@@ -13,6 +13,17 @@ namespace haptex::textile {
 /// each material curve, reduced for stiffness-proportional damping, times a 0.9 safety factor.
 double EstimateExplicitStableStep(const FabricModel& model);
 
+/// Stable explicit step [s] at `state`: a block-Gershgorin bound of M^-1 K (spectral norm of each
+/// 3x3 block, so it does not depend on the fabric's orientation) with each element's tangent
+/// stiffness at its current deformation (tensile slope at the current strain and the tension
+/// |sigma| / |U| across the fibre, shear slope with the current |U|, |V| and the shear force's own
+/// geometric term), over free particles only. Tension raises the stiffness above the configuration
+/// estimate (a stretched fabric's shear stiffness grows with |U| |V|), so the stepper takes the
+/// smaller of the two each step. `row` is scratch (resized to n if needed; no allocation when
+/// already sized).
+double EstimateExplicitStableStep(const FabricModel& model, const FabricState& state,
+                                  Eigen::VectorXd* row);
+
 /// Substeps to use for `options`: `options.substeps`, or the fewest allowed by the estimate when
 /// it is 0. @throws std::invalid_argument if the given substeps are too few for stability or the
 /// required count exceeds `options.max_substeps` (the message says how many are needed).
