@@ -1,0 +1,132 @@
+// One haptic tick of a local patch (contact update + one fabric step): the cost that decides
+// whether local_contact reaches 1-5 kHz. Reports the mean (Google Benchmark) and the per-tick
+// median and p99 as counters p50_us / p99_us.
+//
+//   build/bench/contact/contact_tick_bench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+
+#include <algorithm>
+#include <chrono>
+#include <memory>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+
+#include "libs/contact/patch_simulation.h"
+#include "libs/textile/fabric_model.h"
+#include "libs/textile/kes_material.h"
+#include "tests/textile/fabric_textproto.h"
+
+namespace haptex::contact {
+namespace {
+
+using V = Eigen::Vector3d;
+
+FingerPose Facing(const V& centre, const V& pad_normal) {
+  FingerPose pose;
+  pose.p_W_m = centre;
+  const V z = pad_normal.normalized();
+  const V x = V::UnitX();
+  pose.R_WF.col(0) = x;
+  pose.R_WF.col(1) = z.cross(x);
+  pose.R_WF.col(2) = z;
+  return pose;
+}
+
+// 20 x 20 = 400 particles over 2 x 2 cm (about 1 mm spacing), border fixed, lying at z = 0.
+// config 0: block-Jacobi PCG to 1e-3; 1: block-Jacobi to 1e-2, at most 20 iterations;
+// 2: multilevel PCG to 1e-2.
+std::unique_ptr<PatchSimulation> MakePatch(int config) {
+  const textile::FabricMaterial material =
+      textile::MaterialFromKes(textile::testing::LoadDatabaseFabric("wang2011_black_denim_11oz"));
+  textile::FabricModel model = textile::BuildFabricModel(material, {0.02, 0.02, 20, 20});
+  textile::Placement placement;
+  placement.origin_W = V(-0.01, -0.01, 0.0);
+  textile::FabricState state = textile::MakeRestState(model, placement);
+  for (int p : model.mesh.BorderParticles()) state.Fix(p);
+  textile::StepOptions step;
+  step.dt_s = 0.001;
+  step.cg_tolerance = 1e-3;
+  step.cg_max_iterations = 100;
+  step.preconditioner = textile::Preconditioner::kBlockJacobi;
+  if (config == 1) {
+    step.cg_tolerance = 1e-2;
+    step.cg_max_iterations = 20;
+  } else if (config == 2) {
+    step.cg_tolerance = 1e-2;
+    step.preconditioner = textile::Preconditioner::kMultilevel;
+  }
+  return std::make_unique<PatchSimulation>(std::move(model), std::move(state), step, ContactOptions{});
+}
+
+void Report(benchmark::State& state, std::vector<double>* us) {
+  if (us->empty()) return;
+  std::sort(us->begin(), us->end());
+  state.counters["p50_us"] = (*us)[us->size() / 2];
+  state.counters["p99_us"] = (*us)[static_cast<std::size_t>(0.99 * static_cast<double>(us->size() - 1))];
+}
+
+// Two-finger pinch (VIII/IX) sliding slowly.
+void BM_PinchTick(benchmark::State& state) {
+  auto sim = MakePatch(static_cast<int>(state.range(0)));
+  const double r = ContactOptions{}.thumb.radius_m + ContactOptions{}.fabric_half_thickness_m;
+  for (int k = 0; k < 200; ++k) {
+    const double d = std::min(1.0, k / 100.0) * 0.002;
+    sim->Tick({true, Facing(V(0, 0, r - d), V(0, 0, -1))}, {true, Facing(V(0, 0, -(r - d)), V(0, 0, 1))});
+  }
+  std::vector<double> us;
+  us.reserve(1 << 20);
+  int k = 0;
+  for (auto _ : state) {
+    const double y = 0.002 * std::sin(1e-3 * k++);
+    const auto t0 = std::chrono::steady_clock::now();
+    const ContactOutput& out = sim->Tick({true, Facing(V(0, y, r - 0.002), V(0, 0, -1))},
+                                         {true, Facing(V(0, y, -(r - 0.002)), V(0, 0, 1))});
+    const auto t1 = std::chrono::steady_clock::now();
+    benchmark::DoNotOptimize(out.finger[0].force_W_N);
+    if (us.size() < us.capacity()) us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
+  }
+  state.counters["samples"] = sim->solver().output().pinch.samples;
+  state.counters["cg_iterations"] = sim->last_step().cg.iterations;
+  Report(state, &us);
+}
+BENCHMARK(BM_PinchTick)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
+
+// One finger pressing and rubbing (IV/V, the V-proxy).
+void BM_OneFingerTick(benchmark::State& state) {
+  auto sim = MakePatch(static_cast<int>(state.range(0)));
+  const double r = ContactOptions{}.thumb.radius_m + ContactOptions{}.fabric_half_thickness_m;
+  for (int k = 0; k < 200; ++k) {
+    sim->Tick({true, Facing(V(0, 0, r - std::min(1.0, k / 100.0) * 0.002), V(0, 0, -1))}, {});
+  }
+  std::vector<double> us;
+  us.reserve(1 << 20);
+  int k = 0;
+  for (auto _ : state) {
+    const double y = 0.003 * std::sin(1e-3 * k++);
+    const auto t0 = std::chrono::steady_clock::now();
+    const ContactOutput& out = sim->Tick({true, Facing(V(0, y, r - 0.002), V(0, 0, -1))}, {});
+    const auto t1 = std::chrono::steady_clock::now();
+    benchmark::DoNotOptimize(out.finger[0].force_W_N);
+    if (us.size() < us.capacity()) us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
+  }
+  state.counters["particles"] = sim->solver().output().finger[0].contact_particles;
+  state.counters["cg_iterations"] = sim->last_step().cg.iterations;
+  Report(state, &us);
+}
+BENCHMARK(BM_OneFingerTick)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
+
+// The fabric step alone (no fingers): the floor under both.
+void BM_PatchStepOnly(benchmark::State& state) {
+  auto sim = MakePatch(static_cast<int>(state.range(0)));
+  for (int k = 0; k < 50; ++k) sim->Tick({}, {});
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(sim->Tick({}, {}));
+  }
+  state.counters["cg_iterations"] = sim->last_step().cg.iterations;
+}
+BENCHMARK(BM_PatchStepOnly)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace haptex::contact
+
+BENCHMARK_MAIN();

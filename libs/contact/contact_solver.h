@@ -1,0 +1,129 @@
+#pragma once
+// The contact layer of a local fabric patch (paper section 5): classifies the state (I-IX), runs
+// the models that state needs, and reports per finger the force, a stiffness for the device
+// bridge, the state, and where on the fabric the finger touches. Pure: time comes in as dt.
+//
+// One tick around a fabric step of the patch:
+//   solver.Prepare(thumb, index, dt, &state);   // springs from the contact models into state
+//   stepper.Step(&state);                        // libs/textile, springs integrated implicitly
+//   const ContactOutput& out = solver.Resolve(state);   // forces, friction, state, touch points
+// PatchSimulation (patch_simulation.h) does exactly this.
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "libs/contact/anchor_accumulator.h"
+#include "libs/contact/contact_options.h"
+#include "libs/contact/contact_state.h"
+#include "libs/contact/finger_fabric_contact.h"
+#include "libs/contact/finger_finger_contact.h"
+#include "libs/contact/finger_geometry.h"
+#include "libs/contact/pinch_contact.h"
+#include "libs/contact/secant_stiffness.h"
+#include "libs/textile/fabric_model.h"
+#include "libs/textile/fabric_state.h"
+
+namespace haptex::contact {
+
+enum FingerSlot : int { kThumb = 0, kIndex = 1 };
+
+struct FingerInput {
+  bool present = false;  ///< false: the finger is not simulated (one-finger scenes) or not tracked
+  FingerPose pose;       ///< at the end of the coming step
+};
+
+/// Everything one finger needs from a tick.
+struct FingerContactOutput {
+  Eigen::Vector3d force_W_N{Eigen::Vector3d::Zero()};  ///< on the fingertip (clamped)
+  /// d force / d finger position, for the bridge's F0 + K dx (negative semi-definite).
+  Eigen::Matrix3d stiffness_W_N_per_m{Eigen::Matrix3d::Zero()};
+  bool force_clamped = false;       ///< the models asked for more than max_finger_force_N
+  bool on_textile = false;          ///< with hysteresis
+  int contact_particles = 0;        ///< inverted proxies on this finger
+  double normal_force_N = 0.0;      ///< along the contact normal, >= 0
+  double tangential_force_N = 0.0;  ///< in the contact plane, >= 0
+  /// Contact-level friction (paper Fig. 9): the sum of the per-contact normal forces and the
+  /// magnitude of the sum of the per-contact friction forces. Unlike normal/tangential_force_N
+  /// these leave out the fabric's push on the finger's flanks when it ploughs through a dent.
+  double friction_normal_N = 0.0;
+  double friction_tangential_N = 0.0;
+  Eigen::Vector3d contact_normal_W{Eigen::Vector3d::UnitZ()};  ///< outward from the finger
+  /// Touch point in fabric coordinates (u warp, v weft) [m], slip of the finger over the fabric
+  /// in fabric coordinates [m/s], and the finger's distal axis angle in the fabric plane [rad].
+  bool touching = false;
+  Eigen::Vector2d touch_uv_m{Eigen::Vector2d::Zero()};
+  Eigen::Vector2d slip_uv_m_per_s{Eigen::Vector2d::Zero()};
+  double finger_angle_rad = 0.0;
+};
+
+struct ContactOutput {
+  ContactState state = ContactState::kI;
+  ContactEvidence evidence;
+  std::array<FingerContactOutput, 2> finger{};
+  FingerFingerResult finger_finger;  ///< II/III, or the grip of VIII/IX
+  PinchResult pinch;
+  std::int64_t ticks = 0;
+};
+
+/// Counters of trouble; they only grow.
+struct ContactDiagnostics {
+  std::int64_t force_clamps = 0;
+  std::int64_t non_finite_inputs = 0;  ///< finger poses with NaN/Inf: that finger is ignored
+  std::int64_t non_finite_forces = 0;  ///< a model produced NaN/Inf: zero force that tick
+};
+
+class ContactSolver {
+ public:
+  /// `patch` must outlive the solver. `uv_origin_m` is added to the patch's rest coordinates so
+  /// touch points come out in the whole fabric's coordinates.
+  /// @throws std::invalid_argument for invalid options.
+  ContactSolver(const textile::FabricModel& patch, const ContactOptions& options,
+                const Eigen::Vector2d& uv_origin_m = Eigen::Vector2d::Zero());
+
+  void Prepare(const FingerInput& thumb, const FingerInput& index, double dt_s,
+               textile::FabricState* state);
+  const ContactOutput& Resolve(const textile::FabricState& state);
+
+  /// Forgets every contact (the next tick starts from state I).
+  void Reset();
+
+  const ContactOutput& output() const { return output_; }
+  const ContactDiagnostics& diagnostics() const { return diagnostics_; }
+  /// Contact force on each patch particle during the last step [N], 3n (for PatchResult).
+  const Eigen::VectorXd& particle_force_W_N() const { return particle_force_W_N_; }
+  const ContactOptions& options() const { return options_; }
+  FingerFabricContact& finger_contact(int slot) { return finger_fabric_[static_cast<std::size_t>(slot)]; }
+
+ private:
+  void FinishFinger(int slot, const FingerFabricResult& one, const textile::FabricState& state);
+  void TouchFrame(int triangle, const textile::FabricState& state, const FingerPose& pose,
+                  const Eigen::Vector3d& relative_velocity_W, FingerContactOutput* out) const;
+
+  const textile::FabricModel& patch_;
+  ContactOptions options_;
+  Eigen::MatrixX2d rest_uv_m_;               ///< per particle, with the origin added
+  std::vector<int> particle_triangle_;       ///< one triangle per particle (tangent frame)
+  AnchorAccumulator springs_;
+  std::vector<std::uint8_t> pinch_owned_;
+  std::array<FingerFabricContact, 2> finger_fabric_;
+  FingerFingerContact finger_finger_;
+  PinchContact pinch_;
+  std::array<SecantStiffness, 2> stiffness_;
+  std::array<Hysteresis, 2> on_textile_;
+  Hysteresis dynamic_;
+  Hysteresis touching_;
+
+  std::array<FingerInput, 2> input_{};
+  std::array<FingerPose, 2> previous_pose_{};
+  std::array<bool, 2> have_previous_{};
+  double dt_s_ = 0.0;
+  bool pinching_ = false;
+  Eigen::VectorXd particle_force_W_N_;
+  ContactOutput output_;
+  ContactDiagnostics diagnostics_;
+};
+
+}  // namespace haptex::contact

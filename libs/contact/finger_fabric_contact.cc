@@ -1,0 +1,107 @@
+#include "libs/contact/finger_fabric_contact.h"
+
+#include <algorithm>
+
+#include "libs/contact/coulomb_friction.h"
+
+namespace haptex::contact {
+
+FingerFabricContact::FingerFabricContact(const Eigen::VectorXd& particle_area_m2,
+                                         const FingerShape& shape, const ContactOptions& options)
+    : shape_(shape),
+      radius_eff_m_(shape.radius_m + options.fabric_half_thickness_m),
+      k_N_per_m_(options.pad_stiffness_N_per_m3 * particle_area_m2),
+      particles_(static_cast<std::size_t>(particle_area_m2.size())) {}
+
+void FingerFabricContact::Reset() {
+  for (auto& c : particles_) c = ParticleContact{};
+}
+
+int FingerFabricContact::num_active() const {
+  int n = 0;
+  for (const auto& c : particles_) n += c.active ? 1 : 0;
+  return n;
+}
+
+void FingerFabricContact::Prepare(const FingerPose& pose, const textile::FabricState& state,
+                                  const std::vector<std::uint8_t>& excluded,
+                                  const FrictionCoefficients& mu, AnchorAccumulator* springs) {
+  const Segment seg = CapsuleSegment(shape_, pose);
+  const Eigen::Vector3d pad_normal = pose.R_WF.col(2);
+  const double reach = radius_eff_m_ + 0.5 * shape_.length_m;
+  const int n = static_cast<int>(particles_.size());
+  for (int p = 0; p < n; ++p) {
+    ParticleContact& c = particles_[static_cast<std::size_t>(p)];
+    if (excluded[static_cast<std::size_t>(p)] ||
+        state.mode[static_cast<std::size_t>(p)] != textile::ParticleMode::kFree) {
+      c.active = false;
+      continue;
+    }
+    const Eigen::Vector3d x = state.x_W_m.segment<3>(3 * p);
+    // Cheap reject before the exact query: most particles are far from the finger.
+    if (!c.active && (x - pose.p_W_m).squaredNorm() >= reach * reach) continue;
+    const SurfaceQuery q = QueryCapsule(seg, radius_eff_m_, x, c.active ? c.normal_W : pad_normal);
+    if (q.depth_m <= 0.0) {
+      c.active = false;  // outside: no normal force, so no friction memory either
+      continue;
+    }
+    if (!c.active) {
+      // A new contact sticks where the particle meets the surface.
+      c = ParticleContact{};
+      c.active = true;
+      c.anchor_W = q.surface_W;
+    } else {
+      // The held point moved with the finger; Coulomb decides whether it stays there.
+      const StickSlipResult s = UpdateStickSlip(pose.ToWorld(c.held_F), q.surface_W, k_N_per_m_[p],
+                                                c.normal_N, mu, c.sliding);
+      c.sliding = s.sliding;
+      // The held point stays on the curved surface.
+      c.anchor_W = ProjectOntoCapsule(seg, radius_eff_m_, s.held_W, q.normal_W);
+    }
+    c.held_F = pose.ToFinger(c.anchor_W);
+    c.normal_W = q.normal_W;
+    springs->Add(p, k_N_per_m_[p], c.anchor_W);
+  }
+}
+
+void FingerFabricContact::Resolve(const FingerPose& pose, const textile::FabricState& state,
+                                  const Eigen::MatrixX2d& rest_uv_m, FingerFabricResult* result) {
+  *result = FingerFabricResult{};
+  const Segment seg = CapsuleSegment(shape_, pose);
+  Eigen::Vector3d normal_acc = Eigen::Vector3d::Zero();
+  Eigen::Vector2d uv_acc = Eigen::Vector2d::Zero();
+  Eigen::Vector3d vel_acc = Eigen::Vector3d::Zero();
+  double strongest = 0.0;
+  const int n = static_cast<int>(particles_.size());
+  for (int p = 0; p < n; ++p) {
+    ParticleContact& c = particles_[static_cast<std::size_t>(p)];
+    if (!c.active) continue;
+    const Eigen::Vector3d x = state.x_W_m.segment<3>(3 * p);
+    // The force as the implicit step applied it (action = reaction).
+    result->force_W_N += k_N_per_m_[p] * (x - c.anchor_W);
+    const SurfaceQuery q = QueryCapsule(seg, radius_eff_m_, x, c.normal_W);
+    c.normal_N = k_N_per_m_[p] * std::max(0.0, q.depth_m);
+    c.normal_W = q.normal_W;
+    if (c.normal_N <= 0.0) continue;
+    // Friction on the finger: the tangential spring pulls it towards the particle's side.
+    result->friction_W_N += k_N_per_m_[p] * (q.surface_W - c.anchor_W);
+    ++result->particles;
+    result->normal_sum_N += c.normal_N;
+    if (c.sliding) result->sliding_normal_N += c.normal_N;
+    normal_acc += c.normal_N * q.normal_W;
+    uv_acc += c.normal_N * rest_uv_m.row(p).transpose();
+    vel_acc += c.normal_N * state.v_W_m_per_s.segment<3>(3 * p);
+    if (c.normal_N > strongest) {
+      strongest = c.normal_N;
+      result->strongest_particle = p;
+    }
+  }
+  if (result->normal_sum_N > 0.0) {
+    const double norm = normal_acc.norm();
+    if (norm > 0.0) result->normal_W = normal_acc / norm;
+    result->touch_uv_m = uv_acc / result->normal_sum_N;
+    result->touch_velocity_W = vel_acc / result->normal_sum_N;
+  }
+}
+
+}  // namespace haptex::contact

@@ -1,0 +1,78 @@
+#pragma once
+// States IV-VII (paper 5.3): one finger on the fabric. Every particle that enters the finger gets
+// an inverted proxy: a spring to a held point on the finger's surface that moves with the finger
+// and sticks or slides along the curved surface by Coulomb's law (per particle). The force on the
+// finger is F = sum_i k_i (x_i - x_i^E).
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "libs/contact/anchor_accumulator.h"
+#include "libs/contact/contact_options.h"
+#include "libs/contact/finger_geometry.h"
+#include "libs/textile/fabric_state.h"
+
+namespace haptex::contact {
+
+/// What one finger's inverted proxies did over a step.
+struct FingerFabricResult {
+  Eigen::Vector3d force_W_N{Eigen::Vector3d::Zero()};     ///< on the finger
+  Eigen::Vector3d normal_W{Eigen::Vector3d::UnitZ()};     ///< mean outward contact normal
+  double normal_sum_N = 0.0;       ///< sum of per-particle normal forces
+  double sliding_normal_N = 0.0;   ///< part of normal_sum_N whose particles slide
+  /// Sum of the per-particle friction springs on the finger (their tangential part).
+  Eigen::Vector3d friction_W_N{Eigen::Vector3d::Zero()};
+  int particles = 0;               ///< particles in contact after the step
+  int strongest_particle = -1;     ///< particle with the largest normal force
+  Eigen::Vector2d touch_uv_m{Eigen::Vector2d::Zero()};    ///< normal-force weighted, patch rest uv
+  Eigen::Vector3d touch_velocity_W{Eigen::Vector3d::Zero()};  ///< fabric velocity there
+};
+
+class FingerFabricContact {
+ public:
+  /// `particle_area_m2` (size n): the fabric area each particle stands for.
+  FingerFabricContact(const Eigen::VectorXd& particle_area_m2, const FingerShape& shape,
+                      const ContactOptions& options);
+
+  /// Before the fabric step, with the finger's pose at the end of the step: starts contacts for
+  /// particles inside the finger, drops those now outside, applies Coulomb's law to each held
+  /// point (the finger moved; its particles stick or slide along the curved surface, with the
+  /// normal force of the last step) and adds a spring per contact particle to `springs`.
+  /// Particles with `excluded[p]` (the pinch owns them) and prescribed particles are skipped.
+  void Prepare(const FingerPose& pose, const textile::FabricState& state,
+               const std::vector<std::uint8_t>& excluded, const FrictionCoefficients& mu,
+               AnchorAccumulator* springs);
+
+  /// After the step: the force on the finger from the springs as the step applied them, the
+  /// per-particle normal forces for the next step's friction, and where the finger touches.
+  void Resolve(const FingerPose& pose, const textile::FabricState& state,
+               const Eigen::MatrixX2d& rest_uv_m, FingerFabricResult* result);
+
+  void Reset();
+  int num_active() const;
+  bool active(int p) const { return particles_[static_cast<std::size_t>(p)].active; }
+
+  /// Held point of particle p in the finger frame, and whether it slides (for patch hand-off).
+  struct ParticleContact {
+    bool active = false;
+    bool sliding = false;
+    Eigen::Vector3d held_F{Eigen::Vector3d::Zero()};
+    Eigen::Vector3d anchor_W{Eigen::Vector3d::Zero()};  ///< spring end during the last step
+    Eigen::Vector3d normal_W{Eigen::Vector3d::UnitZ()};
+    double normal_N = 0.0;  ///< after the last step
+  };
+  const ParticleContact& particle(int p) const { return particles_[static_cast<std::size_t>(p)]; }
+  void SetParticle(int p, const ParticleContact& contact) {
+    particles_[static_cast<std::size_t>(p)] = contact;
+  }
+
+ private:
+  FingerShape shape_;
+  double radius_eff_m_;
+  Eigen::VectorXd k_N_per_m_;  ///< per particle
+  std::vector<ParticleContact> particles_;
+};
+
+}  // namespace haptex::contact
