@@ -38,6 +38,11 @@ ServiceContext::ServiceContext(std::string name, const ServiceOptions& options)
     const auto [peer_name, address] = ParsePeer(text);
     peers_.emplace_back(peer_name, messenger_->AddPeer(peer_name, address));
   }
+  if (!options.record_path.empty()) {
+    recorder_ = std::make_unique<EnvelopeRecorder>(options.record_path, name_, messenger_->identity().epoch,
+                                                   messenger_->identity().session_id);
+    record_dropped_counter_ = health_.AddCounter("record_dropped");
+  }
   if (const auto launcher = FindPeer("launcher")) {
     health_publisher_ = std::make_unique<runtime::HealthPublisher>(&health_, messenger_.get(),
                                                                    *launcher, options.health_hz, start_ns_);
@@ -62,7 +67,12 @@ net::Messenger::PeerId ServiceContext::RequirePeer(const std::string& name) cons
 }
 
 void ServiceContext::Tick(std::int64_t now_ns) {
-  if (health_publisher_) health_publisher_->MaybePublish(now_ns);
+  if (!health_publisher_) return;
+  if (recorder_) health_.SetCounter(record_dropped_counter_, recorder_->dropped());
+  if (health_publisher_->MaybePublish(now_ns) && recorder_) {
+    // the Health just sent, rebuilt into the same message (no allocation)
+    recorder_->Record(health_.Build(static_cast<double>(now_ns - start_ns_) * 1e-9), now_ns);
+  }
 }
 
 ServiceContext::ControlResult ServiceContext::HandleControl(const v1::Envelope& envelope) {

@@ -14,6 +14,7 @@
 #include "libs/runtime/health_reporter.h"
 #include "libs/runtime/rt_event_log.h"
 #include "libs/scene/scene_loader.h"
+#include "services/common/envelope_recorder.h"
 #include "services/common/service_options.h"
 
 namespace spdlog {
@@ -38,6 +39,16 @@ class ServiceContext final {
   /// The scene, or nullptr when none was given.
   const scene::LoadedScene* scene() const { return scene_.get(); }
   runtime::HealthReporter& health() { return health_; }
+  /// The recorder of --record, or nullptr.
+  EnvelopeRecorder* recorder() { return recorder_.get(); }
+
+  /// Sends `body` to `peer` through the messenger and, with --record, records it (no allocation,
+  /// no blocking). Services send through this so that their run is recorded.
+  template <class Body>
+  bool Send(net::Messenger::PeerId peer, const Body& body) {
+    if (recorder_) recorder_->Record(body, net::Messenger::SteadyNowNs());
+    return messenger_->Send(peer, body);
+  }
 
   std::optional<net::Messenger::PeerId> FindPeer(const std::string& name) const;
   /// Throws std::invalid_argument naming the missing --peer.
@@ -65,6 +76,8 @@ class ServiceContext final {
   std::vector<std::pair<std::string, net::Messenger::PeerId>> peers_;
   runtime::HealthReporter health_;
   std::unique_ptr<runtime::HealthPublisher> health_publisher_;
+  std::unique_ptr<EnvelopeRecorder> recorder_;
+  runtime::HealthReporter::CounterId record_dropped_counter_ = 0;
   std::int64_t start_ns_;
   std::int64_t stop_at_ns_;
   bool shutdown_commanded_ = false;

@@ -22,6 +22,8 @@ void AddServiceOptions(CLI::App& app, ServiceOptions* o) {
       ->capture_default_str();
   app.add_option("--duration", o->duration_s, "stop after this many seconds (0: until told)")
       ->check(CLI::Range(0.0, 1e7));
+  app.add_option("--record", o->record_path,
+                 "record the messages this service sends to FILE (length-delimited Envelopes)");
 }
 
 std::pair<std::string, std::string> ParsePeer(const std::string& text) {

@@ -22,6 +22,7 @@ struct ServiceOptions {
   runtime::RtOptions rt;               // --rt-priority, --cpu, --lock-memory
   double health_hz = 5.0;              // --health-hz (Health to the "launcher" peer)
   double duration_s = 0.0;             // --duration: stop after this long (0: until told)
+  std::string record_path;             // --record FILE: the messages this service sends (off the loop)
 };
 
 /// Adds the shared options to a service's CLI11 app.

@@ -1,0 +1,269 @@
+#include "cli/launch_command.h"
+
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <set>
+#include <stdexcept>
+
+#include "launch/command_line.h"
+#include "launch/port_plan.h"
+#include "launch/recording.h"
+#include "launch/run_report.h"
+#include "launch/run_summary.h"
+#include "launch/service_set.h"
+#include "launch/supervisor.h"
+#include "libs/scene/scene_loader.h"
+#include "libs/scene/session_key_source.h"
+
+extern char** environ;
+
+namespace haptex::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using launch::ServiceKind;
+
+struct LaunchOptions {
+  std::string scene;
+  double duration_s = -1;  // < 0: the scene's
+  std::string out;
+  std::string host;
+  std::vector<std::string> skip;
+  int base_port = -1;  // < 0: free ports on one host, kDefaultMultiHostBasePort on several
+  std::string build_dir;
+  std::string log_level = "info";
+  double ready_timeout_s = 30;
+  double silent_after_s = 3;
+  int max_restarts = 3;
+  bool no_plots = false;
+  bool dry_run = false;
+};
+
+// The build folder: this executable is BUILD/cli/haptex.
+std::string DefaultBuildDir() {
+  std::error_code error;
+  const fs::path self = fs::read_symlink("/proc/self/exe", error);
+  if (error) return "build";
+  return self.parent_path().parent_path().string();
+}
+
+// A port the system has free now (single-host runs): bind port 0, read it, release it.
+std::uint16_t FreeUdpPort() {
+  const int fd = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+  if (fd < 0) throw std::runtime_error("no UDP socket for a free port");
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t length = sizeof(address);
+  if (bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof(address)) != 0 ||
+      getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) != 0) {
+    close(fd);
+    throw std::runtime_error(std::string("cannot find a free UDP port: ") + std::strerror(errno));
+  }
+  close(fd);
+  return ntohs(address.sin_port);
+}
+
+std::string TimeStamp() {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  localtime_r(&now, &tm);
+  char text[32];
+  std::strftime(text, sizeof(text), "%Y%m%d-%H%M%S", &tm);
+  return text;
+}
+
+std::vector<std::string> ChildEnvironment(const net::SessionKey& key) {
+  std::vector<std::string> env;
+  for (char** e = environ; *e != nullptr; ++e) {
+    if (std::strncmp(*e, "HAPTEX_SESSION_KEY=", 19) != 0) env.emplace_back(*e);
+  }
+  env.push_back("HAPTEX_SESSION_KEY=" + key.ToHex());
+  return env;
+}
+
+int Launch(const LaunchOptions& o) {
+  // the scene, validated (errors at file:line:column; main prints them and exits 2)
+  const scene::FabricDatabase fabrics(scene::FabricDatabase::DefaultDirectory());
+  const scene::LoadedScene loaded = scene::LoadScene(o.scene, fabrics);
+  const v1::Scene& scene = loaded.scene;
+  const std::string scene_path = fs::absolute(o.scene).string();
+
+  // what it needs, and why
+  const std::vector<launch::PlannedService> services = launch::DeriveServices(scene);
+  std::set<std::string> skip(o.skip.begin(), o.skip.end());
+  for (const std::string& name : skip) {
+    const bool planned = std::any_of(services.begin(), services.end(),
+                                     [&](const auto& s) { return launch::Spec(s.kind).name == name; });
+    if (!planned) throw std::invalid_argument("--skip " + name + ": the scene does not need a service of that name");
+  }
+  if (launch::IsMultiHost(scene) && o.host.empty()) {
+    throw std::invalid_argument("scene " + scene.name() +
+                                " places services on several hosts: run `haptex launch SCENE --host NAME` on each");
+  }
+  const auto hosts = launch::HostAddresses(scene);
+  if (!o.host.empty() && !hosts.count(o.host)) {
+    std::string known;
+    for (const auto& [name, address] : hosts) known += (known.empty() ? "" : ", ") + name;
+    throw std::invalid_argument("--host " + o.host + ": the scene has no such host (hosts: " + known + ")");
+  }
+  const std::string here = o.host.empty() ? "local" : o.host;
+  const auto runs_here = [&](const launch::PlannedService& s) {
+    return launch::HostOf(scene, s.kind) == here && !skip.count(std::string(launch::Spec(s.kind).name));
+  };
+
+  std::cout << "scene " << scene.name() << " (" << scene_path << ")" << (o.host.empty() ? "" : ", host " + o.host)
+            << "\n";
+  for (const auto& s : services) {
+    const std::string name(launch::Spec(s.kind).name);
+    const std::string where = launch::HostOf(scene, s.kind);
+    std::cout << "  " << (skip.count(name) ? "skip   " : runs_here(s) ? "start  " : "remote ") << name
+              << (runs_here(s) || skip.count(name) ? "" : " (on " + where + ")") << ": " << s.reason << "\n";
+  }
+  for (const auto& s : launch::OmittedServices(scene)) {
+    std::cout << "  not    " << launch::Spec(s.kind).name << ": " << s.reason << "\n";
+  }
+
+  // every executable started here must exist
+  const std::string build_dir = o.build_dir.empty() ? DefaultBuildDir() : o.build_dir;
+  std::string missing;
+  for (const auto& s : services) {
+    if (!runs_here(s)) continue;
+    const std::string path = launch::ExecutablePath(build_dir, s.kind);
+    if (access(path.c_str(), X_OK) != 0) {
+      const auto& spec = launch::Spec(s.kind);
+      missing += "\n  " + fs::path(path).filename().string() + " is not built (" + std::string(spec.built_by) +
+                 "; looked for " + path + "); the scene needs it: " + s.reason + ". Build it, or pass --skip " +
+                 std::string(spec.name) + " and start it yourself.";
+    }
+  }
+  if (!missing.empty() && !o.dry_run) throw std::invalid_argument("cannot launch scene " + scene.name() + ":" + missing);
+
+  // ports and command lines
+  const std::uint16_t base_port = static_cast<std::uint16_t>(
+      o.base_port >= 0 ? o.base_port : launch::IsMultiHost(scene) ? launch::kDefaultMultiHostBasePort : 0);
+  const launch::PortPlan plan = launch::AssignPorts(scene, services, base_port, FreeUdpPort);
+  const std::string run_dir =
+      fs::absolute(o.out.empty() ? "runs/" + scene.name() + "-" + TimeStamp() + (o.host.empty() ? "" : "-" + o.host)
+                                 : o.out)
+          .string();
+  launch::CommandOptions command_options{build_dir, scene_path, run_dir, o.log_level};
+  launch::SupervisorConfig config;
+  config.launcher = plan.launchers.at(here);
+  config.identity = o.host.empty() ? "launcher" : "launcher@" + o.host;
+  if (const auto* bridge = plan.Find(v1::ServicePlacement::SERVICE_DEVICE_BRIDGE)) {
+    if (!skip.count("device_bridge")) config.bridge_address = bridge->haptex.Peer();
+  }
+  std::string plan_text;
+  for (const launch::PlacedService& s : plan.services) {
+    const auto argv = launch::CommandLine(s, plan, scene, command_options);
+    plan_text += std::string(launch::Spec(s.service.kind).name) + " (" + s.haptex.host + "): " +
+                 launch::JoinCommandLine(argv) + "\n";
+    if (!runs_here(s.service)) continue;
+    config.services.push_back({s, argv, run_dir + "/logs/" + std::string(launch::Spec(s.service.kind).name) + ".log"});
+  }
+  if (o.dry_run) {
+    if (!missing.empty()) std::cout << "would refuse:" << missing << "\n";
+    std::cout << "launcher@" << here << " on " << config.launcher.Peer() << "\n" << plan_text;
+    return 0;
+  }
+  if (config.services.empty()) throw std::invalid_argument("nothing to start on host " + here);
+
+  fs::create_directories(run_dir + "/logs");
+  fs::create_directories(run_dir + "/recordings");
+  std::ofstream(run_dir + "/commands.txt") << plan_text;
+  const net::SessionKey key = scene::ResolveSessionKey(scene.session_key());
+  config.child_env = ChildEnvironment(key);
+  config.duration_s = o.duration_s >= 0 ? o.duration_s : scene.duration_s();
+  config.ready_timeout_s = o.ready_timeout_s;
+  config.silent_after_s = o.silent_after_s;
+  config.max_restarts = o.max_restarts;
+  config.status_in_place = isatty(STDOUT_FILENO) != 0;
+  std::cout << "run folder " << run_dir << "\n"
+            << "launcher receiving Health on " << config.launcher.Peer() << "; Ctrl-C stops the run" << std::endl;
+
+  launch::RunRecord record;
+  record.scene_name = scene.name();
+  record.scene_path = scene_path;
+  record.run_dir = run_dir;
+  record.host = o.host;
+  record.not_needed = launch::OmittedServices(scene);
+  record.skipped.assign(skip.begin(), skip.end());
+  const int code = [&] {
+    launch::Supervisor supervisor(config, key, std::cout);
+    return supervisor.Run(&record);
+  }();
+  // services that run elsewhere are listed with their addresses
+  for (const launch::PlacedService& s : plan.services) {
+    if (runs_here(s.service)) continue;
+    launch::ServiceRecord remote;
+    remote.placed = s;
+    remote.local = false;
+    record.services.push_back(remote);
+  }
+
+  // the run folder: recordings, what they say, plots, summary.json
+  std::vector<launch::Recording> recordings;
+  std::vector<launch::RecordingFiles> files;
+  try {
+    recordings = launch::ReadRecordings(run_dir + "/recordings");
+  } catch (const std::exception& e) {
+    record.errors.push_back(e.what());
+  }
+  for (const auto& r : recordings) {
+    files.push_back({fs::path(r.path).filename().string(), r.envelopes.size(), r.unparsable, r.truncated});
+  }
+  const auto analysis = launch::AnalyseRecordings(recordings);
+  const auto force_log = launch::ReadForceLog(launch::ForceLogPath(run_dir));
+  std::vector<launch::PlotResult> plots;
+  if (!o.no_plots) plots = launch::MakePlots(run_dir, scene, recordings, force_log);
+  std::ofstream(run_dir + "/summary.json") << launch::SummaryJson(record, files, analysis, force_log, plots);
+
+  for (const std::string& e : record.errors) std::cout << "error: " << e << "\n";
+  for (const auto& p : plots) {
+    std::cout << "plot " << p.name << ": " << (p.file.empty() ? "skipped, " + p.skipped : p.file) << "\n";
+  }
+  std::cout << "run " << record.end_reason << " after " << record.duration_s << " s; summary " << run_dir
+            << "/summary.json" << std::endl;
+  return code;
+}
+
+}  // namespace
+
+void AddLaunchCommand(CLI::App& app, int* exit_code) {
+  auto o = std::make_shared<LaunchOptions>();
+  CLI::App* launch = app.add_subcommand("launch", "Run a scene: start what it needs, supervise, stop safely");
+  launch->add_option("SCENE", o->scene, "scene file (.textproto)")->required();
+  launch->add_option("--duration", o->duration_s, "seconds to run (default: the scene's; 0: until Ctrl-C)")
+      ->check(CLI::Range(0.0, 1e7));
+  launch->add_option("--out", o->out, "run folder (default: runs/SCENE-TIME)");
+  launch->add_option("--host", o->host, "start only the services the scene places on this host");
+  launch->add_option("--skip", o->skip, "a needed service not to start here (started by hand elsewhere); repeatable");
+  launch->add_option("--base-port", o->base_port,
+                     "ports are this + a fixed offset per service (default: free ports on one host, " +
+                         std::to_string(launch::kDefaultMultiHostBasePort) + " on several)")
+      ->check(CLI::Range(1, 65000));
+  launch->add_option("--build-dir", o->build_dir, "where the service executables are (default: this haptex's build)");
+  launch->add_option("--log-level", o->log_level, "the services' log level")->capture_default_str();
+  launch->add_option("--ready-timeout", o->ready_timeout_s, "seconds a service may take to report healthy")
+      ->check(CLI::Range(0.5, 600.0))->capture_default_str();
+  launch->add_option("--silent-after", o->silent_after_s, "seconds without Health before a service is restarted")
+      ->check(CLI::Range(0.5, 600.0))->capture_default_str();
+  launch->add_option("--max-restarts", o->max_restarts, "restarts per service before the run stops")
+      ->check(CLI::Range(0, 100))->capture_default_str();
+  launch->add_flag("--no-plots", o->no_plots, "do not draw the plots");
+  launch->add_flag("--dry-run", o->dry_run, "print the services, ports and command lines; start nothing");
+  launch->callback([o, exit_code] { *exit_code = Launch(*o); });
+}
+
+}  // namespace haptex::cli

@@ -1,0 +1,38 @@
+#pragma once
+// One service process: fork + execve with its own environment, stdout and stderr appended to a
+// log file, its own process group (a terminal's Ctrl-C reaches the launcher only, which then
+// stops the services in order) and SIGTERM when the launcher dies.
+
+#include <sys/types.h>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace haptex::launch {
+
+class ChildProcess final {
+ public:
+  /// Starts argv[0]. Throws std::runtime_error when the log cannot be opened or fork fails; an
+  /// executable that cannot be run exits with code 127 (its log says why).
+  ChildProcess(const std::vector<std::string>& argv, const std::vector<std::string>& env,
+               const std::string& log_path);
+  /// Kills a child that still runs (SIGKILL) and reaps it.
+  ~ChildProcess();
+  ChildProcess(const ChildProcess&) = delete;
+  ChildProcess& operator=(const ChildProcess&) = delete;
+
+  pid_t pid() const { return pid_; }
+  /// Reaps without waiting: true once the child has exited (then exit_text() says how).
+  bool Poll();
+  bool exited() const { return status_.has_value(); }
+  /// "exit 0", "exit 2", "signal 9".
+  std::string exit_text() const;
+  void Signal(int signal_number) const;
+
+ private:
+  pid_t pid_ = -1;
+  std::optional<int> status_;
+};
+
+}  // namespace haptex::launch

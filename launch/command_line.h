@@ -1,0 +1,35 @@
+#pragma once
+// The command line of each service of a run: executable, the shared options (scene, bind, peers,
+// Health rate, recording) and the service's own flags. Pure.
+
+#include <string>
+#include <vector>
+
+#include "haptex/v1/scene.pb.h"
+#include "launch/port_plan.h"
+
+namespace haptex::launch {
+
+struct CommandOptions {
+  std::string build_dir;   // where the executables are (the table's paths are relative to it)
+  std::string scene_path;  // absolute path of the scene file
+  std::string run_dir;     // the run folder (recordings, force log, pin log)
+  std::string log_level = "info";
+};
+
+/// Path of a service's executable.
+std::string ExecutablePath(const std::string& build_dir, ServiceKind kind);
+/// Path of a service's recording in the run folder.
+std::string RecordingPath(const std::string& run_dir, ServiceKind kind);
+/// The mock controller's force log (what the fingers felt) in the run folder.
+std::string ForceLogPath(const std::string& run_dir);
+
+/// argv for `service` (argv[0] = the executable). The session key is not on the command line:
+/// children get it in HAPTEX_SESSION_KEY.
+std::vector<std::string> CommandLine(const PlacedService& service, const PortPlan& plan, const v1::Scene& scene,
+                                     const CommandOptions& options);
+
+/// argv joined with spaces, arguments with spaces quoted (for logs and the run folder).
+std::string JoinCommandLine(const std::vector<std::string>& argv);
+
+}  // namespace haptex::launch

@@ -1,0 +1,108 @@
+#include "launch/port_plan.h"
+
+#include <set>
+#include <stdexcept>
+
+namespace haptex::launch {
+namespace {
+
+using P = v1::ServicePlacement;
+
+const P* PlacementOf(const v1::Scene& scene, ServiceKind kind) {
+  for (const P& placement : scene.services()) {
+    if (placement.service() == kind) return &placement;
+  }
+  return nullptr;
+}
+
+bool IsLoopback(const std::string& address) {
+  return address.rfind("127.", 0) == 0 || address == "localhost" || address == "::1";
+}
+
+}  // namespace
+
+std::string HostPort::Peer() const {
+  const bool v6 = address.find(':') != std::string::npos;
+  return (v6 ? "[" + address + "]" : address) + ":" + std::to_string(port);
+}
+
+std::string HostPort::Bind() const {
+  if (IsLoopback(address)) return Peer();
+  const bool v6 = address.find(':') != std::string::npos;
+  return (v6 ? std::string("[::]") : std::string("0.0.0.0")) + ":" + std::to_string(port);
+}
+
+const PlacedService* PortPlan::Find(ServiceKind kind) const {
+  for (const PlacedService& s : services) {
+    if (s.service.kind == kind) return &s;
+  }
+  return nullptr;
+}
+
+std::string HostOf(const v1::Scene& scene, ServiceKind kind) {
+  const P* placement = PlacementOf(scene, kind);
+  return placement == nullptr || placement->host().empty() ? "local" : placement->host();
+}
+
+std::map<std::string, std::string> HostAddresses(const v1::Scene& scene) {
+  std::map<std::string, std::string> hosts = {{"local", "127.0.0.1"}};
+  for (const v1::Host& host : scene.hosts()) hosts[host.name()] = host.address();
+  return hosts;
+}
+
+bool IsMultiHost(const v1::Scene& scene) {
+  for (const P& placement : scene.services()) {
+    if (!placement.host().empty() && placement.host() != "local") return true;
+  }
+  return false;
+}
+
+PortPlan AssignPorts(const v1::Scene& scene, const std::vector<PlannedService>& services,
+                     std::uint16_t base_port, const std::function<std::uint16_t()>& free_port) {
+  if (base_port == 0 && IsMultiHost(scene)) {
+    throw std::invalid_argument(
+        "services on several hosts need fixed ports: give --base-port (the same on every host)");
+  }
+  const auto addresses = HostAddresses(scene);
+  std::set<std::pair<std::string, std::uint16_t>> used;
+  const auto take = [&](const std::string& host, std::uint32_t placed, int offset, const std::string& what) {
+    HostPort hp{host, addresses.at(host), 0};
+    if (placed != 0) {
+      hp.port = static_cast<std::uint16_t>(placed);
+    } else if (base_port != 0) {
+      const int port = base_port + offset;
+      if (port > 65535) throw std::invalid_argument("--base-port " + std::to_string(base_port) + " is too high");
+      hp.port = static_cast<std::uint16_t>(port);
+    } else {
+      hp.port = free_port();
+    }
+    if (!used.insert({host, hp.port}).second) {
+      throw std::invalid_argument("port " + std::to_string(hp.port) + " on host " + host + " is given twice (" +
+                                  what + "); change the scene's ports or --base-port");
+    }
+    return hp;
+  };
+
+  PortPlan plan;
+  // one launcher per host that runs a service; the launcher's own placement sets its port
+  const P* launcher = PlacementOf(scene, P::SERVICE_LAUNCHER);
+  std::set<std::string> hosts = {HostOf(scene, P::SERVICE_LAUNCHER)};
+  for (const PlannedService& s : services) hosts.insert(HostOf(scene, s.kind));
+  for (const std::string& host : hosts) {
+    plan.launchers[host] = take(host, launcher ? launcher->port() : 0, kLauncherPortOffset, "launcher");
+  }
+  for (const PlannedService& s : services) {
+    const ServiceSpec& spec = Spec(s.kind);
+    const std::string host = HostOf(scene, s.kind);
+    const P* placement = PlacementOf(scene, s.kind);
+    PlacedService placed{s, take(host, placement ? placement->port() : 0, spec.port_offset, std::string(spec.name)),
+                         std::nullopt};
+    if (spec.controller_port_offset >= 0) {
+      placed.controller = take(host, 0, spec.controller_port_offset, std::string(spec.name) + " controller socket");
+    }
+    plan.services.push_back(std::move(placed));
+  }
+  return plan;
+}
+
+}  // namespace haptex::launch

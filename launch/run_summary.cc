@@ -1,0 +1,204 @@
+#include "launch/run_summary.h"
+
+#include "cli/json_writer.h"
+
+namespace haptex::launch {
+namespace {
+
+void WriteForce(cli::JsonWriter& j, std::string_view key, const FingerForceStats& s) {
+  j.BeginObject(key)
+      .Field("samples", s.samples)
+      .Field("peak_n", s.peak_n)
+      .Field("mean_n", s.mean_n)
+      .Field("final_n", s.final_n)
+      .EndObject();
+}
+
+void WriteHealth(cli::JsonWriter& j, const v1::Health& h) {
+  j.Field("state", v1::Health::State_Name(h.state())).Field("uptime_s", h.uptime_s());
+  j.BeginArray("loops");
+  for (const v1::LoopStats& l : h.loops()) {
+    j.BeginObject()
+        .Field("name", l.name())
+        .Field("target_rate_hz", l.target_rate_hz())
+        .Field("rate_hz", h.uptime_s() > 0 ? static_cast<double>(l.ticks()) / h.uptime_s() : 0.0)
+        .Field("ticks", l.ticks())
+        .Field("overruns", l.overruns())
+        .Field("period_p50_us", l.period_p50_us())
+        .Field("period_p99_us", l.period_p99_us())
+        .Field("period_max_us", l.period_max_us())
+        .Field("compute_p50_us", l.compute_p50_us())
+        .Field("compute_p99_us", l.compute_p99_us())
+        .Field("compute_max_us", l.compute_max_us())
+        .EndObject();
+  }
+  j.EndArray();
+  j.BeginObject("latencies");
+  for (const v1::LatencyStats& l : h.latencies()) {
+    j.BeginObject(l.name())
+        .Field("samples", l.samples())
+        .Field("p50_us", l.p50_us())
+        .Field("p99_us", l.p99_us())
+        .Field("max_us", l.max_us())
+        .EndObject();
+  }
+  j.EndObject();
+  j.BeginObject("counters");
+  for (const v1::Counter& c : h.counters()) j.Field(c.name(), c.value());
+  j.EndObject();
+  j.Field("last_error", h.last_error());
+}
+
+// counters that are watchdog or device events, by name
+bool IsWatchdogCounter(const std::string& name) {
+  return name == "device_lost_events" || name == "host_timeouts" || name == "non_finite_forces" ||
+         name.find("watchdog") != std::string::npos || name.find("stale") != std::string::npos;
+}
+
+}  // namespace
+
+std::string SummaryJson(const RunRecord& run, const std::vector<RecordingFiles>& recordings,
+                        const RecordingAnalysis& analysis, const std::optional<ForceLog>& force_log,
+                        const std::vector<PlotResult>& plots) {
+  cli::JsonWriter j;
+  j.BeginObject();
+  j.Field("scene", run.scene_name).Field("scene_path", run.scene_path).Field("run_dir", run.run_dir);
+  j.Field("host", run.host.empty() ? std::string("all") : run.host);
+  j.Field("duration_s", run.duration_s).Field("end_reason", run.end_reason).Field("exit_code", run.exit_code);
+
+  // services: what ran, why, and its last Health
+  j.BeginArray("services");
+  for (const ServiceRecord& s : run.services) {
+    const ServiceSpec& spec = Spec(s.placed.service.kind);
+    j.BeginObject().Field("name", spec.name).Field("reason", s.placed.service.reason);
+    j.Field("host", s.placed.haptex.host).Field("address", s.placed.haptex.Peer());
+    if (s.placed.controller) j.Field("controller_address", s.placed.controller->Peer());
+    j.Field("started_here", s.local).Field("health_received", s.last_health.has_value());
+    if (s.local) {
+      j.Field("log", s.log_path).Field("restarts", s.restarts).Field("exit", s.exit);
+      j.BeginArray("pids");
+      for (int pid : s.pids) j.BeginObject().Field("pid", pid).EndObject();
+      j.EndArray();
+    }
+    if (s.last_health) WriteHealth(j, *s.last_health);
+    j.EndObject();
+  }
+  j.EndArray();
+  j.BeginArray("not_started");
+  for (const PlannedService& s : run.not_needed) {
+    j.BeginObject().Field("name", Spec(s.kind).name).Field("why", s.reason).EndObject();
+  }
+  for (const std::string& name : run.skipped) {
+    j.BeginObject().Field("name", name).Field("why", "--skip (started elsewhere)").EndObject();
+  }
+  j.EndArray();
+
+  // motion-to-force latency (the bridge's clock)
+  j.BeginObject("motion_to_force");
+  for (const ServiceRecord& s : run.services) {
+    if (!s.last_health) continue;
+    for (const v1::LatencyStats& l : s.last_health->latencies()) {
+      if (l.name() != "motion_to_force") continue;
+      j.Field("service", Spec(s.placed.service.kind).name)
+          .Field("samples", l.samples())
+          .Field("p50_us", l.p50_us())
+          .Field("p99_us", l.p99_us())
+          .Field("max_us", l.max_us());
+    }
+  }
+  j.EndObject();
+
+  // dropped datagrams: each service's counters, and the launcher's own per reason
+  j.BeginObject("drops");
+  for (const ServiceRecord& s : run.services) {
+    if (!s.last_health) continue;
+    j.BeginObject(Spec(s.placed.service.kind).name);
+    for (const v1::Counter& c : s.last_health->counters()) {
+      if (c.name().find("dropped") != std::string::npos || c.name().find("rejected") != std::string::npos) {
+        j.Field(c.name(), c.value());
+      }
+    }
+    j.EndObject();
+  }
+  j.BeginObject("launcher_received");
+  for (const auto& [reason, count] : run.launcher_received) j.Field(reason, count);
+  j.EndObject();
+  j.EndObject();
+
+  // contact states and forces
+  j.BeginObject("contact_states");
+  if (analysis.force_models == 0) {
+    j.Field("note", "no ForceModel recorded (local_contact did not run or did not record)");
+  } else {
+    for (int state = 1; state <= 9; ++state) j.Field(RomanState(state), analysis.contact_states[state]);
+    j.Field("unspecified", analysis.contact_states[0]);
+  }
+  j.EndObject();
+  j.BeginObject("forces");
+  j.BeginObject("force_model");
+  if (analysis.model_forces.empty()) j.Field("note", "no ForceModel recorded");
+  for (const auto& [finger, stats] : analysis.model_forces) WriteForce(j, finger, stats);
+  j.EndObject();
+  j.BeginObject("mock_controller_commanded");
+  if (!force_log) {
+    j.Field("note", "no mock controller force log");
+  } else {
+    WriteForce(j, "thumb", force_log->stats[0]);
+    WriteForce(j, "index", force_log->stats[1]);
+  }
+  j.EndObject();
+  j.EndObject();
+
+  // watchdogs, restarts and the launcher's other events
+  j.BeginArray("watchdog");
+  for (const ServiceRecord& s : run.services) {
+    if (!s.last_health) continue;
+    for (const v1::Counter& c : s.last_health->counters()) {
+      if (IsWatchdogCounter(c.name())) {
+        j.BeginObject().Field("service", Spec(s.placed.service.kind).name).Field("counter", c.name())
+            .Field("value", c.value()).EndObject();
+      }
+    }
+  }
+  j.EndArray();
+  j.BeginArray("restarts");
+  for (const RunEvent& e : run.events) {
+    if (e.kind == "restarted") j.BeginObject().Field("t_s", e.t_s).Field("service", e.service).Field("detail", e.detail).EndObject();
+  }
+  j.EndArray();
+  j.BeginArray("events");
+  for (const RunEvent& e : run.events) {
+    j.BeginObject().Field("t_s", e.t_s).Field("service", e.service).Field("kind", e.kind).Field("detail", e.detail).EndObject();
+  }
+  j.EndArray();
+  j.BeginArray("errors");
+  for (const std::string& e : run.errors) j.BeginObject().Field("error", e).EndObject();
+  for (const ServiceRecord& s : run.services) {
+    if (s.last_health && !s.last_health->last_error().empty()) {
+      j.BeginObject().Field("error", std::string(Spec(s.placed.service.kind).name) + ": " + s.last_health->last_error()).EndObject();
+    }
+  }
+  j.EndArray();
+
+  j.BeginArray("recordings");
+  for (const RecordingFiles& r : recordings) {
+    j.BeginObject().Field("file", r.name).Field("envelopes", static_cast<std::uint64_t>(r.envelopes))
+        .Field("unparsable", static_cast<std::uint64_t>(r.unparsable)).Field("truncated", r.truncated).EndObject();
+  }
+  j.EndArray();
+  j.BeginObject("plots");
+  for (const PlotResult& p : plots) {
+    j.BeginObject(p.name);
+    if (p.file.empty()) {
+      j.Field("skipped", p.skipped);
+    } else {
+      j.Field("file", p.file);
+    }
+    j.EndObject();
+  }
+  j.EndObject();
+  j.EndObject();
+  return j.str() + "\n";
+}
+
+}  // namespace haptex::launch

@@ -1,0 +1,65 @@
+#pragma once
+// What a run leaves in summary.json: per service loop statistics, latencies, counters (drops,
+// watchdogs) from its last Health, the launcher's events (starts, deaths, restarts, zero force),
+// errors, and what the recordings and the force log say. Pure: JSON text from the record.
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "haptex/v1/health.pb.h"
+#include "launch/port_plan.h"
+#include "launch/run_report.h"
+
+namespace haptex::launch {
+
+struct RunEvent {
+  double t_s = 0;       // since the launcher started
+  std::string service;  // "" for the run itself
+  std::string kind;     // started, ready, exited, silent, restarted, zero_force, enable_force, shutdown, ...
+  std::string detail;
+};
+
+struct ServiceRecord {
+  PlacedService placed;
+  std::vector<std::string> argv;
+  std::string log_path;
+  std::vector<int> pids;              // one per start
+  std::optional<v1::Health> last_health;
+  int restarts = 0;
+  double restart_s = 0;               // the last restart's time from death to ready
+  std::string exit;                   // how it ended ("exit 0", "signal 9", ...)
+  bool local = true;                  // started by this launcher
+};
+
+struct RunRecord {
+  std::string scene_name;
+  std::string scene_path;
+  std::string run_dir;
+  std::string host;                   // --host, "" for all
+  double duration_s = 0;              // wall time from the first start to the end of the stop
+  std::string end_reason;             // "duration", "interrupted", "failed"
+  int exit_code = 0;
+  std::vector<ServiceRecord> services;
+  std::vector<PlannedService> not_needed;  // with why
+  std::vector<std::string> skipped;        // --skip: needed but started elsewhere
+  std::vector<RunEvent> events;
+  std::vector<std::string> errors;
+  std::map<std::string, std::uint64_t> launcher_received;  // the launcher's own datagrams per drop reason
+};
+
+struct RecordingFiles {
+  std::string name;
+  std::size_t envelopes = 0;
+  std::size_t unparsable = 0;
+  bool truncated = false;
+};
+
+/// summary.json's text.
+std::string SummaryJson(const RunRecord& run, const std::vector<RecordingFiles>& recordings,
+                        const RecordingAnalysis& analysis, const std::optional<ForceLog>& force_log,
+                        const std::vector<PlotResult>& plots);
+
+}  // namespace haptex::launch

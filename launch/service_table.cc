@@ -1,0 +1,49 @@
+#include "launch/service_table.h"
+
+#include <stdexcept>
+
+namespace haptex::launch {
+
+const std::vector<ServiceSpec>& ServiceTable() {
+  using P = v1::ServicePlacement;
+  // Start order: the device bridge first (it holds zero force until the launcher enables it), its
+  // controller, then what feeds it. Stop order: the models first, the bridge last of the haptex
+  // services; the mock controller stands in for the hardware and stops after the bridge, so its
+  // force log shows the bridge's zero commands.
+  static const std::vector<ServiceSpec> table = {
+      {P::SERVICE_DEVICE_BRIDGE, "device_bridge", "services/device_bridge/haptex-device-bridge",
+       "services/device_bridge", 0, 4, 3, 4,
+       {{"launcher", P::SERVICE_LAUNCHER}, {"local_contact", P::SERVICE_LOCAL_CONTACT},
+        {"global_sim", P::SERVICE_GLOBAL_SIM}}},
+      {P::SERVICE_MOCK_GRAB, "mock_grab", "services/mock_grab/haptex-mock-grab", "services/mock_grab", 1, 5, 6, 7,
+       {{"launcher", P::SERVICE_LAUNCHER}}},
+      {P::SERVICE_MOCK_PINS, "mock_pins", "services/mock_pins/haptex-mock-pins", "services/mock_pins", 2, 3, 8, -1,
+       {{"launcher", P::SERVICE_LAUNCHER}}},
+      {P::SERVICE_TACTILE, "tactile", "services/tactile/haptex-tactile", "services/tactile", 3, 2, 5, -1,
+       {{"launcher", P::SERVICE_LAUNCHER}, {"display", P::SERVICE_MOCK_PINS}}},
+      {P::SERVICE_GLOBAL_SIM, "global_sim", "services/global_sim/haptex-global-sim", "services/global_sim (issue 6)",
+       4, 1, 1, -1,
+       {{"launcher", P::SERVICE_LAUNCHER}, {"local_contact", P::SERVICE_LOCAL_CONTACT}}},
+      {P::SERVICE_LOCAL_CONTACT, "local_contact", "services/local_contact/haptex-local-contact",
+       "services/local_contact (issue 6)", 5, 0, 2, -1,
+       {{"launcher", P::SERVICE_LAUNCHER}, {"global_sim", P::SERVICE_GLOBAL_SIM},
+        {"bridge", P::SERVICE_DEVICE_BRIDGE}, {"tactile", P::SERVICE_TACTILE}}},
+  };
+  return table;
+}
+
+const ServiceSpec& Spec(ServiceKind kind) {
+  for (const ServiceSpec& spec : ServiceTable()) {
+    if (spec.kind == kind) return spec;
+  }
+  throw std::out_of_range("no launcher table entry for service " + v1::ServicePlacement::Service_Name(kind));
+}
+
+const ServiceSpec* FindSpec(std::string_view name) {
+  for (const ServiceSpec& spec : ServiceTable()) {
+    if (spec.name == name) return &spec;
+  }
+  return nullptr;
+}
+
+}  // namespace haptex::launch

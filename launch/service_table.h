@@ -1,0 +1,44 @@
+#pragma once
+// The services the launcher knows: one table entry each (name, executable, start and stop rank,
+// the peers it is given, its own flags). Adding a service is adding an entry here and, in
+// service_set.cc, the reason a scene needs it.
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "haptex/v1/scene.pb.h"
+
+namespace haptex::launch {
+
+using ServiceKind = v1::ServicePlacement::Service;
+
+/// One peer a service is told about: the name it looks the peer up by, and which service it is
+/// (SERVICE_LAUNCHER for the launcher of the service's own host).
+struct PeerSpec {
+  std::string_view peer_name;
+  ServiceKind service;
+};
+
+struct ServiceSpec {
+  ServiceKind kind;
+  std::string_view name;        // Health sender, Control target, file names ("device_bridge")
+  std::string_view executable;  // relative to the build folder
+  std::string_view built_by;    // where its source lives, for "not built" messages
+  int start_rank;               // lower starts first
+  int stop_rank;                // lower stops first
+  int port_offset;              // its UDP port = base port + offset (unless the scene places it)
+  int controller_port_offset;   // the GRAB protocol socket's offset; -1: none
+  std::vector<PeerSpec> peers;  // peers it is given, when that peer is in the run
+};
+
+/// Every service, in start order. The launcher's own port is base port + kLauncherPortOffset.
+const std::vector<ServiceSpec>& ServiceTable();
+inline constexpr int kLauncherPortOffset = 0;
+
+/// Throws std::out_of_range for a kind without an entry (SERVICE_LAUNCHER, unspecified).
+const ServiceSpec& Spec(ServiceKind kind);
+/// The entry named `name` ("mock_grab"), or nullptr.
+const ServiceSpec* FindSpec(std::string_view name);
+
+}  // namespace haptex::launch

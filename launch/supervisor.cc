@@ -1,0 +1,361 @@
+#include "launch/supervisor.h"
+
+#include <signal.h>
+
+#include <algorithm>
+#include <chrono>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+#include <thread>
+
+#include "launch/child_process.h"
+#include "libs/net/udp_address.h"
+#include "libs/runtime/shutdown_signal.h"
+
+namespace haptex::launch {
+
+struct Supervisor::Live {
+  SupervisedService service;
+  std::size_t record_index = 0;
+  std::unique_ptr<ChildProcess> child;
+  std::int64_t last_health_ns = 0;
+  bool ready = false;
+  bool stopped = false;  // exited during the stop (not a failure)
+};
+
+namespace {
+
+using P = v1::ServicePlacement;
+
+std::int64_t SteadyNs() { return net::Messenger::SteadyNowNs(); }
+
+std::string Fixed(double value, int digits) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(digits) << value;
+  return s.str();
+}
+
+// The last non-empty line of a service's log: usually why it stopped.
+std::string LastLine(const std::string& path) {
+  std::ifstream in(path);
+  std::string line, last;
+  while (std::getline(in, line)) {
+    if (!line.empty()) last = line;
+  }
+  return last;
+}
+
+// A restarted service writes new files (recording, force log, pin log) beside the first ones, so
+// what its earlier instance wrote is kept: NAME.pb, NAME.restart1.pb, ...
+std::vector<std::string> ArgvForStart(std::vector<std::string> argv, std::size_t restarts) {
+  if (restarts == 0) return argv;
+  for (std::size_t i = 1; i + 1 < argv.size(); ++i) {
+    if (argv[i] != "--record" && argv[i] != "--force-log" && argv[i] != "--log-csv") continue;
+    std::string& path = argv[i + 1];
+    const auto slash = path.rfind('/');
+    const auto dot = path.rfind('.');
+    const auto at = dot != std::string::npos && (slash == std::string::npos || dot > slash) ? dot : path.size();
+    path.insert(at, ".restart" + std::to_string(restarts));
+  }
+  return argv;
+}
+
+std::string ShortState(v1::Health::State state) {
+  switch (state) {
+    case v1::Health::STATE_STARTING: return "starting";
+    case v1::Health::STATE_READY: return "ok";
+    case v1::Health::STATE_DEGRADED: return "DEGRADED";
+    case v1::Health::STATE_STOPPING: return "stopping";
+    case v1::Health::STATE_FAULT: return "FAULT";
+    default: return "?";
+  }
+}
+
+}  // namespace
+
+Supervisor::Supervisor(SupervisorConfig config, const net::SessionKey& key, std::ostream& out)
+    : config_(std::move(config)), out_(out) {
+  net::MessengerConfig messenger;
+  messenger.bind_address = config_.launcher.Bind();
+  messenger.identity = {config_.identity, 0, key.DerivedSessionId()};
+  messenger_ = std::make_unique<net::Messenger>(key, messenger);
+}
+
+Supervisor::~Supervisor() = default;
+
+double Supervisor::Now() const { return static_cast<double>(SteadyNs() - start_ns_) * 1e-9; }
+
+void Supervisor::Event(const std::string& service, const std::string& kind, const std::string& detail) {
+  record_->events.push_back({Now(), service, kind, detail});
+  if (config_.status_in_place) out_ << "\r\x1b[K";
+  out_ << "[" << Fixed(Now(), 2) << " s] " << (service.empty() ? "" : service + ": ") << kind
+       << (detail.empty() ? "" : " (" + detail + ")") << std::endl;
+}
+
+void Supervisor::DrainHealth() {
+  const auto handle = [this](const v1::Envelope& e, const net::Messenger::Endpoint&) {
+    if (!e.has_health()) return;
+    for (auto& live : live_) {
+      if (Spec(live->service.placed.service.kind).name != e.health().service()) continue;
+      // Health of an earlier instance (before a restart) is not this one's
+      if (!live->child || static_cast<pid_t>(e.health().pid()) != live->child->pid()) return;
+      live->last_health_ns = SteadyNs();
+      record_->services[live->record_index].last_health = e.health();
+      if (e.health().state() == v1::Health::STATE_READY || e.health().state() == v1::Health::STATE_DEGRADED) {
+        live->ready = true;
+      }
+      return;
+    }
+  };
+  while (messenger_->Drain(handle) > 0) {
+  }
+}
+
+void Supervisor::SendControl(v1::Control::Command command, const std::string& target_address,
+                             const std::string& target, const std::string& reason) {
+  v1::Control control;
+  control.set_command(command);
+  control.set_target_service(target);
+  control.set_reason(reason);
+  try {
+    const auto to = net::ResolveUdpAddress(target_address);
+    // UDP: a second copy covers a lost datagram; the commands are idempotent
+    messenger_->SendTo(to, control);
+    messenger_->SendTo(to, control);
+  } catch (const std::exception& e) {
+    record_->errors.push_back("cannot send " + v1::Control::Command_Name(command) + " to " + target + ": " + e.what());
+  }
+}
+
+void Supervisor::HoldZeroForce(bool hold, const std::string& reason) {
+  if (config_.bridge_address.empty()) return;
+  SendControl(hold ? v1::Control::COMMAND_ZERO_FORCE : v1::Control::COMMAND_ENABLE_FORCE, config_.bridge_address,
+              "device_bridge", reason);
+  Event("device_bridge", hold ? "zero_force" : "enable_force", reason);
+}
+
+bool Supervisor::Start(Live& live) {
+  ServiceRecord& record = record_->services[live.record_index];
+  live.ready = false;
+  live.child.reset();
+  try {
+    live.child = std::make_unique<ChildProcess>(ArgvForStart(live.service.argv, record.pids.size()),
+                                                config_.child_env, live.service.log_path);
+  } catch (const std::exception& e) {
+    record_->errors.push_back(std::string(Spec(live.service.placed.service.kind).name) + ": " + e.what());
+    return false;
+  }
+  live.last_health_ns = SteadyNs();
+  record.pids.push_back(live.child->pid());
+  Event(std::string(Spec(live.service.placed.service.kind).name), "started",
+        "pid " + std::to_string(live.child->pid()) + ", " + live.service.placed.haptex.Peer());
+  return true;
+}
+
+bool Supervisor::WaitReady(Live& live) {
+  const std::string name(Spec(live.service.placed.service.kind).name);
+  const std::int64_t deadline = SteadyNs() + static_cast<std::int64_t>(config_.ready_timeout_s * 1e9);
+  while (true) {
+    messenger_->WaitReadable(std::chrono::milliseconds(10));
+    DrainHealth();
+    if (live.ready) {
+      Event(name, "ready", "");
+      return true;
+    }
+    if (live.child->Poll()) {
+      record_->services[live.record_index].exit = live.child->exit_text();
+      record_->errors.push_back(name + " ended while starting (" + live.child->exit_text() + "): " +
+                                LastLine(live.service.log_path) + " [" + live.service.log_path + "]");
+      return false;
+    }
+    if (runtime::ShutdownRequested()) return false;
+    if (SteadyNs() > deadline) {
+      record_->errors.push_back(name + " sent no healthy Health within " + Fixed(config_.ready_timeout_s, 0) +
+                                " s; see " + live.service.log_path);
+      live.child->Signal(SIGKILL);
+      while (!live.child->Poll()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      return false;
+    }
+  }
+}
+
+bool Supervisor::Restart(Live& live, const std::string& how) {
+  const std::string name(Spec(live.service.placed.service.kind).name);
+  ServiceRecord& record = record_->services[live.record_index];
+  record.exit = how;
+  Event(name, "died", how);
+  const double died_at = Now();
+  const bool is_bridge = live.service.placed.service.kind == P::SERVICE_DEVICE_BRIDGE;
+  // the device stays at zero force while a model restarts (a dead bridge: the controller's own
+  // watchdog zeroes the device)
+  if (!is_bridge) HoldZeroForce(true, "restarting " + name);
+  while (record.restarts < config_.max_restarts) {
+    ++record.restarts;
+    if (Start(live) && WaitReady(live)) {
+      record.restart_s = Now() - died_at;
+      Event(name, "restarted", "after " + how + ", ready " + Fixed(record.restart_s, 3) + " s after it died");
+      if (!is_bridge) HoldZeroForce(false, name + " is back");
+      return true;
+    }
+    if (runtime::ShutdownRequested()) return false;
+  }
+  record_->errors.push_back(name + " failed " + std::to_string(config_.max_restarts) + " restarts; the run stops");
+  return false;
+}
+
+void Supervisor::PrintStatus(bool final_line) {
+  std::ostringstream line;
+  line << Fixed(Now(), 1) << " s";
+  for (const auto& live : live_) {
+    const ServiceRecord& record = record_->services[live->record_index];
+    line << " | " << Spec(live->service.placed.service.kind).name;
+    if (!record.last_health) {
+      line << " (no health)";
+      continue;
+    }
+    const v1::Health& h = *record.last_health;
+    line << " " << ShortState(h.state());
+    for (const v1::LoopStats& l : h.loops()) {
+      line << " " << Fixed(h.uptime_s() > 0 ? static_cast<double>(l.ticks()) / h.uptime_s() : 0.0, 0) << " Hz p99 "
+           << Fixed(l.period_p99_us(), 0) << " us ovr " << l.overruns();
+    }
+    for (const v1::LatencyStats& l : h.latencies()) {
+      if (l.name() == "motion_to_force" && l.samples() > 0) line << " m2f p99 " << Fixed(l.p99_us(), 0) << " us";
+    }
+    for (const v1::Counter& c : h.counters()) {
+      if ((c.name() == "frames_played" || c.name() == "force_models" || c.name() == "touch_traces") && c.value() > 0) {
+        line << " " << c.name() << " " << c.value();
+      }
+    }
+    if (record.restarts > 0) line << " restarts " << record.restarts;
+  }
+  if (config_.status_in_place && !final_line) {
+    out_ << "\r\x1b[K" << line.str() << std::flush;
+  } else {
+    out_ << line.str() << std::endl;
+  }
+}
+
+void Supervisor::Stop() {
+  Event("", "stopping", "zero force first, then each service, the device bridge last");
+  HoldZeroForce(true, "stopping");
+  const std::int64_t settle_until = SteadyNs() + static_cast<std::int64_t>(config_.zero_force_settle_s * 1e9);
+  while (SteadyNs() < settle_until) {
+    messenger_->WaitReadable(std::chrono::milliseconds(5));
+    DrainHealth();
+  }
+  std::vector<Live*> order;
+  for (auto& live : live_) order.push_back(live.get());
+  std::stable_sort(order.begin(), order.end(), [](const Live* a, const Live* b) {
+    return Spec(a->service.placed.service.kind).stop_rank < Spec(b->service.placed.service.kind).stop_rank;
+  });
+  for (Live* live : order) {
+    if (!live->child) continue;
+    const std::string name(Spec(live->service.placed.service.kind).name);
+    ServiceRecord& record = record_->services[live->record_index];
+    if (live->child->Poll()) {
+      if (record.exit.empty()) record.exit = live->child->exit_text();
+      continue;
+    }
+    SendControl(v1::Control::COMMAND_SHUTDOWN, live->service.placed.haptex.Peer(), name, "run ends");
+    const auto wait_exit = [&](double seconds) {
+      const std::int64_t until = SteadyNs() + static_cast<std::int64_t>(seconds * 1e9);
+      while (SteadyNs() < until) {
+        if (live->child->Poll()) return true;
+        messenger_->WaitReadable(std::chrono::milliseconds(5));
+        DrainHealth();
+      }
+      return live->child->Poll();
+    };
+    std::string how = "after SHUTDOWN";
+    if (!wait_exit(config_.stop_timeout_s)) {
+      live->child->Signal(SIGTERM);
+      how = "after SIGTERM";
+      if (!wait_exit(1.0)) {
+        live->child->Signal(SIGKILL);
+        how = "after SIGKILL";
+        wait_exit(5.0);
+      }
+    }
+    record.exit = live->child->exit_text();
+    Event(name, "stopped", record.exit + " " + how);
+  }
+}
+
+int Supervisor::Run(RunRecord* record) {
+  record_ = record;
+  start_ns_ = SteadyNs();
+  runtime::InstallShutdownHandlers();
+  for (const SupervisedService& s : config_.services) {
+    auto live = std::make_unique<Live>();
+    live->service = s;
+    live->record_index = record_->services.size();
+    ServiceRecord r;
+    r.placed = s.placed;
+    r.argv = s.argv;
+    r.log_path = s.log_path;
+    record_->services.push_back(std::move(r));
+    live_.push_back(std::move(live));
+  }
+
+  // start in order, each healthy before the next; the bridge holds zero force meanwhile
+  for (auto& live : live_) {
+    if (!Start(*live) || !WaitReady(*live)) {
+      failed_ = !runtime::ShutdownRequested();
+      break;
+    }
+    if (live->service.placed.service.kind == P::SERVICE_DEVICE_BRIDGE && live_.size() > 1) {
+      HoldZeroForce(true, "holding zero force while the other services start");
+    }
+  }
+  const bool all_started = !failed_ && !runtime::ShutdownRequested();
+  if (all_started) {
+    HoldZeroForce(false, "every service is healthy");
+    Event("", "running", config_.duration_s > 0 ? "for " + Fixed(config_.duration_s, 1) + " s" : "until Ctrl-C");
+  }
+  const std::int64_t run_start_ns = SteadyNs();
+
+  // supervise
+  while (all_started && !failed_) {
+    if (runtime::ShutdownRequested()) break;
+    if (config_.duration_s > 0 && SteadyNs() - run_start_ns >= static_cast<std::int64_t>(config_.duration_s * 1e9)) break;
+    messenger_->WaitReadable(std::chrono::milliseconds(20));
+    DrainHealth();
+    for (auto& live : live_) {
+      std::string how;
+      if (live->child->Poll()) {
+        how = live->child->exit_text();
+      } else if (SteadyNs() - live->last_health_ns > static_cast<std::int64_t>(config_.silent_after_s * 1e9)) {
+        how = "silent for " + Fixed(config_.silent_after_s, 1) + " s";
+        live->child->Signal(SIGKILL);
+        while (!live->child->Poll()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      }
+      if (!how.empty() && !Restart(*live, how)) {
+        failed_ = !runtime::ShutdownRequested();
+        break;
+      }
+    }
+    if (SteadyNs() >= next_status_ns_) {
+      PrintStatus(false);
+      next_status_ns_ = SteadyNs() + static_cast<std::int64_t>(config_.status_period_s * 1e9);
+    }
+  }
+  if (config_.status_in_place) out_ << "\n";
+  const int signal_number = runtime::ShutdownSignalNumber();
+  record_->end_reason = failed_ ? "failed" : signal_number != 0 ? "interrupted" : "duration";
+  if (signal_number != 0) Event("", "signal", "signal " + std::to_string(signal_number));
+  Stop();
+  PrintStatus(true);
+  record_->duration_s = Now();
+  for (std::size_t i = 0; i < net::kDropReasonCount; ++i) {
+    const auto reason = static_cast<net::DropReason>(i);
+    const std::uint64_t count = messenger_->received().Get(reason);
+    if (count > 0) record_->launcher_received[std::string(net::DropReasonName(reason))] = count;
+  }
+  record_->exit_code = failed_ ? 1 : 0;
+  return record_->exit_code;
+}
+
+}  // namespace haptex::launch

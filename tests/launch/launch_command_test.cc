@@ -1,0 +1,94 @@
+// `haptex launch` refusing what it cannot run, with messages that say where and how to fix it
+// (no service is started here), and `--dry-run` showing the plan.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "tests/launch/launch_test_support.h"
+#include "tests/support/subprocess.h"
+
+namespace haptex::launch {
+namespace {
+
+using namespace std::chrono_literals;
+using ::testing::HasSubstr;
+
+struct Result {
+  int code;
+  std::string out, err;
+};
+
+Result Haptex(std::vector<std::string> args) {
+  args.insert(args.begin(), haptex::testing::BuildDir() + "/cli/haptex");
+  haptex::testing::Subprocess p(args);
+  const auto code = p.WaitFor(60s);
+  return {code.value_or(-1), p.Stdout(), p.Stderr()};
+}
+
+TEST(LaunchCommandTest, SyntaxErrorsAtFileLineColumn) {
+  const std::string path = testing::FreshDir("launch_syntax") + "/bad.textproto";
+  testing::WriteText(path, "name: \"bad\"\nfabric { database_name: \"wang2011_black_denim_11oz\" }\nfingers { finger: FINGER_PINKY }\n");
+  const Result r = Haptex({"launch", path});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.err, HasSubstr(path + ":3:"));
+  EXPECT_THAT(r.err, HasSubstr("FINGER_PINKY"));
+}
+
+TEST(LaunchCommandTest, SemanticErrorsSayTheFix) {
+  const std::string path = testing::FreshDir("launch_semantic") + "/bad.textproto";
+  testing::WriteText(path, "name: \"bad\"\nfabric { database_name: \"wang2011_black_denim_11oz\" }\n"
+                           "fingers { finger: FINGER_INDEX }\n"
+                           "tactile { enabled: true }\n");
+  const Result r = Haptex({"launch", path});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.err, HasSubstr(path + ":3:1: a scene with fingers needs a device: `device { mock {} }`"));
+  EXPECT_THAT(r.err, HasSubstr(path + ":4:"));
+  EXPECT_THAT(r.err, HasSubstr("mock_display: true"));
+}
+
+TEST(LaunchCommandTest, MissingExecutablesAreNamedWithTheReasonAndTheWayOut) {
+  const std::string empty_build = testing::FreshDir("launch_no_build");
+  const Result r = Haptex({"launch", testing::ShippedScenePath("demo"), "--build-dir", empty_build});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.err, HasSubstr("haptex-global-sim is not built (services/global_sim (issue 6)"));
+  EXPECT_THAT(r.err, HasSubstr("haptex-local-contact is not built"));
+  EXPECT_THAT(r.err, HasSubstr("two fingers (thumb and index)"));
+  EXPECT_THAT(r.err, HasSubstr("--skip global_sim"));
+  EXPECT_THAT(r.err, HasSubstr("haptex-device-bridge is not built"));
+}
+
+TEST(LaunchCommandTest, DryRunPrintsWhatStartsAndWhy) {
+  const Result r = Haptex({"launch", testing::ShippedScenePath("hanging"), "--dry-run", "--base-port", "41000"});
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("start  global_sim: the fabric, with no fingers: global_sim alone"));
+  EXPECT_THAT(r.out, HasSubstr("not    local_contact: no fingers: no contact models"));
+  EXPECT_THAT(r.out, HasSubstr("not    tactile: tactile display off"));
+  EXPECT_THAT(r.out, HasSubstr("global_sim (local): "));
+  EXPECT_THAT(r.out, HasSubstr("--bind 127.0.0.1:41001 --peer launcher=127.0.0.1:41000"));
+}
+
+TEST(LaunchCommandTest, HostsAndSkipsAreChecked) {
+  const std::string remote = testing::ShippedScenePath("remote");
+  Result r = Haptex({"launch", remote});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.err, HasSubstr("run `haptex launch SCENE --host NAME` on each"));
+  r = Haptex({"launch", remote, "--host", "moon"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.err, HasSubstr("--host moon: the scene has no such host (hosts: compute, lab, local)"));
+  r = Haptex({"launch", remote, "--host", "lab", "--dry-run"});
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("remote local_contact (on compute)"));
+  EXPECT_THAT(r.out, HasSubstr("start  mock_grab"));
+  EXPECT_THAT(r.out, HasSubstr("launcher@lab on 192.0.2.10:47600"));
+  r = Haptex({"launch", testing::ShippedScenePath("hanging"), "--skip", "tactile"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.err, HasSubstr("--skip tactile: the scene does not need a service of that name"));
+}
+
+TEST(LaunchCommandTest, TraceExportNeedsARunFolder) {
+  const Result r = Haptex({"trace", "export", "/no/such/run", "--csv"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.err, HasSubstr("no run folder /no/such/run"));
+}
+
+}  // namespace
+}  // namespace haptex::launch

@@ -1,0 +1,129 @@
+// Two hosts made of network namespaces joined by a veth pair: `haptex launch --host a` runs the
+// mock controller in one, `--host b` the device bridge in the other; each finds the other at the
+// scene's addresses. Needs root (ip netns); skipped with a message elsewhere. The namespaces are
+// removed even when the test fails.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include "tests/launch/launch_test_support.h"
+#include "tests/support/subprocess.h"
+
+namespace haptex::launch {
+namespace {
+
+using namespace std::chrono_literals;
+using ::testing::ContainsRegex;
+using ::testing::HasSubstr;
+
+std::string IpTool() {
+  for (const char* path : {"/usr/sbin/ip", "/sbin/ip", "/usr/bin/ip", "/bin/ip"}) {
+    if (access(path, X_OK) == 0) return path;
+  }
+  return "";
+}
+
+// Runs a command to its end; its exit code (or -1) and stderr.
+std::pair<int, std::string> Run(const std::vector<std::string>& argv) {
+  haptex::testing::Subprocess p(argv);
+  const auto code = p.WaitFor(30s);
+  return {code.value_or(-1), p.Stderr()};
+}
+
+// Two namespaces and a veth pair between them; destroyed with the object.
+class TwoHosts {
+ public:
+  TwoHosts() : ip_(IpTool()) {
+    const std::string id = std::to_string(getpid() % 100000);
+    a_ = "hx_a_" + id;
+    b_ = "hx_b_" + id;
+    veth_a_ = "hxa" + id;
+    veth_b_ = "hxb" + id;
+  }
+  ~TwoHosts() {
+    if (ip_.empty()) return;
+    Run({ip_, "netns", "del", a_});  // deleting a namespace deletes its end of the veth pair
+    Run({ip_, "netns", "del", b_});
+  }
+  /// Empty on success, else why the hosts could not be made.
+  std::string Create() {
+    if (geteuid() != 0) return "needs root (ip netns)";
+    if (ip_.empty()) return "no `ip` command (iproute2)";
+    const std::vector<std::vector<std::string>> steps = {
+        {ip_, "netns", "add", a_},
+        {ip_, "netns", "add", b_},
+        {ip_, "link", "add", veth_a_, "type", "veth", "peer", "name", veth_b_},
+        {ip_, "link", "set", veth_a_, "netns", a_},
+        {ip_, "link", "set", veth_b_, "netns", b_},
+        {ip_, "-n", a_, "addr", "add", "192.0.2.1/24", "dev", veth_a_},
+        {ip_, "-n", b_, "addr", "add", "192.0.2.2/24", "dev", veth_b_},
+        {ip_, "-n", a_, "link", "set", veth_a_, "up"},
+        {ip_, "-n", b_, "link", "set", veth_b_, "up"},
+        {ip_, "-n", a_, "link", "set", "lo", "up"},
+        {ip_, "-n", b_, "link", "set", "lo", "up"},
+    };
+    for (const auto& step : steps) {
+      const auto [code, err] = Run(step);
+      if (code != 0) return "`" + step[1] + " " + step[2] + " " + step[3] + "` failed: " + err;
+    }
+    return "";
+  }
+  std::vector<std::string> In(const std::string& ns, std::vector<std::string> argv) const {
+    argv.insert(argv.begin(), {ip_, "netns", "exec", ns});
+    return argv;
+  }
+  const std::string& a() const { return a_; }
+  const std::string& b() const { return b_; }
+
+ private:
+  std::string ip_, a_, b_, veth_a_, veth_b_;
+};
+
+TEST(LaunchMultiHostTest, MockControllerAndBridgeOnTwoHosts) {
+  TwoHosts hosts;
+  if (const std::string why = hosts.Create(); !why.empty()) {
+    GTEST_SKIP() << "two-host test skipped: " << why;
+  }
+  const std::string dir = testing::FreshDir("multi_host");
+  const std::string scene = dir + "/two_hosts.textproto";
+  testing::WriteText(scene, R"(
+name: "two_hosts"
+fabric { database_name: "wang2011_black_denim_11oz" }
+fingers { finger: FINGER_THUMB }
+fingers { finger: FINGER_INDEX }
+device { mock { user { kind: KIND_RUB } } }
+hosts { name: "a" address: "192.0.2.1" }
+hosts { name: "b" address: "192.0.2.2" }
+services { service: SERVICE_MOCK_GRAB host: "a" }
+services { service: SERVICE_DEVICE_BRIDGE host: "b" }
+services { service: SERVICE_GLOBAL_SIM host: "b" }
+services { service: SERVICE_LOCAL_CONTACT host: "b" }
+session_key { hex: "00112233445566778899aabbccddeeff00112233445566778899aabbccddeeff" }
+)");
+  const std::string haptex = haptex::testing::BuildDir() + "/cli/haptex";
+  haptex::testing::Subprocess host_a(
+      hosts.In(hosts.a(), {haptex, "launch", scene, "--host", "a", "--duration", "4", "--out", dir + "/run_a"}));
+  haptex::testing::Subprocess host_b(hosts.In(
+      hosts.b(), {haptex, "launch", scene, "--host", "b", "--skip", "global_sim", "--skip", "local_contact",
+                  "--duration", "4", "--out", dir + "/run_b"}));
+  const auto code_a = host_a.WaitFor(120s);
+  const auto code_b = host_b.WaitFor(120s);
+  EXPECT_EQ(code_a, 0) << host_a.Stdout() << host_a.Stderr();
+  EXPECT_EQ(code_b, 0) << host_b.Stdout() << host_b.Stderr();
+  EXPECT_THAT(host_a.Stdout(), HasSubstr("remote device_bridge (on b)"));
+  EXPECT_THAT(host_a.Stdout(), HasSubstr("launcher receiving Health on 192.0.2.1:47600"));
+
+  // each launcher heard its own service; the bridge saw the other host's controller frames, and
+  // the controller the bridge's commands
+  const std::string a = testing::ReadText(dir + "/run_a/summary.json");
+  const std::string b = testing::ReadText(dir + "/run_b/summary.json");
+  EXPECT_THAT(a, ContainsRegex(R"("name":"mock_grab",[^}]*"started_here":true[^}]*"health_received":true)"));
+  EXPECT_THAT(a, ContainsRegex(R"("commands_accepted":[1-9])"));
+  EXPECT_THAT(b, ContainsRegex(R"("name":"device_bridge",[^}]*"started_here":true[^}]*"health_received":true)"));
+  EXPECT_THAT(b, ContainsRegex(R"("status_frames_accepted":[1-9])"));
+  EXPECT_THAT(b, HasSubstr(R"("status_frames_from_strangers":0)"));
+  EXPECT_THAT(b, ContainsRegex(R"("name":"mock_grab","reason":[^}]*"host":"a","address":"192.0.2.1:47606")"));
+}
+
+}  // namespace
+}  // namespace haptex::launch

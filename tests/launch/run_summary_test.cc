@@ -1,0 +1,80 @@
+// summary.json: the fields a run folder promises, from a hand-made run record.
+#include "launch/run_summary.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+namespace haptex::launch {
+namespace {
+
+using P = v1::ServicePlacement;
+using ::testing::HasSubstr;
+
+TEST(LaunchRunSummaryTest, ServicesLatencyDropsEventsAndNotes) {
+  RunRecord run;
+  run.scene_name = "demo";
+  run.end_reason = "interrupted";
+  ServiceRecord bridge;
+  bridge.placed = {{P::SERVICE_DEVICE_BRIDGE, "fingers on a device"}, {"local", "127.0.0.1", 40003}, std::nullopt};
+  bridge.restarts = 1;
+  bridge.exit = "exit 0";
+  bridge.pids = {11, 12};
+  v1::Health h;
+  h.set_state(v1::Health::STATE_READY);
+  h.set_uptime_s(2);
+  auto* loop = h.add_loops();
+  loop->set_name("device_bridge");
+  loop->set_ticks(10000);
+  loop->set_period_p99_us(250);
+  auto* m2f = h.add_latencies();
+  m2f->set_name("motion_to_force");
+  m2f->set_p99_us(120);
+  auto* dropped = h.add_counters();
+  dropped->set_name("datagrams_dropped");
+  dropped->set_value(3);
+  auto* lost = h.add_counters();
+  lost->set_name("device_lost_events");
+  lost->set_value(1);
+  bridge.last_health = h;
+  run.services.push_back(bridge);
+  run.not_needed.push_back({P::SERVICE_TACTILE, "tactile display off"});
+  run.events.push_back({1.5, "device_bridge", "restarted", "after signal 9"});
+  run.errors.push_back("something broke");
+  run.launcher_received["bad_mac"] = 2;
+
+  RecordingAnalysis analysis;
+  ForceLog log;
+  log.stats[0] = {10, 2.0, 1.0, 0.0};
+  const std::string json = SummaryJson(run, {{"device_bridge.pb", 12, 0, false}}, analysis, log,
+                                       {{"forces", "/r/plots/forces.png", ""}, {"friction_ratio", "", "no data"}});
+  EXPECT_THAT(json, HasSubstr(R"("end_reason":"interrupted")"));
+  EXPECT_THAT(json, HasSubstr(R"("name":"device_bridge","reason":"fingers on a device")"));
+  EXPECT_THAT(json, HasSubstr(R"("rate_hz":5000)"));
+  EXPECT_THAT(json, HasSubstr(R"("period_p99_us":250)"));
+  EXPECT_THAT(json, HasSubstr(R"("motion_to_force":{"service":"device_bridge")"));
+  EXPECT_THAT(json, HasSubstr(R"("device_bridge":{"datagrams_dropped":3})"));
+  EXPECT_THAT(json, HasSubstr(R"("launcher_received":{"bad_mac":2})"));
+  EXPECT_THAT(json, HasSubstr(R"("counter":"device_lost_events","value":1)"));
+  EXPECT_THAT(json, HasSubstr(R"("restarts":[{"t_s":1.5,"service":"device_bridge")"));
+  EXPECT_THAT(json, HasSubstr(R"("contact_states":{"note":"no ForceModel recorded)"));
+  EXPECT_THAT(json, HasSubstr(R"("thumb":{"samples":10,"peak_n":2,"mean_n":1,"final_n":0})"));
+  EXPECT_THAT(json, HasSubstr(R"("not_started":[{"name":"tactile","why":"tactile display off"})"));
+  EXPECT_THAT(json, HasSubstr(R"("friction_ratio":{"skipped":"no data"})"));
+  EXPECT_THAT(json, HasSubstr(R"("error":"something broke")"));
+  EXPECT_THAT(json, HasSubstr(R"("file":"device_bridge.pb","envelopes":12)"));
+}
+
+TEST(LaunchRunSummaryTest, ContactStateHistogram) {
+  RunRecord run;
+  RecordingAnalysis analysis;
+  analysis.force_models = 3;
+  analysis.contact_states[5] = 2;
+  analysis.contact_states[9] = 1;
+  const std::string json = SummaryJson(run, {}, analysis, std::nullopt, {});
+  EXPECT_THAT(json, HasSubstr(R"("contact_states":{"I":0,"II":0,"III":0,"IV":0,"V":2,)"));
+  EXPECT_THAT(json, HasSubstr(R"("IX":1)"));
+  EXPECT_THAT(json, HasSubstr(R"("mock_controller_commanded":{"note":"no mock controller force log"})"));
+}
+
+}  // namespace
+}  // namespace haptex::launch

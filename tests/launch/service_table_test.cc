@@ -1,0 +1,59 @@
+// The launcher's service table: every launched service has one consistent entry.
+#include "launch/service_table.h"
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+namespace haptex::launch {
+namespace {
+
+using P = v1::ServicePlacement;
+
+TEST(LaunchServiceTableTest, EveryServiceOnceWithDistinctRanksAndPorts) {
+  std::set<int> kinds, starts, stops, offsets;
+  std::set<std::string_view> names;
+  for (const ServiceSpec& spec : ServiceTable()) {
+    EXPECT_TRUE(kinds.insert(spec.kind).second) << spec.name;
+    EXPECT_TRUE(names.insert(spec.name).second) << spec.name;
+    EXPECT_TRUE(starts.insert(spec.start_rank).second) << spec.name;
+    EXPECT_TRUE(stops.insert(spec.stop_rank).second) << spec.name;
+    EXPECT_TRUE(offsets.insert(spec.port_offset).second) << spec.name;
+    if (spec.controller_port_offset >= 0) {
+      EXPECT_TRUE(offsets.insert(spec.controller_port_offset).second);
+    }
+    EXPECT_NE(spec.port_offset, kLauncherPortOffset);
+    EXPECT_EQ(spec.executable.find("haptex-"), spec.executable.rfind('/') + 1) << spec.executable;
+  }
+  EXPECT_EQ(kinds.size(), 6u);  // every service but the launcher
+}
+
+TEST(LaunchServiceTableTest, PeersAreLauncherOrKnownServices) {
+  for (const ServiceSpec& spec : ServiceTable()) {
+    EXPECT_EQ(spec.peers.front().peer_name, "launcher") << spec.name;
+    for (const PeerSpec& peer : spec.peers) {
+      if (peer.service != P::SERVICE_LAUNCHER) {
+        EXPECT_NO_THROW(Spec(peer.service)) << spec.name;
+      }
+    }
+  }
+}
+
+TEST(LaunchServiceTableTest, SafeOrders) {
+  // the bridge starts first and is the last haptex service to stop; its controller stops after it
+  EXPECT_EQ(Spec(P::SERVICE_DEVICE_BRIDGE).start_rank, 0);
+  for (const ServiceSpec& spec : ServiceTable()) {
+    if (spec.kind == P::SERVICE_DEVICE_BRIDGE || spec.kind == P::SERVICE_MOCK_GRAB) continue;
+    EXPECT_LT(spec.stop_rank, Spec(P::SERVICE_DEVICE_BRIDGE).stop_rank) << spec.name;
+  }
+  EXPECT_GT(Spec(P::SERVICE_MOCK_GRAB).stop_rank, Spec(P::SERVICE_DEVICE_BRIDGE).stop_rank);
+}
+
+TEST(LaunchServiceTableTest, LookUps) {
+  EXPECT_EQ(FindSpec("mock_grab")->kind, P::SERVICE_MOCK_GRAB);
+  EXPECT_EQ(FindSpec("nope"), nullptr);
+  EXPECT_THROW(Spec(P::SERVICE_LAUNCHER), std::out_of_range);
+}
+
+}  // namespace
+}  // namespace haptex::launch
