@@ -64,6 +64,18 @@ void ContactSolver::Reset() {
   output_ = ContactOutput{};
 }
 
+void ContactSolver::ContinueFrom(const ContactSolver& other) {
+  stiffness_ = other.stiffness_;
+  on_textile_ = other.on_textile_;
+  dynamic_ = other.dynamic_;
+  touching_ = other.touching_;
+  previous_pose_ = other.previous_pose_;
+  have_previous_ = other.have_previous_;
+  output_.state = other.output_.state;
+  output_.evidence = other.output_.evidence;
+  output_.ticks = other.output_.ticks;
+}
+
 void ContactSolver::Prepare(const FingerInput& thumb, const FingerInput& index, double dt_s,
                             textile::FabricState* state) {
   dt_s_ = dt_s;

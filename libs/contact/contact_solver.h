@@ -96,6 +96,14 @@ class ContactSolver {
   const Eigen::VectorXd& particle_force_W_N() const { return particle_force_W_N_; }
   const ContactOptions& options() const { return options_; }
   FingerFabricContact& finger_contact(int slot) { return finger_fabric_[static_cast<std::size_t>(slot)]; }
+  const FingerFabricContact& finger_contact(int slot) const {
+    return finger_fabric_[static_cast<std::size_t>(slot)];
+  }
+  PinchContact& pinch() { return pinch_; }
+  const PinchContact& pinch() const { return pinch_; }
+  /// Takes over the classifier's hysteresis, the stiffness estimates and the previous finger
+  /// poses of `other` (a patch hand-off: the fingers did not change, only the fabric patch did).
+  void ContinueFrom(const ContactSolver& other);
 
  private:
   void FinishFinger(int slot, const FingerFabricResult& one, const textile::FabricState& state);

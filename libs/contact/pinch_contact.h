@@ -54,6 +54,26 @@ class PinchContact {
   void Reset();
   bool active() const { return active_; }
 
+  /// Sample points for a patch hand-off: sample i belongs to triangle i / samples_per_triangle()
+  /// at a fixed barycentric position; its state is carried to the same point of a new patch.
+  struct SampleState {
+    bool active = false;
+    bool sliding = false;
+    Eigen::Vector2d ideal_C{Eigen::Vector2d::Zero()};
+  };
+  int samples_per_triangle() const { return options_.pinch_samples_per_edge * options_.pinch_samples_per_edge; }
+  int num_samples() const { return static_cast<int>(samples_.size()); }
+  SampleState sample(int i) const {
+    const Sample& s = samples_[static_cast<std::size_t>(i)];
+    return {s.active, s.sliding, s.ideal_C};
+  }
+  void SetSample(int i, const SampleState& state) {
+    Sample& s = samples_[static_cast<std::size_t>(i)];
+    s.active = state.active;
+    s.sliding = state.sliding;
+    s.ideal_C = state.ideal_C;
+  }
+
  private:
   struct Sample {
     int triangle = 0;

@@ -160,8 +160,8 @@ int Run(services::ServiceContext& context, const Options& options) {
         const auto k = static_cast<std::int64_t>(tick.tick);
         if ((local && k % local_every == 0) || (global && k % global_every == 0)) {
           FillFingerStates(*bridge, &states);
-          if (local && k % local_every == 0) context.messenger().Send(*local, states);
-          if (global && k % global_every == 0) context.messenger().Send(*global, states);
+          if (local && k % local_every == 0) context.Send(*local, states);
+          if (global && k % global_every == 0) context.Send(*global, states);
         }
         std::uint64_t non_finite = 0;
         for (int i = 0; i < 2; ++i) {

@@ -70,7 +70,7 @@ int Run(services::ServiceContext& context, const Options& options) {
           ++traces;
         });
         const double dt_s = tick.dt_s * static_cast<double>(1 + tick.skipped);
-        if (work.Tick(t_s, dt_s, &frame) && context.messenger().Send(display, frame)) ++frames;
+        if (work.Tick(t_s, dt_s, &frame) && context.Send(display, frame)) ++frames;
         health.SetCounter(c_frames, frames);
         health.SetCounter(c_traces, traces);
         health.SetCounter(c_bad, work.bad_fingers() + work.counters(0).bad_input + work.counters(1).bad_input);
@@ -83,7 +83,7 @@ int Run(services::ServiceContext& context, const Options& options) {
     for (auto& a : *finger.mutable_amplitude_40hz()) a = 0.0f;
     for (auto& a : *finger.mutable_amplitude_320hz()) a = 0.0f;
   }
-  if (frame.fingers_size() > 0) context.messenger().Send(display, frame);
+  if (frame.fingers_size() > 0) context.Send(display, frame);
   context.log().info("tactile: {} pin frames sent, {} touch traces, loop overruns {}", frames, traces,
                      loop.stats().overruns);
   return 0;

@@ -1,0 +1,49 @@
+#pragma once
+// One local patch as local_contact runs it: the patch simulation (fabric + contact), the map
+// between its particles and the whole fabric's, and what it accumulates for the PatchResult.
+// Built off the haptic loop (Build allocates); HandOff and the per-tick work do not allocate.
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "haptex/v1/local_patch.pb.h"
+#include "libs/contact/patch_simulation.h"
+#include "libs/textile/kes_material.h"
+#include "services/local_contact/patch_data.h"
+
+namespace haptex::local_contact {
+
+struct PatchRuntime {
+  std::unique_ptr<contact::PatchSimulation> sim;
+  std::uint64_t patch_id = 0;
+  double global_dt_s = 0.0;
+  std::vector<std::uint32_t> global_id;  ///< per patch particle
+  std::vector<int> local_of_global;      ///< per fabric particle: patch index or -1
+  std::vector<std::array<int, 6>> triangles_of;  ///< per patch particle: triangles it is the first vertex of (-1: none)
+  Eigen::VectorXd force_sum_W_N;         ///< contact force summed over the ticks since the last result
+  int ticks_since_result = 0;
+};
+
+/// Builds a patch from received data: checks it is a grid rectangle (ids, rest coordinates),
+/// makes the fabric model of that rectangle, sets positions and velocities, holds the border
+/// particles with their velocities. @throws std::invalid_argument naming what is inconsistent.
+std::unique_ptr<PatchRuntime> BuildPatch(const PatchData& data, const textile::FabricMaterial& material,
+                                         const textile::ModelOptions& model_options,
+                                         const textile::StepOptions& step,
+                                         const contact::ContactOptions& contact_options,
+                                         int fabric_particles);
+
+/// Carries the local state of `old` into `fresh` by particle id, so the hand-off applies no force
+/// step: positions and velocities of shared free particles (the local ones are newer), and each
+/// finger's per-particle contact (held point, sliding), the pinch samples on triangles both
+/// patches share, and the classifier's hysteresis and stiffness estimates.
+/// Returns the number of particles carried.
+int HandOff(const PatchRuntime& old, PatchRuntime* fresh);
+
+/// Fills `out` (reusing its storage) with the patch's free particles and the mean contact force
+/// since the last result, then restarts the accumulation.
+void FillPatchResult(std::uint64_t global_step, PatchRuntime* patch, v1::PatchResult* out);
+
+}  // namespace haptex::local_contact

@@ -1,0 +1,91 @@
+#include "tests/services/local_contact/dual_layer_harness.h"
+
+#include <cmath>
+
+#include "services/local_contact/patch_data.h"
+
+namespace haptex::local_contact::testing {
+
+DualLayerHarness::DualLayerHarness(const textile::FabricMaterial& material,
+                                   textile::FabricModel global_model,
+                                   textile::FabricState global_state, double global_dt_s,
+                                   double local_dt_s, const contact::ContactOptions& contact,
+                                   double patch_margin_m)
+    : material_(material),
+      global_model_(std::move(global_model)),
+      global_state_(std::move(global_state)),
+      global_stepper_(global_model_, [&] {
+        textile::StepOptions o;
+        o.dt_s = global_dt_s;
+        o.cg_tolerance = 1e-4;
+        return o;
+      }()),
+      global_dt_s_(global_dt_s),
+      local_dt_s_(local_dt_s),
+      contact_(contact),
+      margin_m_(patch_margin_m),
+      ticks_per_global_(static_cast<int>(std::lround(global_dt_s / local_dt_s))),
+      contact_force_W_N_(Eigen::VectorXd::Zero(3 * global_model_.num_particles)) {
+  merged_.reserve(static_cast<std::size_t>(global_model_.num_particles));
+}
+
+void DualLayerHarness::GlobalStep(const contact::FingerInput& thumb, const contact::FingerInput& index) {
+  // Merge the local result: the patch's interior is the local layer's (newer, finer, held by
+  // the fingers). It stays where the local layer put it through the global step (the contact
+  // forces are stiff: applied as loads over a 10 ms step they would throw the fabric); the rest
+  // of the fabric relaxes against it.
+  merged_.clear();
+  if (patch_) {
+    FillPatchResult(0, patch_.get(), &result_message_);
+    for (int k = 0; k < result_message_.particle_ids_size(); ++k) {
+      const int p = static_cast<int>(result_message_.particle_ids(k));
+      if (global_state_.mode[static_cast<std::size_t>(p)] != textile::ParticleMode::kFree) continue;
+      for (int c = 0; c < 3; ++c) global_state_.x_W_m[3 * p + c] = result_message_.position_w_m(3 * k + c);
+      global_state_.Fix(p);
+      merged_.push_back(p);
+    }
+  }
+  global_stepper_.Step(&global_state_);
+  for (int p : merged_) global_state_.Free(p);
+
+  const double reach = contact_.thumb.radius_m + 0.5 * contact_.thumb.length_m + contact_.fabric_half_thickness_m;
+  std::array<global_sim::FingerSphere, 2> spheres{};
+  const std::array<const contact::FingerInput*, 2> in{&thumb, &index};
+  for (int f = 0; f < 2; ++f) {
+    if (!in[static_cast<std::size_t>(f)]->present) continue;
+    const Eigen::Vector3d p = in[static_cast<std::size_t>(f)]->pose.p_W_m;
+    spheres[static_cast<std::size_t>(f)] = global_sim::SweptSphere(p, p, Eigen::Vector3d::Zero(), reach, global_dt_s_, margin_m_);
+  }
+  const global_sim::PatchRect rect = global_sim::FindPatchRect(global_model_, global_state_, spheres);
+  if (rect.empty()) return;
+  rect_ = rect;
+  global_sim::FillLocalPatch(global_model_, global_state_, rect, ++patch_id_, 0, global_dt_s_, &patch_message_);
+  PatchData data(4096);
+  if (data.CopyFrom(patch_message_, static_cast<std::uint32_t>(global_model_.num_particles)) != PatchData::Copy::kOk) {
+    return;
+  }
+  textile::StepOptions local_step;
+  local_step.dt_s = local_dt_s_;
+  local_step.cg_tolerance = 1e-3;
+  local_step.cg_max_iterations = 100;
+  local_step.preconditioner = textile::Preconditioner::kBlockJacobi;
+  auto fresh = BuildPatch(data, material_, global_model_.options, local_step, contact_, global_model_.num_particles);
+  if (patch_) {
+    if (carry_over_) HandOff(*patch_, fresh.get());
+    ++handoffs_;
+  }
+  patch_ = std::move(fresh);
+}
+
+const contact::ContactOutput& DualLayerHarness::Tick(const contact::FingerInput& thumb,
+                                                      const contact::FingerInput& index) {
+  if (tick_ % ticks_per_global_ == 0) GlobalStep(thumb, index);
+  ++tick_;
+  if (!patch_) return idle_;
+  const contact::ContactOutput& out = patch_->sim->Tick(thumb, index);
+  patch_->force_sum_W_N += patch_->sim->solver().particle_force_W_N();
+  ++patch_->ticks_since_result;
+  return out;
+}
+
+}  // namespace haptex::local_contact::testing
