@@ -20,6 +20,22 @@ enum class ScriptKind : std::uint8_t {
   kRub,               ///< grasp, then the thumb slides back and forth while squeezing
   kLift,              ///< grasp, then lift both fingers
   kPlayback,          ///< follow a recorded trajectory (ScriptParams::trajectory)
+  kDemo,              ///< touch, pinch, stretch, rub, release in sequence (DemoPhase)
+};
+
+/// The phases of kDemo, in the order the script visits them. Each move is a minimum-jerk move
+/// whose peak speed is ScriptParams::speed_m_per_s; the moves marked "then hold" are followed by
+/// a pause of ScriptParams::hold_s at their end pose.
+enum class DemoPhase : std::uint8_t {
+  kSettle,    ///< both fingers at rest off the fabric, for hold_s
+  kApproach,  ///< the thumb moves to the fabric's front and its pad presses touch_depth_m into it
+  kTouch,     ///< one finger touches: the thumb holds, for hold_s
+  kPinch,     ///< the index comes to the back; both pads aim press_depth_m past the fabric; then hold
+  kStretch,   ///< both fingers move by stretch_D_m; then hold
+  kRub,       ///< still pinched, the thumb strokes rub_cycles times +-rub_amplitude_m; then hold
+  kRelease,   ///< both fingers back off to rest_gap_m on their sides; then hold
+  kRetract,   ///< both fingers return (undoing the stretch) to their rest pose
+  kDone,      ///< at rest, for good
 };
 
 /// Script parameters, filled by the scene. Geometry in the device workspace frame D
@@ -42,6 +58,15 @@ struct ScriptParams {
   double lift_height_m = 0.030;       ///< kLift, along +z of D
   double lift_duration_s = 1.0;
   std::vector<TrajectorySample> trajectory;  ///< kPlayback samples (strictly increasing t_s)
+  // kDemo only (the other kinds keep their durations above):
+  double speed_m_per_s = 0.05;   ///< peak speed of every move of each finger
+  double hold_s = 0.5;           ///< pause between phases
+  double touch_depth_m = 0.002;  ///< how far past the fabric plane the touching pad aims
+  int rub_cycles = 2;            ///< back-and-forth strokes of the rub
+  /// Distance from each fingertip's centre (the position the device reports) to its pad, along
+  /// the pad normal; kDemo aims the pads, so rest_gap_m, touch_depth_m and press_depth_m are pad
+  /// distances. Index by Manipulator. The other kinds aim the centres.
+  std::array<double, kManipulatorCount> pad_offset_m{0.0, 0.0};
 
   void Validate() const;
 };
@@ -55,5 +80,14 @@ struct FingerTargets {
 /// Targets at script time `t_s` (t_s < 0 is treated as 0; after the script ends the last pose is
 /// held). No allocation. @pre params.Validate() passed.
 FingerTargets EvaluateScript(const ScriptParams& params, double t_s);
+
+/// The kDemo phase at script time `t_s` (whatever params.kind is). @pre params.Validate() passed.
+DemoPhase DemoPhaseAt(const ScriptParams& params, double t_s);
+
+/// When kDemo reaches DemoPhase::kDone. @pre params.Validate() passed.
+double DemoDuration(const ScriptParams& params);
+
+/// "settle", "approach", "touch", "pinch", "stretch", "rub", "release", "retract", "done".
+const char* DemoPhaseName(DemoPhase phase);
 
 }  // namespace haptex::device

@@ -28,7 +28,7 @@ namespace {
 struct Options {
   std::string controller_bind = "127.0.0.1:0";
   std::string bridge;
-  std::string script;  // empty: the scene's, else idle
+  std::string script;  // empty: the scene's, else idle; the scene's parameters apply either way
   std::string playback_csv;
   std::string force_log;
   double rate_hz = 5000;
@@ -43,8 +43,9 @@ device::ScriptKind KindFromName(const std::string& name) {
   if (name == "rub") return device::ScriptKind::kRub;
   if (name == "lift") return device::ScriptKind::kLift;
   if (name == "playback") return device::ScriptKind::kPlayback;
+  if (name == "demo") return device::ScriptKind::kDemo;
   throw std::invalid_argument("unknown script '" + name +
-                              "' (idle, approach, grasp, pinch, rub, lift or playback)");
+                              "' (idle, approach, grasp, pinch, rub, lift, playback or demo)");
 }
 
 device::ScriptKind KindFromScene(v1::MockUserScript::Kind kind) {
@@ -55,38 +56,75 @@ device::ScriptKind KindFromScene(v1::MockUserScript::Kind kind) {
     case v1::MockUserScript::KIND_RUB: return device::ScriptKind::kRub;
     case v1::MockUserScript::KIND_LIFT: return device::ScriptKind::kLift;
     case v1::MockUserScript::KIND_PLAYBACK: return device::ScriptKind::kPlayback;
+    case v1::MockUserScript::KIND_DEMO: return device::ScriptKind::kDemo;
     default: return device::ScriptKind::kIdle;
   }
+}
+
+double Or(double value, double fallback) { return value > 0 ? value : fallback; }
+
+// The scene's fabric and user, in D. Frame D = W until the scene carries the device's pose
+// (the bridge runs with DeviceBridgeConfig::X_WD = identity), so the geometry is W's: the thumb
+// is on the front of the fabric, the user's side (+y for a hanging fabric, above a flat one).
+void ApplyScene(const v1::Scene& scene, const device::MockControllerConfig& config,
+                device::ScriptParams* script) {
+  const v1::ClothGeometry& cloth = scene.cloth();
+  const Eigen::Vector3d stand_W(cloth.stand_position_w_m().x(), cloth.stand_position_w_m().y(),
+                                cloth.stand_position_w_m().z());
+  const double height_m = Or(cloth.height_m(), 0.20);
+  const bool flat = cloth.mounting() == v1::ClothGeometry::MOUNTING_FLAT_LEDGE;
+  // fabric_normal_D points from the thumb's side to the index's side
+  script->fabric_normal_D = flat ? Eigen::Vector3d(0, 0, -1) : Eigen::Vector3d(0, -1, 0);
+  // default touch point: the fabric's centre at rest (scene.proto, cloth_setup.h)
+  script->fabric_point_D_m = stand_W + (flat ? Eigen::Vector3d(0, height_m / 2, 0)
+                                             : Eigen::Vector3d(0, 0, -height_m / 2));
+
+  bool has_thumb = false, has_index = false;
+  for (const v1::FingerSpec& f : scene.fingers()) {
+    const double radius_m = Or(f.radius_m(), 0.008);
+    if (f.finger() == v1::FINGER_THUMB) {
+      has_thumb = true;
+      script->pad_offset_m[static_cast<std::size_t>(device::Manipulator::kThumb)] = radius_m;
+    } else if (f.finger() == v1::FINGER_INDEX) {
+      has_index = true;
+      script->pad_offset_m[static_cast<std::size_t>(device::Manipulator::kIndex)] = radius_m;
+    }
+  }
+  if (has_index && !has_thumb) script->touch_finger = device::Manipulator::kIndex;
+
+  if (!scene.device().has_mock()) return;
+  const v1::MockUserScript& user = scene.device().mock().user();
+  script->kind = KindFromScene(user.kind());
+  if (user.has_touch_point_w_m()) {
+    script->fabric_point_D_m = {user.touch_point_w_m().x(), user.touch_point_w_m().y(),
+                                user.touch_point_w_m().z()};
+  }
+  // scene.proto's defaults for what the scene leaves at 0
+  const double speed_m_per_s = Or(user.speed_m_per_s(), 0.05);
+  const double squeeze_N = Or(user.squeeze_force_n(), 2.0);
+  const double stretch_m = Or(user.stretch_m(), 0.01);
+  script->speed_m_per_s = speed_m_per_s;
+  script->hold_s = Or(user.hold_s(), 0.5);
+  // the user moves at this speed through each phase (kDemo: the peak speed of every move)
+  script->approach_duration_s = script->rest_gap_m / speed_m_per_s;
+  script->stretch_duration_s = stretch_m / speed_m_per_s;
+  script->lift_duration_s = script->lift_height_m / speed_m_per_s;
+  // the user aims beyond the fabric so that its grip spring pulls with the squeeze force
+  script->press_depth_m = squeeze_N / config.finger.user_stiffness_N_per_m;
+  script->stretch_D_m = Eigen::Vector3d(stretch_m, 0, 0);
+  script->rub_amplitude_m = Or(user.rub_amplitude_m(), 0.01);
 }
 
 device::ScriptParams MakeScript(const services::ServiceContext& context, const Options& options,
                                 const device::MockControllerConfig& config) {
   device::ScriptParams script;
   std::string playback = options.playback_csv;
-  if (!options.script.empty()) {
-    script.kind = KindFromName(options.script);
-  } else if (context.scene() != nullptr && context.scene()->scene.device().has_mock()) {
-    const v1::MockUserScript& user = context.scene()->scene.device().mock().user();
-    script.kind = KindFromScene(user.kind());
-    // frame D = W until the scene carries the device's pose (DeviceBridgeConfig::X_WD)
-    if (user.has_touch_point_w_m()) {
-      script.fabric_point_D_m = {user.touch_point_w_m().x(), user.touch_point_w_m().y(),
-                                 user.touch_point_w_m().z()};
-    }
-    if (user.speed_m_per_s() > 0) {
-      // the user moves at this speed through each phase
-      script.approach_duration_s = script.rest_gap_m / user.speed_m_per_s();
-      if (user.stretch_m() > 0) script.stretch_duration_s = user.stretch_m() / user.speed_m_per_s();
-      script.lift_duration_s = script.lift_height_m / user.speed_m_per_s();
-    }
-    if (user.squeeze_force_n() > 0) {
-      // the user aims beyond the fabric so that its grip spring pulls with the squeeze force
-      script.press_depth_m = user.squeeze_force_n() / config.finger.user_stiffness_N_per_m;
-    }
-    if (user.stretch_m() > 0) script.stretch_D_m = Eigen::Vector3d(user.stretch_m(), 0, 0);
-    if (user.rub_amplitude_m() > 0) script.rub_amplitude_m = user.rub_amplitude_m();
-    if (playback.empty()) playback = user.playback_csv();
+  if (context.scene() != nullptr) {
+    ApplyScene(context.scene()->scene, config, &script);
+    if (playback.empty()) playback = context.scene()->scene.device().mock().user().playback_csv();
   }
+  // --script picks the kind; the scene's geometry and user parameters still apply
+  if (!options.script.empty()) script.kind = KindFromName(options.script);
   if (script.kind == device::ScriptKind::kPlayback) {
     if (playback.empty()) throw std::invalid_argument("the playback script needs --playback-csv FILE");
     script.trajectory = device::LoadTrajectoryCsv(playback);
@@ -180,7 +218,7 @@ int main(int argc, char** argv) {
         app.add_option("--controller-bind", options->controller_bind, "GRAB protocol socket, HOST:PORT")
             ->capture_default_str();
         app.add_option("--bridge", options->bridge, "where StatusFrames go: the bridge's GRAB socket")->required();
-        app.add_option("--script", options->script, "idle, approach, grasp, pinch, rub, lift or playback (default: the scene's)");
+        app.add_option("--script", options->script, "idle, approach, grasp, pinch, rub, lift, playback or demo (default: the scene's)");
         app.add_option("--playback-csv", options->playback_csv, "trajectory for the playback script");
         app.add_option("--force-log", options->force_log, "write what the fingers felt to this CSV");
         app.add_option("--rate", options->rate_hz, "controller rate [Hz]")->check(CLI::Range(100.0, 20000.0))->capture_default_str();
