@@ -1,0 +1,12 @@
+# The dual layer's speed/accuracy trade from dual_layer_sweep's CSV:
+#   gnuplot -e "csv='dual_layer_sweep.csv'; png='dual_layer_sweep.png'" bench/dual_layer/plot_sweep.gp
+set terminal pngcairo size 900,600
+set output png
+set datafile separator ","
+set key outside right
+set logscale x
+set xlabel "cost: microseconds per local tick"
+set ylabel "force error, % of the reference's peak"
+set title "dual layer: local rate, patch margin, global mesh vs the single-layer reference"
+plot for [m in "2 5 10"] for [s in "2 4"] csv using ($2==m+0 && $3==s+0 ? $4 : 1/0):7 \
+  with linespoints title sprintf("margin %s mm, mesh %s mm", m, s)
