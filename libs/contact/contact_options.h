@@ -27,6 +27,9 @@ struct ContactOptions {
   double pad_stiffness_N_per_m3 = 1.25e7;
   /// VIII/IX: sample points per triangle edge (n^2 per triangle): more points than particles.
   int pinch_samples_per_edge = 2;
+  /// VIII/IX: a sample's spring and share of the grip ramp in over this depth inside the finger
+  /// intersection [m], so samples entering or leaving it change the force smoothly.
+  double pinch_edge_ramp_m = 0.0005;
 
   /// Fingers touch (directly or through fabric) at zero gap; they stop touching above this gap [m].
   double touch_release_gap_m = 0.0002;

@@ -46,11 +46,11 @@ void PinchContact::Reset() {
   num_active_ = 0;
 }
 
-bool PinchContact::InsideBoth(const Eigen::Vector3d& q) const {
-  const double dt = (q - ClosestPointOnSegment(seg_thumb_.a_W, seg_thumb_.b_W, q)).squaredNorm();
-  if (dt >= radius_thumb_m_ * radius_thumb_m_) return false;
-  const double di = (q - ClosestPointOnSegment(seg_index_.a_W, seg_index_.b_W, q)).squaredNorm();
-  return di < radius_index_m_ * radius_index_m_;
+double PinchContact::DepthInBoth(const Eigen::Vector3d& q) const {
+  const double dt = (q - ClosestPointOnSegment(seg_thumb_.a_W, seg_thumb_.b_W, q)).norm();
+  if (dt >= radius_thumb_m_) return radius_thumb_m_ - dt;
+  const double di = (q - ClosestPointOnSegment(seg_index_.a_W, seg_index_.b_W, q)).norm();
+  return std::min(radius_thumb_m_ - dt, radius_index_m_ - di);
 }
 
 Eigen::Vector3d PinchContact::SamplePosition(const Sample& s, const Eigen::VectorXd& x) const {
@@ -87,6 +87,7 @@ bool PinchContact::Prepare(const FingerPose& thumb, const FingerPose& index, dou
   }
   // Let triangles with a near particle count as near (their samples may be inside).
   num_active_ = 0;
+  weight_sum_ = 0.0;
   for (Sample& s : samples_) {
     const auto& p = patch_.triangles[static_cast<std::size_t>(s.triangle)].p;
     const bool near = near_[static_cast<std::size_t>(p[0])] || near_[static_cast<std::size_t>(p[1])] ||
@@ -96,10 +97,13 @@ bool PinchContact::Prepare(const FingerPose& thumb, const FingerPose& index, dou
       continue;
     }
     const Eigen::Vector3d q = SamplePosition(s, state.x_W_m);
-    if (!InsideBoth(q)) {
+    const double depth = DepthInBoth(q);
+    if (depth <= 0.0) {
       s.active = false;
       continue;
     }
+    const double ramp = options_.pinch_edge_ramp_m;
+    s.k_N_per_m = k_N_per_m_ * (ramp > 0.0 ? std::min(1.0, depth / ramp) : 1.0);
     if (!s.active) {
       // A new sample sticks where it meets the plane (paper: "initially static contact").
       const Eigen::Vector3d q_C = R_WC_.transpose() * (q - origin_W_);
@@ -108,22 +112,24 @@ bool PinchContact::Prepare(const FingerPose& thumb, const FingerPose& index, dou
       s.sliding = false;
     }
     ++num_active_;
+    weight_sum_ += s.k_N_per_m;
   }
   active_ = num_active_ > 0;
   if (!active_) return false;
 
-  const double share_N = grip_N_ / num_active_;
+  // Each sample's share of the grip is in proportion to its spring (full inside, ramped at the edge).
+  const double grip_per_stiffness = grip_N_ / weight_sum_;
   const FrictionCoefficients two_faces{2.0 * mu.mu_static, 2.0 * mu.mu_dynamic};
   for (Sample& s : samples_) {
     if (!s.active) continue;
     const Eigen::Vector3d q = SamplePosition(s, state.x_W_m);
     const Eigen::Vector3d held_W = origin_W_ + R_WC_.col(0) * s.ideal_C.x() + R_WC_.col(1) * s.ideal_C.y();
     const Eigen::Vector3d free_W = q - (q - origin_W_).dot(n) * n;
-    const StickSlipResult r = UpdateStickSlip(held_W, free_W, k_N_per_m_, share_N, two_faces, s.sliding);
+    const StickSlipResult r = UpdateStickSlip(held_W, free_W, s.k_N_per_m, grip_per_stiffness * s.k_N_per_m,
+                                              two_faces, s.sliding);
     s.sliding = r.sliding;
     s.ideal_C = (R_WC_.transpose() * (r.held_W - origin_W_)).head<2>();
     s.anchor_W = origin_W_ + R_WC_.col(0) * s.ideal_C.x() + R_WC_.col(1) * s.ideal_C.y();
-    const Eigen::Vector3d f = k_N_per_m_ * (s.anchor_W - q);
     // Lumped onto the particles: stiffness w k and the anchor that gives the same force now.
     const auto& p = patch_.triangles[static_cast<std::size_t>(s.triangle)].p;
     for (int m = 0; m < 3; ++m) {
@@ -131,7 +137,7 @@ bool PinchContact::Prepare(const FingerPose& thumb, const FingerPose& index, dou
       if (w <= 0.0) continue;
       const int pm = p[static_cast<std::size_t>(m)];
       if (state.mode[static_cast<std::size_t>(pm)] != textile::ParticleMode::kFree) continue;
-      springs->Add(pm, w * k_N_per_m_, state.x_W_m.segment<3>(3 * pm) + f / k_N_per_m_);
+      springs->Add(pm, w * s.k_N_per_m, state.x_W_m.segment<3>(3 * pm) + (s.anchor_W - q));
     }
   }
   return true;
@@ -148,9 +154,9 @@ void PinchContact::Resolve(const textile::FabricState& state, const Eigen::Matri
   for (Sample& s : samples_) {
     if (!s.active) continue;
     const Eigen::Vector3d q = SamplePosition(s, state.x_W_m);
-    result->fabric_force_W_N += k_N_per_m_ * (s.anchor_W - q);
+    result->fabric_force_W_N += s.k_N_per_m * (s.anchor_W - q);
     const Eigen::Vector3d free_W = q - (q - origin_W_).dot(n) * n;
-    result->friction_W_N += k_N_per_m_ * (free_W - s.anchor_W);
+    result->friction_W_N += s.k_N_per_m * (free_W - s.anchor_W);
 
     const auto& p = patch_.triangles[static_cast<std::size_t>(s.triangle)].p;
     Eigen::Vector2d uv = Eigen::Vector2d::Zero();

@@ -82,8 +82,12 @@ class PinchContact {
     bool sliding = false;
     Eigen::Vector2d ideal_C{Eigen::Vector2d::Zero()};  ///< ideal position on the contact plane
     Eigen::Vector3d anchor_W{Eigen::Vector3d::Zero()};  ///< spring end during the last step
+    double k_N_per_m = 0.0;  ///< spring during the last step: ramps in near the edge
   };
-  bool InsideBoth(const Eigen::Vector3d& q) const;
+  /// How deep q lies inside both fingers [m]: min over the two of (radius - distance to axis);
+  /// negative outside the intersection.
+  double DepthInBoth(const Eigen::Vector3d& q) const;
+  bool InsideBoth(const Eigen::Vector3d& q) const { return DepthInBoth(q) > 0.0; }
   Eigen::Vector3d SamplePosition(const Sample& s, const Eigen::VectorXd& x) const;
 
   const textile::FabricModel& patch_;
@@ -94,6 +98,7 @@ class PinchContact {
   std::vector<std::uint8_t> near_;  ///< per particle, scratch
   bool active_ = false;
   int num_active_ = 0;
+  double weight_sum_ = 0.0;  ///< sum of the active samples' springs [N/m]
   double grip_N_ = 0.0;
   Segment seg_thumb_{}, seg_index_{};
   Eigen::Vector3d origin_W_{Eigen::Vector3d::Zero()};
