@@ -14,6 +14,7 @@
 #include "libs/contact/patch_simulation.h"
 #include "libs/textile/fabric_model.h"
 #include "libs/textile/kes_material.h"
+#include "tests/contact/contact_test_util.h"
 #include "tests/textile/fabric_textproto.h"
 
 namespace haptex::contact {
@@ -22,14 +23,7 @@ namespace {
 using V = Eigen::Vector3d;
 
 FingerPose Facing(const V& centre, const V& pad_normal) {
-  FingerPose pose;
-  pose.p_W_m = centre;
-  const V z = pad_normal.normalized();
-  const V x = V::UnitX();
-  pose.R_WF.col(0) = x;
-  pose.R_WF.col(1) = z.cross(x);
-  pose.R_WF.col(2) = z;
-  return pose;
+  return testing::PoseFacing(centre, pad_normal, V::UnitX());
 }
 
 // 20 x 20 = 400 particles over 2 x 2 cm (about 1 mm spacing), border fixed, lying at z = 0.

@@ -26,43 +26,6 @@ namespace {
 using V = Eigen::Vector3d;
 using Clock = std::chrono::steady_clock;
 
-contact::FingerPose Facing(const V& centre, const V& pad_normal) {
-  contact::FingerPose pose;
-  pose.p_W_m = centre;
-  pose.R_WF.col(0) = V::UnitX();
-  pose.R_WF.col(2) = pad_normal;
-  pose.R_WF.col(1) = pad_normal.cross(V::UnitX());
-  return pose;
-}
-
-struct Strip {
-  textile::FabricModel model;
-  textile::FabricState state;
-};
-
-// 3 x 8 cm strip hanging from a clamp; `spacing_m` sets the global resolution.
-Strip MakeStrip(const textile::FabricMaterial& material, double spacing_m) {
-  const double width = 0.03, length = 0.08;
-  const int nu = static_cast<int>(std::lround(length / spacing_m)) + 1;
-  const int nv = static_cast<int>(std::lround(width / spacing_m)) + 1;
-  Strip s{textile::BuildFabricModel(material, {length, width, nu, nv}), {}};
-  textile::Placement placement;
-  placement.origin_W = V(-0.5 * width, 0.0, 0.0);
-  placement.axis_u_W = V(0, 0, -1);
-  placement.axis_v_W = V(1, 0, 0);
-  s.state = textile::MakeRestState(s.model, placement);
-  for (int j = 0; j < nv; ++j) s.state.Fix(s.model.mesh.Index(0, j));
-  return s;
-}
-
-std::array<contact::FingerInput, 2> Script(double t, const contact::ContactOptions& o) {
-  const double r = o.thumb.radius_m + o.fabric_half_thickness_m;
-  const double y = r + 0.003 - std::min(1.0, t / 0.3) * 0.0055;
-  const double dz = 0.003 * std::clamp((t - 0.5) / 1.5, 0.0, 1.0);
-  return {contact::FingerInput{true, Facing(V(0, -y, -0.06 - dz), V(0, 1, 0))},
-          contact::FingerInput{true, Facing(V(0, y, -0.06 - dz), V(0, -1, 0))}};
-}
-
 constexpr double kEnd = 2.5;
 
 // Finger force (z, both fingers) sampled every 10 ms, and the final strip shape at the reference's
@@ -88,7 +51,7 @@ Eigen::VectorXd CoarseShape(const textile::FabricModel& model, const textile::Fa
 }
 
 Run Reference(const textile::FabricMaterial& material, const contact::ContactOptions& o) {
-  Strip s = MakeStrip(material, 0.002);
+  testing::Strip s = testing::PinchStretchStrip(material, 0.002);
   textile::StepOptions step;
   step.dt_s = 0.0002;
   step.cg_tolerance = 1e-4;
@@ -97,7 +60,7 @@ Run Reference(const textile::FabricMaterial& material, const contact::ContactOpt
   Run run;
   const int ticks = static_cast<int>(kEnd / step.dt_s + 0.5);
   for (int k = 1; k <= ticks; ++k) {
-    const auto f = Script(k * step.dt_s, o);
+    const auto f = testing::PinchStretchFingers(k * step.dt_s, o);
     const contact::ContactOutput& out = sim.Tick(f[0], f[1]);
     if (k % 50 == 0) run.force.push_back(out.finger[0].force_W_N.z() + out.finger[1].force_W_N.z());
   }
@@ -107,7 +70,7 @@ Run Reference(const textile::FabricMaterial& material, const contact::ContactOpt
 
 Run Dual(const textile::FabricMaterial& material, const contact::ContactOptions& o, double local_hz,
          double margin_m, double spacing_m) {
-  Strip s = MakeStrip(material, spacing_m);
+  testing::Strip s = testing::PinchStretchStrip(material, spacing_m);
   const double local_dt = 1.0 / local_hz;
   testing::DualLayerHarness dual(material, s.model, s.state, 0.01, local_dt, o, margin_m);
   Run run;
@@ -116,7 +79,7 @@ Run Dual(const textile::FabricMaterial& material, const contact::ContactOptions&
   const int per_sample = static_cast<int>(std::lround(0.01 / local_dt));
   double local_s = 0.0, global_s = 0.0;
   for (int k = 1; k <= ticks; ++k) {
-    const auto f = Script(k * local_dt, o);
+    const auto f = testing::PinchStretchFingers(k * local_dt, o);
     const auto t0 = Clock::now();
     const contact::ContactOutput& out = dual.Tick(f[0], f[1]);
     const double dt_s = std::chrono::duration<double>(Clock::now() - t0).count();

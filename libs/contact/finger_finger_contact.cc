@@ -64,7 +64,6 @@ FingerFingerResult FingerFingerContact::Update(const FingerPose& thumb, const Fi
     r.sliding = s.sliding;
   }
   touching_ = true;
-  last_normal_W_ = n;
   r.tangential_N = tangential.norm();
   r.force_on_index_W_N = r.normal_N * n + tangential;
   r.stiffness_index_W_N_per_m = -options_.finger_finger_normal_N_per_m * nn;

@@ -41,7 +41,6 @@ class FingerFingerContact {
   bool touching_ = false;
   bool sliding_ = false;
   Eigen::Vector3d held_thumb_F_{Eigen::Vector3d::Zero()};  ///< proxy on the thumb, thumb frame
-  Eigen::Vector3d last_normal_W_{Eigen::Vector3d::UnitY()};
 };
 
 }  // namespace haptex::contact

@@ -27,39 +27,6 @@ std::int64_t MonotonicNs() {
       .count();
 }
 
-struct ForceRow {
-  double t_ns, thumb_N, index_N;
-};
-
-std::vector<ForceRow> ForceRows(const std::string& csv) {
-  std::vector<ForceRow> rows;
-  std::istringstream in(testing::ReadText(csv));
-  std::string line;
-  std::getline(in, line);
-  while (std::getline(in, line)) {
-    std::vector<double> v;
-    std::stringstream s(line);
-    std::string cell;
-    while (std::getline(s, cell, ',')) v.push_back(std::stod(cell));
-    if (v.size() != 14) continue;
-    rows.push_back({v[0], std::hypot(v[1], v[2], v[3]), std::hypot(v[7], v[8], v[9])});
-  }
-  return rows;
-}
-
-std::string WaitFor(haptex::testing::Subprocess& p, const std::string& pattern, std::chrono::seconds timeout = 90s) {
-  const std::regex re(pattern);
-  std::smatch match;
-  const auto until = std::chrono::steady_clock::now() + timeout;
-  while (std::chrono::steady_clock::now() < until) {
-    const std::string out = p.Stdout();
-    if (std::regex_search(out, match, re)) return match.size() > 1 ? match[1].str() : match[0].str();
-    std::this_thread::sleep_for(10ms);
-  }
-  ADD_FAILURE() << "no output matching " << pattern << "\nstdout:\n" << p.Stdout();
-  return "";
-}
-
 class LaunchForceKillTest : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(LaunchForceKillTest, ForceIsZeroWithin20msAndTheRunRecovers) {
@@ -69,29 +36,29 @@ TEST_P(LaunchForceKillTest, ForceIsZeroWithin20msAndTheRunRecovers) {
   haptex::testing::Subprocess launcher({haptex::testing::BuildDir() + "/cli/haptex", "launch",
                                         testing::ShippedScenePath("demo"), "--skip", "tactile", "--skip",
                                         "mock_pins", "--duration", "0", "--out", run});
-  WaitFor(launcher, "running \\(until Ctrl-C\\)");
-  const int pid = std::stoi(WaitFor(launcher, name + ": started \\(pid ([0-9]+)"));
+  testing::WaitForOutput(launcher, "running \\(until Ctrl-C\\)");
+  const int pid = std::stoi(testing::WaitForOutput(launcher, name + ": started \\(pid ([0-9]+)"));
   // Wait until the pinch presses both fingers (the demo pinches from about 2.2 s).
   const std::string log = run + "/mock_grab_forces.csv";
   bool pressing = false;
   for (auto until = std::chrono::steady_clock::now() + 60s; !pressing && std::chrono::steady_clock::now() < until;) {
     std::this_thread::sleep_for(50ms);
-    const auto rows = ForceRows(log);
+    const auto rows = testing::MockForceRows(log);
     pressing = !rows.empty() && rows.back().thumb_N > 0.5 && rows.back().index_N > 0.5;
   }
   ASSERT_TRUE(pressing) << "the demo never pinched\n" << launcher.Stdout();
   const double killed_ns = static_cast<double>(MonotonicNs());
   ASSERT_EQ(kill(pid, SIGKILL), 0);
-  WaitFor(launcher, name + ": restarted");
+  testing::WaitForOutput(launcher, name + ": restarted");
   std::this_thread::sleep_for(500ms);
   launcher.Signal(SIGINT);
   const auto code = launcher.WaitFor(90s);
   ASSERT_TRUE(code.has_value()) << launcher.Stdout();
   EXPECT_EQ(*code, 0) << launcher.Stdout();
 
-  const auto rows = ForceRows(log);
+  const auto rows = testing::MockForceRows(log);
   double zero_after_ms = -1.0;
-  for (const ForceRow& r : rows) {
+  for (const testing::ForceRow& r : rows) {
     if (r.t_ns < killed_ns) continue;
     if (r.thumb_N == 0.0 && r.index_N == 0.0) {
       zero_after_ms = (r.t_ns - killed_ns) * 1e-6;

@@ -56,37 +56,10 @@ class LaunchSystemTest : public ::testing::Test {
         "local_contact", "--duration", duration, "--out", run_});
   }
 
-  // Waits for a line matching `pattern` in the launcher's output; returns its first group.
-  static std::string WaitFor(haptex::testing::Subprocess& p, const std::string& pattern,
-                             std::chrono::seconds timeout = 90s) {
-    const std::regex re(pattern);
-    std::smatch match;
-    const auto until = std::chrono::steady_clock::now() + timeout;
-    while (std::chrono::steady_clock::now() < until) {
-      const std::string out = p.Stdout();
-      if (std::regex_search(out, match, re)) return match.size() > 1 ? match[1].str() : match[0].str();
-      std::this_thread::sleep_for(20ms);
-    }
-    ADD_FAILURE() << "no output matching " << pattern << "\nstdout:\n" << p.Stdout() << "\nstderr:\n" << p.Stderr();
-    return "";
+  static std::string WaitFor(haptex::testing::Subprocess& p, const std::string& pattern) {
+    return testing::WaitForOutput(p, pattern);
   }
-
-  // Commanded force per row of the mock's force log: {time_ns, |thumb|, |index|}.
-  std::vector<std::array<double, 3>> ForceRows() const {
-    std::vector<std::array<double, 3>> rows;
-    std::istringstream in(testing::ReadText(run_ + "/mock_grab_forces.csv"));
-    std::string line;
-    std::getline(in, line);
-    while (std::getline(in, line)) {
-      std::vector<double> v;
-      std::stringstream s(line);
-      std::string cell;
-      while (std::getline(s, cell, ',')) v.push_back(std::stod(cell));
-      if (v.size() != 14) continue;
-      rows.push_back({v[0], std::hypot(v[1], v[2], v[3]), std::hypot(v[7], v[8], v[9])});
-    }
-    return rows;
-  }
+  std::vector<testing::ForceRow> ForceRows() const { return testing::MockForceRows(run_ + "/mock_grab_forces.csv"); }
 
   std::string dir_, scene_, run_;
 };
@@ -168,8 +141,8 @@ TEST_F(LaunchSystemTest, CtrlCStopsWithZeroForceAndExitCodeZero) {
   const auto rows = ForceRows();
   ASSERT_GT(rows.size(), 100u);
   for (std::size_t i = rows.size() - 100; i < rows.size(); ++i) {
-    EXPECT_EQ(rows[i][1], 0.0) << "row " << i;
-    EXPECT_EQ(rows[i][2], 0.0) << "row " << i;
+    EXPECT_EQ(rows[i].thumb_N, 0.0) << "row " << i;
+    EXPECT_EQ(rows[i].index_N, 0.0) << "row " << i;
   }
 }
 
@@ -210,8 +183,8 @@ TEST_P(LaunchKillTest, KilledServiceIsRestartedAndInTheSummary) {
   // what the fingers felt: zero after the kill (a dead bridge: the controller's own host watchdog)
   const auto rows = ForceRows();
   ASSERT_FALSE(rows.empty());
-  EXPECT_EQ(rows.back()[1], 0.0);
-  EXPECT_EQ(rows.back()[2], 0.0);
+  EXPECT_EQ(rows.back().thumb_N, 0.0);
+  EXPECT_EQ(rows.back().index_N, 0.0);
 }
 
 INSTANTIATE_TEST_SUITE_P(EachService, LaunchKillTest,

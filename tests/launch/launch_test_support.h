@@ -1,13 +1,20 @@
 #pragma once
 // Scenes for the launcher's tests: the shipped ones, and scenes written from text.
 
+#include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <gtest/gtest.h>
+#include <regex>
+#include <sstream>
 #include <string>
+#include <thread>
 #include <unistd.h>
+#include <vector>
 
 #include "libs/scene/scene_loader.h"
+#include "tests/support/subprocess.h"
 #include "tests/support/test_paths.h"
 
 namespace haptex::launch::testing {
@@ -42,6 +49,44 @@ inline std::string FreshDir(const std::string& name) {
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
+}
+
+/// Waits for a line matching `pattern` in a process's output; returns its first group (or the
+/// whole match). Fails the test on timeout.
+inline std::string WaitForOutput(haptex::testing::Subprocess& p, const std::string& pattern,
+                                 std::chrono::seconds timeout = std::chrono::seconds(90)) {
+  const std::regex re(pattern);
+  std::smatch match;
+  const auto until = std::chrono::steady_clock::now() + timeout;
+  while (std::chrono::steady_clock::now() < until) {
+    const std::string out = p.Stdout();
+    if (std::regex_search(out, match, re)) return match.size() > 1 ? match[1].str() : match[0].str();
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ADD_FAILURE() << "no output matching " << pattern << "\nstdout:\n" << p.Stdout() << "\nstderr:\n" << p.Stderr();
+  return "";
+}
+
+/// One row of the mock controller's force log: its CLOCK_MONOTONIC time and the commanded force
+/// magnitude per finger.
+struct ForceRow {
+  double t_ns = 0.0, thumb_N = 0.0, index_N = 0.0;
+};
+
+inline std::vector<ForceRow> MockForceRows(const std::string& csv_path) {
+  std::vector<ForceRow> rows;
+  std::istringstream in(ReadText(csv_path));
+  std::string line;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    std::vector<double> v;
+    std::stringstream cells(line);
+    std::string cell;
+    while (std::getline(cells, cell, ',')) v.push_back(std::stod(cell));
+    if (v.size() != 14) continue;
+    rows.push_back({v[0], std::hypot(v[1], v[2], v[3]), std::hypot(v[7], v[8], v[9])});
+  }
+  return rows;
 }
 
 }  // namespace haptex::launch::testing

@@ -21,43 +21,6 @@
 namespace haptex::local_contact {
 namespace {
 
-using V = Eigen::Vector3d;
-
-contact::FingerPose Facing(const V& centre, const V& pad_normal) {
-  contact::FingerPose pose;
-  pose.p_W_m = centre;
-  pose.R_WF.col(0) = V::UnitX();
-  pose.R_WF.col(2) = pad_normal;
-  pose.R_WF.col(1) = pad_normal.cross(V::UnitX());
-  return pose;
-}
-
-struct Strip {
-  textile::FabricModel model;
-  textile::FabricState state;
-};
-
-Strip MakeStrip(const textile::FabricMaterial& material) {
-  const double width = 0.03, length = 0.08;
-  Strip s{textile::BuildFabricModel(material, {length, width, 41, 16}), {}};
-  textile::Placement placement;  // warp hangs down from z = 0, weft across along x
-  placement.origin_W = V(-0.5 * width, 0.0, 0.0);
-  placement.axis_u_W = V(0, 0, -1);
-  placement.axis_v_W = V(1, 0, 0);
-  s.state = textile::MakeRestState(s.model, placement);
-  for (int j = 0; j < 16; ++j) s.state.Fix(s.model.mesh.Index(0, j));
-  return s;
-}
-
-// Pinch at 6 cm below the clamp: approach (0.3 s), hold, pull down 3 mm (1.5 s), hold.
-std::array<contact::FingerInput, 2> Script(double t, const contact::ContactOptions& o) {
-  const double r = o.thumb.radius_m + o.fabric_half_thickness_m;
-  const double y = r + 0.003 - std::min(1.0, t / 0.3) * 0.0055;
-  const double dz = 0.003 * std::clamp((t - 0.5) / 1.5, 0.0, 1.0);
-  return {contact::FingerInput{true, Facing(V(0, -y, -0.06 - dz), V(0, 1, 0))},
-          contact::FingerInput{true, Facing(V(0, y, -0.06 - dz), V(0, -1, 0))}};
-}
-
 TEST(DualLayerConsistencyTest, MatchesSingleLayerReference) {
   const textile::FabricMaterial material =
       textile::MaterialFromKes(textile::testing::CompositeDenim());
@@ -69,16 +32,16 @@ TEST(DualLayerConsistencyTest, MatchesSingleLayerReference) {
   local.cg_max_iterations = 100;
   local.preconditioner = textile::Preconditioner::kBlockJacobi;
 
-  Strip ref_strip = MakeStrip(material);
+  testing::Strip ref_strip = testing::PinchStretchStrip(material, 0.002);
   contact::PatchSimulation reference(std::move(ref_strip.model), std::move(ref_strip.state), local, o);
-  Strip dual_strip = MakeStrip(material);
+  testing::Strip dual_strip = testing::PinchStretchStrip(material, 0.002);
   testing::DualLayerHarness dual(material, std::move(dual_strip.model), std::move(dual_strip.state),
                                  0.01, 0.001, o, 0.005);
 
   const double t_end = 2.5;
   double worst_force = 0.0, peak_ref = 0.0, worst_abs = 0.0;
   for (int k = 1; k * 0.001 <= t_end + 1e-9; ++k) {
-    const auto f = Script(k * 0.001, o);
+    const auto f = testing::PinchStretchFingers(k * 0.001, o);
     const contact::ContactOutput& a = reference.Tick(f[0], f[1]);
     const double fa = a.finger[0].force_W_N.z() + a.finger[1].force_W_N.z();
     const contact::ContactOutput& b = dual.Tick(f[0], f[1]);

@@ -17,6 +17,16 @@
 
 namespace haptex::local_contact::testing {
 
+/// The scenario the consistency test and the sweep share: a 3 x 8 cm strip hanging from a clamp
+/// at z = 0 (warp down, weft along x), `spacing_m` apart, pinched 6 cm below the clamp.
+struct Strip {
+  textile::FabricModel model;
+  textile::FabricState state;
+};
+Strip PinchStretchStrip(const textile::FabricMaterial& material, double spacing_m);
+/// The fingers at time t: approach and squeeze (0.3 s), hold, pull down 3 mm (0.5-2.0 s), hold.
+std::array<contact::FingerInput, 2> PinchStretchFingers(double t_s, const contact::ContactOptions& o);
+
 class DualLayerHarness {
  public:
   DualLayerHarness(const textile::FabricMaterial& material, textile::FabricModel global_model,
@@ -50,7 +60,6 @@ class DualLayerHarness {
   std::uint64_t patch_id_ = 0;
   global_sim::PatchRect rect_;
   std::unique_ptr<PatchRuntime> patch_;
-  Eigen::VectorXd contact_force_W_N_;
   std::vector<int> merged_;
   v1::LocalPatch patch_message_;
   v1::PatchResult result_message_;

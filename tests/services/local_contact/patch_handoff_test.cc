@@ -9,6 +9,7 @@
 
 #include "libs/textile/fabric_model.h"
 #include "libs/textile/kes_material.h"
+#include "tests/contact/contact_test_util.h"
 #include "tests/services/local_contact/dual_layer_harness.h"
 #include "tests/textile/fabric_textproto.h"
 
@@ -16,16 +17,6 @@ namespace haptex::local_contact {
 namespace {
 
 using V = Eigen::Vector3d;
-
-contact::FingerPose PadDown(const V& centre) {
-  contact::FingerPose pose;
-  pose.p_W_m = centre;
-  pose.R_WF.col(0) = V::UnitX();
-  pose.R_WF.col(1) = V(0, 1, 0);
-  pose.R_WF.col(2) = V(0, 0, -1);
-  pose.R_WF.col(1) = pose.R_WF.col(2).cross(pose.R_WF.col(0));
-  return pose;
-}
 
 struct SlideResult {
   int handoffs = 0, boundary_moves = 0;
@@ -56,7 +47,7 @@ SlideResult Slide(bool carry_over) {
     const double t = k * 0.001;
     V p = t < t_slide0 ? above + std::min(1.0, t / t_press) * (pressed - above)
                        : pressed + std::min(1.0, (t - t_slide0) / (t_slide1 - t_slide0)) * (end - pressed);
-    const contact::ContactOutput& out = harness.Tick({true, PadDown(p)}, {});
+    const contact::ContactOutput& out = harness.Tick({true, contact::testing::PoseFacing(p, V(0, 0, -1), V::UnitX())}, {});
     const double force = out.finger[0].force_W_N.norm();
     if (t > t_slide0 + 0.05) {
       max_jump = std::max(max_jump, std::abs(force - previous));
