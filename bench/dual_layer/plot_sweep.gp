@@ -7,6 +7,8 @@ set key outside right
 set logscale x
 set xlabel "cost: microseconds per local tick"
 set ylabel "force error, % of the reference's peak"
-set title "dual layer: local rate, patch margin, global mesh vs the single-layer reference"
-plot for [m in "2 5 10"] for [s in "2 4"] csv using ($2==m+0 && $3==s+0 ? $4 : 1/0):7 \
-  with linespoints title sprintf("margin %s mm, mesh %s mm", m, s)
+set title "dual layer: local rate, patch margin, global mesh, refinement vs the single-layer reference"
+# c: mesh mm then refinement levels, one digit each
+plot for [m in "2 5 10 15"] for [c in "20 40 41"] \
+  csv using ($2==m+0 && $3==c[1:1]+0 && $9==c[2:2]+0 ? $4 : 1/0):7 \
+  with linespoints title sprintf("margin %s mm, mesh %s mm, refined %s", m, c[1:1], c[2:2])

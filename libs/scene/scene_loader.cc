@@ -127,6 +127,22 @@ void CheckFriction(const v1::FrictionSpec& f, const FieldLocator& at, Checker& c
   }
 }
 
+// Pitches of 0.05-5 mm cover silk to coarse canvas; yarns thicker than their pitch cannot lie side by side.
+void CheckTactileSurface(const v1::TactileSurface& s, const FieldLocator& at, Checker& c) {
+  c.ZeroOrRange(s, "warp_pitch_mm", s.warp_pitch_mm(), 0.05, 5.0, "mm", at);
+  c.ZeroOrRange(s, "weft_pitch_mm", s.weft_pitch_mm(), 0.05, 5.0, "mm", at);
+  c.ZeroOrRange(s, "yarn_diameter_mm", s.yarn_diameter_mm(), 0.02, 5.0, "mm", at);
+  c.ZeroOrRange(s, "smd_um", s.smd_um(), 0.1, 100.0, "um", at);
+  if (s.pattern() == v1::Weave::PATTERN_KNIT) {
+    c.Add(at.At(s, "pattern", -1, "the tactile surface is built for woven patterns: PATTERN_PLAIN, PATTERN_TWILL or PATTERN_SATIN"));
+  }
+  const bool any_value = s.pattern() != v1::Weave::PATTERN_UNSPECIFIED || s.warp_pitch_mm() != 0 ||
+                         s.weft_pitch_mm() != 0 || s.yarn_diameter_mm() != 0 || s.smd_um() != 0;
+  if (any_value && s.source().citation().empty()) {
+    c.Add(at.Here("surface values need their origin: `source { citation: \"...\" locator: \"...\" note: \"...\" }`"));
+  }
+}
+
 void CheckDevice(const v1::Scene& scene, const FieldLocator& where, Checker& c) {
   const v1::DeviceSpec& d = scene.device();
   const FieldLocator at = where.Nested(scene, "device");
@@ -273,6 +289,7 @@ std::vector<TextIssue> ValidateScene(const v1::Scene& scene, const FieldLocator&
     const FieldLocator at = where.Nested(scene, "tactile");
     if (scene.fingers_size() == 0) c.Add(at.At(scene.tactile(), "enabled", -1, "tactile display needs fingers"));
     c.ZeroOrRange(scene.tactile(), "display_rate_hz", scene.tactile().display_rate_hz(), 10, 5000, "Hz", at);
+    CheckTactileSurface(scene.tactile().surface(), at.Nested(scene.tactile(), "surface"), c);
     if (!scene.tactile().mock_display()) {
       try {
         net::ResolveUdpAddress(scene.tactile().display_address());

@@ -12,6 +12,22 @@ double Pick(double override_value, double fabric_value) { return override_value 
 
 }  // namespace
 
+TactileSurfaceOverrides WithSceneSurface(const v1::TactileSurface& s, TactileSurfaceOverrides o) {
+  if (o.pattern.empty()) {
+    switch (s.pattern()) {
+      case v1::Weave::PATTERN_PLAIN: o.pattern = "plain"; break;
+      case v1::Weave::PATTERN_TWILL: o.pattern = "twill"; break;
+      case v1::Weave::PATTERN_SATIN: o.pattern = "satin"; break;
+      default: break;
+    }
+  }
+  o.warp_pitch_mm = Pick(o.warp_pitch_mm, s.warp_pitch_mm());
+  o.weft_pitch_mm = Pick(o.weft_pitch_mm, s.weft_pitch_mm());
+  o.yarn_diameter_mm = Pick(o.yarn_diameter_mm, s.yarn_diameter_mm());
+  o.smd_um = Pick(o.smd_um, s.smd_um());
+  return o;
+}
+
 tactile::WeaveParams TactileWeave(const v1::Fabric& fabric, const TactileSurfaceOverrides& o) {
   tactile::WeaveParams weave;
   std::string missing;
@@ -46,7 +62,8 @@ tactile::WeaveParams TactileWeave(const v1::Fabric& fabric, const TactileSurface
   if (!missing.empty()) {
     throw std::invalid_argument("fabric '" + fabric.name() + "' lacks " + missing +
                                 " for its tactile surface: add them to its database entry (weave, "
-                                "surface.smd_um) or give them by hand");
+                                "surface.smd_um), to the scene (tactile.surface, with their source) or give "
+                                "them by hand");
   }
   // 12 pixels per thread on a 256 x 256 grid: about 21 threads, several repeats of any weave
   weave.pixel_size_m = std::min(weave.warp_pitch_m, weave.weft_pitch_m) / 12;

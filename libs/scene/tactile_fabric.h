@@ -6,6 +6,7 @@
 #include <string>
 
 #include "haptex/v1/fabric.pb.h"
+#include "haptex/v1/scene.pb.h"
 #include "libs/tactile/height_map.h"
 #include "libs/tactile/periodic_tile.h"
 #include "libs/tactile/weave_surface.h"
@@ -22,6 +23,10 @@ struct TactileSurfaceOverrides {
   std::string image_path;      // a PGM height image instead of a weave
   double image_pixel_um = 0;   // its pixel size
 };
+
+/// The scene's tactile surface (tactile.surface) under the values given by hand: a value given by
+/// hand wins, else the scene's, else (0 / empty) the fabric's.
+TactileSurfaceOverrides WithSceneSurface(const v1::TactileSurface& scene_surface, TactileSurfaceOverrides by_hand);
 
 /// Weave parameters from the fabric and the overrides. Throws std::invalid_argument listing every
 /// value that neither gives (nothing is made up).

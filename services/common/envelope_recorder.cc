@@ -28,11 +28,23 @@ std::uint8_t* PutFixed64(std::uint64_t value, std::uint8_t* at) {
   return at;
 }
 
+constexpr std::uint32_t kWrap = 0xFFFFFFFFu;
+constexpr std::size_t kLengthBytes = 4;
+
+std::size_t Align8(std::size_t n) { return (n + 7) & ~std::size_t{7}; }
+
+void PutLength(std::uint32_t n, std::uint8_t* at) { std::memcpy(at, &n, kLengthBytes); }
+std::uint32_t GetLength(const std::uint8_t* at) {
+  std::uint32_t n = 0;
+  std::memcpy(&n, at, kLengthBytes);
+  return n;
+}
+
 }  // namespace
 
 EnvelopeRecorder::EnvelopeRecorder(const std::string& path, std::string_view sender,
                                    std::uint64_t sender_epoch, std::uint64_t session_id)
-    : sender_epoch_(sender_epoch), session_id_(session_id) {
+    : sender_epoch_(sender_epoch), session_id_(session_id), ring_(new std::uint8_t[kRingBytes]) {
   if (sender.size() > sender_.size()) throw std::invalid_argument("recorder: sender name too long");
   std::memcpy(sender_.data(), sender.data(), sender.size());
   sender_bytes_ = sender.size();
@@ -56,16 +68,23 @@ EnvelopeRecorder::~EnvelopeRecorder() {
 
 std::uint8_t* EnvelopeRecorder::ClaimSlot(std::size_t body_bytes) {
   // header: version, session, sender, epoch, sequence, send time, body tag + length (< 64 + sender)
-  if (body_bytes + 64 + sender_bytes_ > kSlotBytes) {
+  const std::size_t most = body_bytes + 64 + sender_bytes_;
+  if (most > kMaxRecordBytes) {
     dropped_.fetch_add(1, std::memory_order_relaxed);
     return nullptr;
   }
+  const std::size_t need = Align8(kLengthBytes + most);
   const std::size_t head = head_.load(std::memory_order_relaxed);
-  if (head - tail_.load(std::memory_order_acquire) == kSlots) {
+  const std::size_t at = head % kRingBytes;
+  // a record is contiguous: when it does not fit before the ring's end, it starts at 0
+  claim_skip_ = need > kRingBytes - at ? kRingBytes - at : 0;
+  claim_start_ = claim_skip_ > 0 ? 0 : at;
+  if (head - tail_.load(std::memory_order_acquire) + claim_skip_ + need > kRingBytes) {
     dropped_.fetch_add(1, std::memory_order_relaxed);
     return nullptr;
   }
-  return slots_[head & (kSlots - 1)].data.data();
+  if (claim_skip_ > 0) PutLength(kWrap, ring_.get() + at);  // at is 8-aligned: 4 bytes fit
+  return ring_.get() + claim_start_ + kLengthBytes;
 }
 
 std::uint8_t* EnvelopeRecorder::WriteHeader(std::uint8_t* at, int field_number, std::size_t body_bytes,
@@ -90,9 +109,9 @@ std::uint8_t* EnvelopeRecorder::WriteHeader(std::uint8_t* at, int field_number, 
 }
 
 void EnvelopeRecorder::Commit(std::size_t bytes) {
+  PutLength(static_cast<std::uint32_t>(bytes), ring_.get() + claim_start_);
   const std::size_t head = head_.load(std::memory_order_relaxed);
-  slots_[head & (kSlots - 1)].bytes = static_cast<std::uint32_t>(bytes);
-  head_.store(head + 1, std::memory_order_release);
+  head_.store(head + claim_skip_ + Align8(kLengthBytes + bytes), std::memory_order_release);
   recorded_.fetch_add(1, std::memory_order_relaxed);
 }
 
@@ -100,16 +119,22 @@ void EnvelopeRecorder::WriteWaiting() {
   std::size_t tail = tail_.load(std::memory_order_relaxed);
   const std::size_t head = head_.load(std::memory_order_acquire);
   bool wrote = false;
-  for (; tail != head; ++tail) {
-    const Slot& slot = slots_[tail & (kSlots - 1)];
-    std::array<std::uint8_t, 10> length{};
-    const std::size_t n = static_cast<std::size_t>(PutVarint(slot.bytes, length.data()) - length.data());
-    if (std::fwrite(length.data(), 1, n, file_) != n ||
-        std::fwrite(slot.data.data(), 1, slot.bytes, file_) != slot.bytes) {
-      write_errors_.fetch_add(1, std::memory_order_relaxed);
+  while (tail != head) {
+    const std::size_t at = tail % kRingBytes;
+    const std::uint32_t bytes = GetLength(ring_.get() + at);
+    if (bytes == kWrap) {
+      tail += kRingBytes - at;
+    } else {
+      std::array<std::uint8_t, 10> length{};
+      const std::size_t n = static_cast<std::size_t>(PutVarint(bytes, length.data()) - length.data());
+      if (std::fwrite(length.data(), 1, n, file_) != n ||
+          std::fwrite(ring_.get() + at + kLengthBytes, 1, bytes, file_) != bytes) {
+        write_errors_.fetch_add(1, std::memory_order_relaxed);
+      }
+      tail += Align8(kLengthBytes + bytes);
+      wrote = true;
     }
-    tail_.store(tail + 1, std::memory_order_release);
-    wrote = true;
+    tail_.store(tail, std::memory_order_release);
   }
   if (wrote) std::fflush(file_);
 }

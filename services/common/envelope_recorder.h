@@ -1,15 +1,18 @@
 #pragma once
 // Records the messages a service sends, off its hot loop: the loop encodes each body into an
-// Envelope in a fixed slot of a bounded single-producer single-consumer ring; a writer thread
-// drains the ring to the file as length-delimited Envelopes (varint length, then the bytes, as
-// protobuf's writeDelimitedTo). A full ring or a message larger than a slot is dropped and
-// counted; Record never allocates, blocks or logs.
+// Envelope in a bounded single-producer single-consumer byte ring (records of any size, each
+// where it fits, so a 100 KB LocalPatch is kept like a 100-byte Health); a writer thread drains
+// the ring to the file as length-delimited Envelopes (varint length, then the bytes, as
+// protobuf's writeDelimitedTo). Only a full ring (the disk slower than the sender for seconds) or
+// a message over a quarter of the ring drops, and it is counted; Record never allocates, blocks
+// or logs.
 
 #include <array>
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <thread>
@@ -20,8 +23,8 @@ namespace haptex::services {
 
 class EnvelopeRecorder final {
  public:
-  static constexpr std::size_t kSlotBytes = 4096;
-  static constexpr std::size_t kSlots = 512;  // power of two
+  static constexpr std::size_t kRingBytes = std::size_t{16} << 20;  // 16 MiB, a multiple of 8
+  static constexpr std::size_t kMaxRecordBytes = kRingBytes / 4;
 
   /// Opens (truncates) `path` and starts the writer thread. Throws std::invalid_argument when the
   /// file cannot be written.
@@ -33,7 +36,7 @@ class EnvelopeRecorder final {
   EnvelopeRecorder& operator=(const EnvelopeRecorder&) = delete;
 
   /// Loop side (one thread only): records `body` as sent at `send_time_ns` (steady clock).
-  /// False when it was dropped (ring full, or larger than a slot).
+  /// False when it was dropped (ring full, or larger than kMaxRecordBytes).
   template <class Body>
   bool Record(const Body& body, std::int64_t send_time_ns) {
     const std::size_t body_bytes = body.ByteSizeLong();
@@ -51,11 +54,6 @@ class EnvelopeRecorder final {
   std::uint64_t write_errors() const { return write_errors_.load(std::memory_order_relaxed); }
 
  private:
-  struct Slot {
-    std::uint32_t bytes = 0;
-    std::array<std::uint8_t, kSlotBytes> data{};
-  };
-
   std::uint8_t* ClaimSlot(std::size_t body_bytes);
   std::uint8_t* WriteHeader(std::uint8_t* at, int field_number, std::size_t body_bytes, std::int64_t send_time_ns);
   void Commit(std::size_t bytes);
@@ -67,8 +65,11 @@ class EnvelopeRecorder final {
   std::uint64_t sender_epoch_;
   std::uint64_t session_id_;
   std::uint64_t sequence_ = 0;
-  std::array<Slot, kSlots> slots_;
-  alignas(64) std::atomic<std::size_t> head_{0};
+  // Records in the ring: a 4-byte length, the bytes, padding to 8; a length of kWrap means the
+  // rest of the ring up to its end is unused and the next record starts at 0.
+  std::unique_ptr<std::uint8_t[]> ring_;
+  std::size_t claim_skip_ = 0, claim_start_ = 0;  // the claimed record (loop side only)
+  alignas(64) std::atomic<std::size_t> head_{0};  // bytes ever written / read (positions mod kRingBytes)
   alignas(64) std::atomic<std::size_t> tail_{0};
   std::atomic<std::uint64_t> recorded_{0};
   std::atomic<std::uint64_t> dropped_{0};

@@ -2,6 +2,8 @@
 // stand (paper section 4, the low-rate layer). From the fingers' states it cuts the local patch
 // each finger may touch over the next step and sends it to local_contact; it merges each
 // PatchResult (the patch's new shape) back before stepping, holding that part through the step.
+// With model.patch_refinement, the patch it sends is finer than the fabric (services/common/
+// refined_grid.h); only the fabric's own particles come back from it.
 //
 // Receives: FingerStates (device_bridge), PatchResult (local_contact), Control.
 // Sends: LocalPatch to local_contact, ClothFrame to the optional "viewer" peer, Health.
@@ -51,9 +53,8 @@ int Run(services::ServiceContext& context, const Options& options) {
   }
   reach_m += 0.5 * std::max(0.0006, loaded.fabric.thickness_mm() * 1e-3);
   const double margin_m = Or(sc.model().patch_radius_m(), 0.015);
-  if (sc.model().patch_refinement() > 0) {
-    throw std::invalid_argument("scene: model.patch_refinement > 0 is not implemented yet (use 0)");
-  }
+  const services::RefinedGrid refined = services::MakeRefinedGrid(
+      cloth.model.mesh.particles_warp(), cloth.model.mesh.particles_weft(), static_cast<int>(sc.model().patch_refinement()));
   const double frame_hz = std::min(60.0, Or(sc.rates().cloth_frame_hz(), 30.0));
 
   auto& health = context.health();
@@ -107,10 +108,11 @@ int Run(services::ServiceContext& context, const Options& options) {
             for (int k = 0; k < m; ++k) {
               const auto p = static_cast<int>(r.particle_ids(k));
               const Eigen::Vector3d x(r.position_w_m(3 * k), r.position_w_m(3 * k + 1), r.position_w_m(3 * k + 2));
-              if (p < 0 || p >= n || !x.allFinite()) {
+              if (p < 0 || p >= static_cast<int>(refined.id_space()) || !x.allFinite()) {
                 ++results_bad;
                 continue;
               }
+              if (p >= n) continue;  // a refined particle: the local layer's own detail
               if (cloth.state.mode[static_cast<std::size_t>(p)] != textile::ParticleMode::kFree) continue;
               // The local layer's shape is newer and finer, and the fingers hold it: it stays
               // where local_contact put it through the coming global step (its contact forces are
@@ -132,7 +134,7 @@ int Run(services::ServiceContext& context, const Options& options) {
         if (local) {
           const PatchRect rect = FindPatchRect(cloth.model, cloth.state, spheres);
           if (!rect.empty()) {
-            FillLocalPatch(cloth.model, cloth.state, rect, ++patch_id, step, dt, &patch);
+            FillLocalPatch(cloth.model, cloth.state, rect, ++patch_id, step, dt, refined, &patch);
             if (context.Send(*local, patch)) ++patches;
           }
         }

@@ -1,6 +1,7 @@
 #include "services/global_sim/patch_cutter.h"
 
 #include <algorithm>
+#include <array>
 
 namespace haptex::global_sim {
 
@@ -48,8 +49,9 @@ PatchRect FindPatchRect(const textile::FabricModel& model, const textile::Fabric
 
 void FillLocalPatch(const textile::FabricModel& model, const textile::FabricState& state,
                     const PatchRect& rect, std::uint64_t patch_id, std::uint64_t global_step,
-                    double global_dt_s, v1::LocalPatch* out) {
+                    double global_dt_s, const services::RefinedGrid& refined, v1::LocalPatch* out) {
   const int nu = model.mesh.particles_warp(), nv = model.mesh.particles_weft();
+  const int f = refined.factor;
   out->set_patch_id(patch_id);
   out->set_global_step(global_step);
   out->set_global_time_s(state.time_s);
@@ -61,35 +63,71 @@ void FillLocalPatch(const textile::FabricModel& model, const textile::FabricStat
   out->clear_mass_kg();
   out->clear_is_border();
   out->clear_triangles();
-  const int pu = rect.i1 - rect.i0 + 1;
-  for (int j = rect.j0; j <= rect.j1; ++j) {
-    for (int i = rect.i0; i <= rect.i1; ++i) {
-      const int p = model.mesh.Index(i, j);
-      out->add_particle_ids(static_cast<std::uint32_t>(p));
-      const Eigen::Vector2d& uv = model.mesh.rest_uv_m(p);
-      out->add_rest_uv_m(uv.x());
-      out->add_rest_uv_m(uv.y());
-      for (int k = 0; k < 3; ++k) out->add_position_w_m(state.x_W_m[3 * p + k]);
-      for (int k = 0; k < 3; ++k) out->add_velocity_w_m_per_s(state.v_W_m_per_s[3 * p + k]);
-      out->add_mass_kg(model.mass_kg[p]);
-      const bool rect_edge = (i == rect.i0 && i > 0) || (i == rect.i1 && i < nu - 1) ||
-                             (j == rect.j0 && j > 0) || (j == rect.j1 && j < nv - 1);
-      const bool prescribed = state.mode[static_cast<std::size_t>(p)] != textile::ParticleMode::kFree;
-      out->add_is_border(rect_edge || prescribed);
+  // Refined grid points I in [i0 f, i1 f], J in [j0 f, j1 f]; f = 1 is the rectangle itself.
+  const int I0 = rect.i0 * f, I1 = rect.i1 * f, J0 = rect.j0 * f, J1 = rect.j1 * f;
+  const int pu = I1 - I0 + 1;
+  const double area_density_kg_per_m2 = model.mass_kg.sum() / (model.mesh.rest_uv_m(model.mesh.Index(nu - 1, nv - 1)).x() *
+                                                               model.mesh.rest_uv_m(model.mesh.Index(nu - 1, nv - 1)).y());
+  const Eigen::Vector2d cell_m = model.mesh.rest_uv_m(model.mesh.Index(1, 1)) - model.mesh.rest_uv_m(model.mesh.Index(0, 0));
+  const double fine_cell_area_m2 = cell_m.x() * cell_m.y() / (f * f);
+  for (int J = J0; J <= J1; ++J) {
+    for (int I = I0; I <= I1; ++I) {
+      out->add_particle_ids(refined.IdOf(I, J));
+      const bool rect_edge = (I == I0 && rect.i0 > 0) || (I == I1 && rect.i1 < nu - 1) ||
+                             (J == J0 && rect.j0 > 0) || (J == J1 && rect.j1 < nv - 1);
+      if (refined.IsCoarse(I, J)) {
+        const int p = model.mesh.Index(I / f, J / f);
+        const Eigen::Vector2d& uv = model.mesh.rest_uv_m(p);
+        out->add_rest_uv_m(uv.x());
+        out->add_rest_uv_m(uv.y());
+        for (int k = 0; k < 3; ++k) out->add_position_w_m(state.x_W_m[3 * p + k]);
+        for (int k = 0; k < 3; ++k) out->add_velocity_w_m_per_s(state.v_W_m_per_s[3 * p + k]);
+        out->add_mass_kg(f == 1 ? model.mass_kg[p] : 0.0);
+        const bool prescribed = state.mode[static_cast<std::size_t>(p)] != textile::ParticleMode::kFree;
+        out->add_is_border(rect_edge || prescribed);
+      } else {
+        // the cell (ci, cj) holding the point, and its place in it
+        const int ci = std::min(I / f, nu - 2), cj = std::min(J / f, nv - 2);
+        const double a = static_cast<double>(I - ci * f) / f, b = static_cast<double>(J - cj * f) / f;
+        const std::array<int, 4> corner{model.mesh.Index(ci, cj), model.mesh.Index(ci + 1, cj),
+                                        model.mesh.Index(ci, cj + 1), model.mesh.Index(ci + 1, cj + 1)};
+        const std::array<double, 4> w{(1 - a) * (1 - b), a * (1 - b), (1 - a) * b, a * b};
+        Eigen::Vector2d uv = Eigen::Vector2d::Zero();
+        Eigen::Vector3d x = Eigen::Vector3d::Zero(), v = Eigen::Vector3d::Zero();
+        bool all_prescribed = true;
+        for (std::size_t c = 0; c < 4; ++c) {
+          if (w[c] == 0.0) continue;
+          uv += w[c] * model.mesh.rest_uv_m(corner[c]);
+          x += w[c] * state.x(corner[c]);
+          v += w[c] * state.v(corner[c]);
+          all_prescribed = all_prescribed && state.mode[static_cast<std::size_t>(corner[c])] != textile::ParticleMode::kFree;
+        }
+        out->add_rest_uv_m(uv.x());
+        out->add_rest_uv_m(uv.y());
+        for (int k = 0; k < 3; ++k) out->add_position_w_m(x[k]);
+        for (int k = 0; k < 3; ++k) out->add_velocity_w_m_per_s(v[k]);
+        out->add_mass_kg(0.0);
+        out->add_is_border(rect_edge || all_prescribed);
+      }
+      if (f > 1) {
+        // lumped from the refined cells around the point (a quarter of each)
+        const int cells = (I > 0 && J > 0) + (I < refined.fine_u - 1 && J > 0) + (I > 0 && J < refined.fine_v - 1) +
+                          (I < refined.fine_u - 1 && J < refined.fine_v - 1);
+        out->set_mass_kg(out->mass_kg_size() - 1, area_density_kg_per_m2 * fine_cell_area_m2 * 0.25 * cells);
+      }
     }
   }
-  // Triangles of the sub-grid in patch indices, as GridMesh splits each cell.
-  for (const auto& t : model.mesh.triangles()) {
-    std::array<std::uint32_t, 3> local{};
-    bool inside = true;
-    for (int k = 0; k < 3 && inside; ++k) {
-      const int p = t[static_cast<std::size_t>(k)];
-      const int i = p % nu, j = p / nu;
-      inside = i >= rect.i0 && i <= rect.i1 && j >= rect.j0 && j <= rect.j1;
-      local[static_cast<std::size_t>(k)] = static_cast<std::uint32_t>((i - rect.i0) + pu * (j - rect.j0));
+  // Triangles of the (refined) sub-grid in patch indices, split as GridMesh splits each cell; the
+  // rectangle starts on an even cell, so the patch's triangles are the refined fabric's.
+  for (int J = J0; J < J1; ++J) {
+    for (int I = I0; I < I1; ++I) {
+      const auto p00 = static_cast<std::uint32_t>((I - I0) + pu * (J - J0));
+      const std::uint32_t p10 = p00 + 1, p01 = p00 + static_cast<std::uint32_t>(pu), p11 = p01 + 1;
+      const std::array<std::uint32_t, 6> t =
+          (I + J) % 2 == 0 ? std::array<std::uint32_t, 6>{p00, p10, p11, p00, p11, p01}
+                           : std::array<std::uint32_t, 6>{p00, p10, p01, p10, p11, p01};
+      for (std::uint32_t k : t) out->add_triangles(k);
     }
-    if (!inside) continue;
-    for (std::uint32_t v : local) out->add_triangles(v);
   }
 }
 

@@ -11,6 +11,7 @@
 #include "haptex/v1/local_patch.pb.h"
 #include "libs/textile/fabric_model.h"
 #include "libs/textile/fabric_state.h"
+#include "services/common/refined_grid.h"
 
 namespace haptex::global_sim {
 
@@ -43,8 +44,12 @@ PatchRect FindPatchRect(const textile::FabricModel& model, const textile::Fabric
 /// Fills `out` (reusing its storage) with the rectangle's particles in grid order (i fastest),
 /// their state, and triangles. A particle is border when it lies on the rectangle's edge but not
 /// on the fabric's own edge (there the fabric is free), or when global_sim prescribes it.
+/// With `refined` of 1 or more levels, every cell of the rectangle is split into factor x factor
+/// cells (ids from `refined`); a new particle's rest coordinates, position and velocity are the
+/// bilinear blend of its cell's corners, and it is border when it lies on the rectangle's edge or
+/// every corner it blends is prescribed (a fixed edge stays fixed between its particles).
 void FillLocalPatch(const textile::FabricModel& model, const textile::FabricState& state,
                     const PatchRect& rect, std::uint64_t patch_id, std::uint64_t global_step,
-                    double global_dt_s, v1::LocalPatch* out);
+                    double global_dt_s, const services::RefinedGrid& refined, v1::LocalPatch* out);
 
 }  // namespace haptex::global_sim

@@ -27,6 +27,7 @@
 #include "libs/runtime/spsc_ring.h"
 #include "libs/scene/cloth_setup.h"
 #include "services/common/service_context.h"
+#include "services/common/refined_grid.h"
 #include "services/local_contact/contact_config.h"
 #include "services/local_contact/local_patch_runtime.h"
 #include "services/local_contact/patch_data.h"
@@ -55,7 +56,10 @@ int Run(services::ServiceContext& context, const Options& options) {
   const double rate_hz = options.rate_hz > 0 ? options.rate_hz
                          : loaded.scene.rates().local_hz() > 0 ? loaded.scene.rates().local_hz() : 1000.0;
   const scene::ClothSetup setup = scene::MakeClothSetup(loaded);
-  const int fabric_particles = setup.grid.particles_warp * setup.grid.particles_weft;
+  // Patch particle ids: the fabric's, and above them refined particles (model.patch_refinement).
+  const services::RefinedGrid refined = services::MakeRefinedGrid(
+      setup.grid.particles_warp, setup.grid.particles_weft, static_cast<int>(loaded.scene.model().patch_refinement()));
+  const int particle_id_space = static_cast<int>(refined.id_space());
   const contact::ContactOptions contact_options = ContactOptionsFromScene(loaded);
   const textile::StepOptions step = LocalStepOptions(loaded, rate_hz);
   const std::array<bool, 2> scene_fingers = SceneFingers(loaded);
@@ -84,7 +88,7 @@ int Run(services::ServiceContext& context, const Options& options) {
       }
       try {
         auto rt = BuildPatch(*slots[static_cast<std::size_t>(slot)], setup.material, setup.model_options,
-                             step, contact_options, fabric_particles);
+                             step, contact_options, particle_id_space);
         PatchRuntime* raw = rt.release();
         while (!built.TryPush(raw) && !stop_builder.load()) std::this_thread::sleep_for(std::chrono::microseconds(200));
       } catch (const std::exception&) {
@@ -157,7 +161,7 @@ int Run(services::ServiceContext& context, const Options& options) {
               ++patches_busy;
               return;
             }
-            if (slots[static_cast<std::size_t>(slot)]->CopyFrom(e.local_patch(), static_cast<std::uint32_t>(fabric_particles)) !=
+            if (slots[static_cast<std::size_t>(slot)]->CopyFrom(e.local_patch(), static_cast<std::uint32_t>(particle_id_space)) !=
                 PatchData::Copy::kOk) {
               ++patches_bad;
               free_slots.TryPush(slot);

@@ -13,7 +13,7 @@ std::unique_ptr<PatchRuntime> BuildPatch(const PatchData& data, const textile::F
                                          const textile::ModelOptions& model_options,
                                          const textile::StepOptions& step,
                                          const contact::ContactOptions& contact_options,
-                                         int fabric_particles) {
+                                         int particle_id_space) {
   const int n = data.num_particles;
   // Grid structure: u grows fastest; count the u values of the first row.
   int nu = 1;
@@ -52,7 +52,7 @@ std::unique_ptr<PatchRuntime> BuildPatch(const PatchData& data, const textile::F
   rt->patch_id = data.patch_id;
   rt->global_dt_s = data.global_dt_s;
   rt->global_id = data.ids;
-  rt->local_of_global.assign(static_cast<std::size_t>(fabric_particles), -1);
+  rt->local_of_global.assign(static_cast<std::size_t>(particle_id_space), -1);
   for (int p = 0; p < n; ++p) rt->local_of_global[data.ids[static_cast<std::size_t>(p)]] = p;
   rt->force_sum_W_N = Eigen::VectorXd::Zero(3 * n);
   std::array<int, 6> none{};

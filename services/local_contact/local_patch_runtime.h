@@ -20,7 +20,7 @@ struct PatchRuntime {
   std::uint64_t patch_id = 0;
   double global_dt_s = 0.0;
   std::vector<std::uint32_t> global_id;  ///< per patch particle
-  std::vector<int> local_of_global;      ///< per fabric particle: patch index or -1
+  std::vector<int> local_of_global;      ///< per particle id (fabric and refined): patch index or -1
   std::vector<std::array<int, 6>> triangles_of;  ///< per patch particle: triangles it is the first vertex of (-1: none)
   Eigen::VectorXd force_sum_W_N;         ///< contact force summed over the ticks since the last result
   int ticks_since_result = 0;
@@ -33,7 +33,7 @@ std::unique_ptr<PatchRuntime> BuildPatch(const PatchData& data, const textile::F
                                          const textile::ModelOptions& model_options,
                                          const textile::StepOptions& step,
                                          const contact::ContactOptions& contact_options,
-                                         int fabric_particles);
+                                         int particle_id_space);
 
 /// Carries the local state of `old` into `fresh` by particle id, so the hand-off applies no force
 /// step: positions and velocities of shared free particles (the local ones are newer), and each

@@ -24,7 +24,7 @@ struct Options {
   double rate_hz = 0;  // 0: the scene's display rate, else 500
 };
 
-tactile::PeriodicTile LoadOrBuildTile(const services::ServiceContext& context, const Options& options) {
+tactile::PeriodicTile LoadOrBuildTile(services::ServiceContext& context, const Options& options) {
   if (!options.tile.empty()) {
     try {
       return tactile::PeriodicTile::LoadFile(options.tile);
@@ -32,9 +32,12 @@ tactile::PeriodicTile LoadOrBuildTile(const services::ServiceContext& context, c
       throw std::invalid_argument("tile " + options.tile + ": " + e.what());
     }
   }
-  v1::Fabric fabric;
-  if (context.scene() != nullptr) fabric = context.scene()->fabric;
-  return scene::BuildVirtualFabric(fabric, options.surface).tile;
+  if (context.scene() == nullptr) return scene::BuildVirtualFabric(v1::Fabric(), options.surface).tile;
+  const v1::TactileSurface& from_scene = context.scene()->scene.tactile().surface();
+  if (!from_scene.source().citation().empty()) {
+    context.log().info("tactile: surface values from the scene: {}", from_scene.source().citation());
+  }
+  return scene::BuildVirtualFabric(context.scene()->fabric, scene::WithSceneSurface(from_scene, options.surface)).tile;
 }
 
 int Run(services::ServiceContext& context, const Options& options) {

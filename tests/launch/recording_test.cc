@@ -4,7 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <chrono>
 #include <filesystem>
+#include <thread>
 #include <fstream>
 
 #include "libs/net/messenger.h"
@@ -54,6 +57,38 @@ TEST(LaunchRecordingTest, RoundTripKeepsHeaderAndBodies) {
   EXPECT_EQ(EarliestSendTimeNs({r}), 1000);
 }
 
+TEST(LaunchRecordingTest, MessagesOfAnySizeAreKeptWholeAndInOrderAcrossWraps) {
+  const std::string path = testing::FreshDir("recording_sizes") + "/global_sim.pb";
+  // patch-sized, health-sized and in between; several times the ring in all, at a pace the writer
+  // (every 10 ms) keeps up with: nothing may be lost
+  const std::array<std::size_t, 3> sizes{150000, 40, 6000};
+  const int count = 3 * static_cast<int>(services::EnvelopeRecorder::kRingBytes / 150000);
+  {
+    services::EnvelopeRecorder recorder(path, "global_sim", 1, 1);
+    for (int i = 0; i < count; ++i) {
+      v1::Health h;
+      h.set_last_error(std::string(sizes[static_cast<std::size_t>(i) % 3], static_cast<char>('a' + i % 26)));
+      bool kept = recorder.Record(h, i);
+      for (int wait = 0; !kept && wait < 2000; ++wait) {  // only if the writer fell behind
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        kept = recorder.Record(h, i);
+      }
+      ASSERT_TRUE(kept) << "record " << i;
+      if (i % 20 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    EXPECT_EQ(recorder.recorded(), static_cast<std::uint64_t>(count));
+  }
+  const Recording r = ReadRecording(path);
+  ASSERT_EQ(r.envelopes.size(), static_cast<std::size_t>(count));
+  EXPECT_FALSE(r.truncated);
+  for (int i = 0; i < count; ++i) {
+    const v1::Envelope& e = r.envelopes[static_cast<std::size_t>(i)];
+    EXPECT_EQ(e.send_time_ns(), i);
+    ASSERT_EQ(e.health().last_error().size(), sizes[static_cast<std::size_t>(i) % 3]);
+    EXPECT_EQ(e.health().last_error().back(), static_cast<char>('a' + i % 26));
+  }
+}
+
 TEST(LaunchRecordingTest, RecordDoesNotAllocateAfterWarmUp) {
   if (!haptex::testing::AllocationCountingSupported()) GTEST_SKIP() << "allocation counting unsupported here";
   const std::string path = testing::FreshDir("recording_alloc") + "/r.pb";
@@ -70,13 +105,17 @@ TEST(LaunchRecordingTest, OversizedAndOverflowingMessagesAreDroppedAndCounted) {
   std::uint64_t accepted = 0;
   {
     services::EnvelopeRecorder recorder(path, "x", 1, 1);
-    v1::Health big;
-    big.set_last_error(std::string(services::EnvelopeRecorder::kSlotBytes, 'e'));
-    EXPECT_FALSE(recorder.Record(big, 1));
+    v1::Health too_big;
+    too_big.set_last_error(std::string(services::EnvelopeRecorder::kMaxRecordBytes, 'e'));
+    EXPECT_FALSE(recorder.Record(too_big, 1));
     EXPECT_EQ(recorder.dropped(), 1u);
-    // a burst larger than the ring, faster than the writer drains it, drops some and keeps the rest
-    const v1::Health h = MakeHealth(1);
-    for (std::size_t i = 0; i < 20 * services::EnvelopeRecorder::kSlots; ++i) accepted += recorder.Record(h, 2) ? 1 : 0;
+    // a burst of large messages (patch-sized) beyond the ring, faster than the writer drains it,
+    // drops some and keeps the rest whole, across the ring's wrap
+    v1::Health big;
+    big.set_last_error(std::string(100000, 'p'));
+    const std::size_t burst = 4 * services::EnvelopeRecorder::kRingBytes / 100000;
+    for (std::size_t i = 0; i < burst; ++i) accepted += recorder.Record(big, 2) ? 1 : 0;
+    EXPECT_GT(accepted, 0u);
     EXPECT_EQ(recorder.recorded(), accepted);
   }
   EXPECT_EQ(ReadRecording(path).envelopes.size(), accepted);

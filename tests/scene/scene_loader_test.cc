@@ -128,6 +128,28 @@ tactile { enabled: true }
   EXPECT_TRUE(Mentions(issues, "display_address"));
 }
 
+TEST_F(SceneLoaderTest, TactileSurfaceValuesNeedTheirSource) {
+  const auto issues = Refused(R"(name: "x"
+fabric { database_name: "test_cotton" }
+fingers { finger: FINGER_INDEX }
+device { mock {} }
+tactile { enabled: true mock_display: true
+  surface { pattern: PATTERN_KNIT warp_pitch_mm: 9 smd_um: 3 }
+}
+)");
+  EXPECT_TRUE(Mentions(issues, "surface values need their origin"));
+  EXPECT_TRUE(Mentions(issues, "warp_pitch_mm must be in [0.05, 5]"));
+  EXPECT_TRUE(Mentions(issues, "woven patterns"));
+  EXPECT_NO_THROW(ParseScene(R"(name: "x"
+fabric { database_name: "test_cotton" }
+fingers { finger: FINGER_INDEX }
+device { mock {} }
+tactile { enabled: true mock_display: true
+  surface { pattern: PATTERN_TWILL smd_um: 3 source { citation: "a paper" } }
+}
+)", "ok.textproto", db_));
+}
+
 TEST_F(SceneLoaderTest, MissingSceneFileIsAnError) {
   EXPECT_THROW(LoadScene("/nonexistent.textproto", db_), TextProtoError);
 }

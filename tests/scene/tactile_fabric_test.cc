@@ -39,6 +39,26 @@ TEST(TactileFabricTest, FabricValuesAndOverridesCombine) {
   EXPECT_THROW(TactileWeave(fabric, overrides), std::invalid_argument);
 }
 
+TEST(TactileFabricTest, HandValuesOverTheScenesOverTheFabrics) {
+  v1::Fabric fabric;
+  fabric.mutable_weave()->set_pattern(v1::Weave::PATTERN_PLAIN);
+  fabric.mutable_weave()->set_warp_pitch_mm(0.5);
+  fabric.mutable_weave()->set_yarn_diameter_mm(0.3);
+  v1::TactileSurface scene_surface;
+  scene_surface.set_pattern(v1::Weave::PATTERN_TWILL);
+  scene_surface.set_warp_pitch_mm(0.42);
+  scene_surface.set_weft_pitch_mm(0.64);
+  scene_surface.set_smd_um(3.5);
+  TactileSurfaceOverrides by_hand;
+  by_hand.smd_um = 5;
+  const tactile::WeaveParams weave = TactileWeave(fabric, WithSceneSurface(scene_surface, by_hand));
+  EXPECT_EQ(weave.pattern, tactile::WeavePattern::kTwill);
+  EXPECT_DOUBLE_EQ(weave.warp_pitch_m, 0.42e-3);
+  EXPECT_DOUBLE_EQ(weave.weft_pitch_m, 0.64e-3);
+  EXPECT_DOUBLE_EQ(weave.yarn_diameter_m, 0.3e-3);  // the fabric's: neither the scene nor the hand gives it
+  EXPECT_DOUBLE_EQ(weave.smd_um, 5.0);
+}
+
 TEST(TactileFabricTest, TileRepeatsWithTheThreadPitch) {
   v1::Fabric fabric;
   TactileSurfaceOverrides o;

@@ -1,9 +1,11 @@
 // Dual layer against a single-layer reference (issue 6): the same scripted pinch and stretch of a
 // hanging strip, once with the whole strip stepped at the local rate in one simulation, once
-// through the dual layer (global at 100 Hz, patches at 1 kHz with hand-offs). Final shape within
-// 2 mm RMS; the fingers' force within 10 % of the reference's peak at every tick. (Point by point
-// the dual layer's force runs 0.12-0.16 N above the reference during the pull: 21 % early in the
-// pull, 3.4 % at the end; the cause of that offset is not found yet. The test prints both.)
+// through the dual layer (global at 100 Hz, patches at 1 kHz with hand-offs), with the scenes'
+// default patch margin (15 mm). Final shape within 2 mm RMS; the fingers' force within 10 % of the
+// reference's at every tick once the pull has built a force, and within 10 % of its peak at every
+// tick. With a 5 mm margin the patch border (held where global_sim put it, a global step behind)
+// sits close to the pinch and the force runs up to 20 % above the reference early in the pull
+// (3 % at 15 mm, 0.5 % at 30 mm): the margin is an accuracy dial (bench/dual_layer sweep).
 
 #include <cmath>
 #include <cstdio>
@@ -21,7 +23,15 @@
 namespace haptex::local_contact {
 namespace {
 
-TEST(DualLayerConsistencyTest, MatchesSingleLayerReference) {
+struct Comparison {
+  double shape_rms_m = 0.0, largest_force_difference_N = 0.0, peak_reference_N = 0.0;
+  double pointwise_beyond_0p7N = 0.0;  // largest |dual - ref| / |ref| once |ref| > 0.7 N
+  int handoffs = 0;
+};
+
+// The scripted pinch and stretch through the dual layer (patches refined `refinement_levels`
+// times) and through the single-layer reference, both from a 2 mm strip.
+Comparison Compare(int refinement_levels, double patch_margin_m) {
   const textile::FabricMaterial material =
       textile::MaterialFromKes(textile::testing::CompositeDenim());
   contact::ContactOptions o;
@@ -36,36 +46,56 @@ TEST(DualLayerConsistencyTest, MatchesSingleLayerReference) {
   contact::PatchSimulation reference(std::move(ref_strip.model), std::move(ref_strip.state), local, o);
   testing::Strip dual_strip = testing::PinchStretchStrip(material, 0.002);
   testing::DualLayerHarness dual(material, std::move(dual_strip.model), std::move(dual_strip.state),
-                                 0.01, 0.001, o, 0.005);
+                                 0.01, 0.001, o, patch_margin_m, refinement_levels);
 
+  Comparison c;
   const double t_end = 2.5;
-  double worst_force = 0.0, peak_ref = 0.0, worst_abs = 0.0;
   for (int k = 1; k * 0.001 <= t_end + 1e-9; ++k) {
     const auto f = testing::PinchStretchFingers(k * 0.001, o);
     const contact::ContactOutput& a = reference.Tick(f[0], f[1]);
     const double fa = a.finger[0].force_W_N.z() + a.finger[1].force_W_N.z();
     const contact::ContactOutput& b = dual.Tick(f[0], f[1]);
     const double fb = b.finger[0].force_W_N.z() + b.finger[1].force_W_N.z();
-    peak_ref = std::max(peak_ref, std::abs(fa));
+    c.peak_reference_N = std::max(c.peak_reference_N, std::abs(fa));
     if (k % 250 == 0) {
-      std::printf("[dual] t %.2f s force ref %.4f N dual %.4f N, states %s %s\n", k * 0.001, fa, fb,
-                  contact::ToString(a.state), contact::ToString(b.state));
+      std::printf("[dual r%d] t %.2f s force ref %.4f N dual %.4f N, states %s %s\n", refinement_levels, k * 0.001,
+                  fa, fb, contact::ToString(a.state), contact::ToString(b.state));
     }
-    worst_abs = std::max(worst_abs, std::abs(fb - fa));
+    c.largest_force_difference_N = std::max(c.largest_force_difference_N, std::abs(fb - fa));
     // Once the pull has built a force (over 20 % of its final 3.6 N), compare point by point.
-    if (std::abs(fa) > 0.7) worst_force = std::max(worst_force, std::abs(fb - fa) / std::abs(fa));
+    if (std::abs(fa) > 0.7) c.pointwise_beyond_0p7N = std::max(c.pointwise_beyond_0p7N, std::abs(fb - fa) / std::abs(fa));
   }
   // The dual layer's fabric is its global state (patch results merged in).
   const Eigen::VectorXd& xa = reference.state().x_W_m;
   const Eigen::VectorXd& xb = dual.global_state().x_W_m;
-  const double rms = std::sqrt((xa - xb).squaredNorm() / (static_cast<double>(xa.size()) / 3.0));
-  std::printf("[dual] shape RMS %.3f mm, largest force difference %.3f N = %.2f %% of the peak %.3f N "
+  c.shape_rms_m = std::sqrt((xa - xb).squaredNorm() / (static_cast<double>(xa.size()) / 3.0));
+  c.handoffs = dual.handoffs();
+  std::printf("[dual r%d] shape RMS %.3f mm, largest force difference %.3f N = %.2f %% of the peak %.3f N "
               "(point by point, beyond 0.7 N: %.2f %%), %d hand-offs\n",
-              1e3 * rms, worst_abs, 100 * worst_abs / peak_ref, peak_ref, 100 * worst_force, dual.handoffs());
-  EXPECT_GT(peak_ref, 3.0);
-  EXPECT_GT(dual.handoffs(), 200);
-  EXPECT_LE(rms, 0.002);
-  EXPECT_LE(worst_abs, 0.10 * peak_ref);
+              refinement_levels, 1e3 * c.shape_rms_m, c.largest_force_difference_N,
+              100 * c.largest_force_difference_N / c.peak_reference_N, c.peak_reference_N,
+              100 * c.pointwise_beyond_0p7N, c.handoffs);
+  return c;
+}
+
+TEST(DualLayerConsistencyTest, MatchesSingleLayerReference) {
+  const Comparison c = Compare(0, 0.015);
+  EXPECT_GT(c.peak_reference_N, 3.0);
+  EXPECT_GT(c.handoffs, 200);
+  EXPECT_LE(c.shape_rms_m, 0.002);
+  EXPECT_LE(c.largest_force_difference_N, 0.10 * c.peak_reference_N);
+  EXPECT_LE(c.pointwise_beyond_0p7N, 0.10);
+}
+
+// Refined patches (1 mm cells on the 2 mm fabric): the local layer resolves the contact finer,
+// the result stays the same fabric's.
+TEST(DualLayerConsistencyTest, RefinedPatchesMatchSingleLayerReference) {
+  const Comparison c = Compare(1, 0.015);
+  EXPECT_GT(c.peak_reference_N, 3.0);
+  EXPECT_GT(c.handoffs, 200);
+  EXPECT_LE(c.shape_rms_m, 0.002);
+  EXPECT_LE(c.largest_force_difference_N, 0.10 * c.peak_reference_N);
+  EXPECT_LE(c.pointwise_beyond_0p7N, 0.10);
 }
 
 }  // namespace

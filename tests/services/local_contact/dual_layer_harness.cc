@@ -37,7 +37,7 @@ DualLayerHarness::DualLayerHarness(const textile::FabricMaterial& material,
                                    textile::FabricModel global_model,
                                    textile::FabricState global_state, double global_dt_s,
                                    double local_dt_s, const contact::ContactOptions& contact,
-                                   double patch_margin_m)
+                                   double patch_margin_m, int refinement_levels)
     : material_(material),
       global_model_(std::move(global_model)),
       global_state_(std::move(global_state)),
@@ -51,6 +51,8 @@ DualLayerHarness::DualLayerHarness(const textile::FabricMaterial& material,
       local_dt_s_(local_dt_s),
       contact_(contact),
       margin_m_(patch_margin_m),
+      refined_(services::MakeRefinedGrid(global_model_.mesh.particles_warp(), global_model_.mesh.particles_weft(),
+                                         refinement_levels)),
       ticks_per_global_(static_cast<int>(std::lround(global_dt_s / local_dt_s))) {
   merged_.reserve(static_cast<std::size_t>(global_model_.num_particles));
 }
@@ -65,6 +67,7 @@ void DualLayerHarness::GlobalStep(const contact::FingerInput& thumb, const conta
     FillPatchResult(0, patch_.get(), &result_message_);
     for (int k = 0; k < result_message_.particle_ids_size(); ++k) {
       const int p = static_cast<int>(result_message_.particle_ids(k));
+      if (p >= global_model_.num_particles) continue;  // refined: the local layer's own detail
       if (global_state_.mode[static_cast<std::size_t>(p)] != textile::ParticleMode::kFree) continue;
       for (int c = 0; c < 3; ++c) global_state_.x_W_m[3 * p + c] = result_message_.position_w_m(3 * k + c);
       global_state_.Fix(p);
@@ -85,9 +88,9 @@ void DualLayerHarness::GlobalStep(const contact::FingerInput& thumb, const conta
   const global_sim::PatchRect rect = global_sim::FindPatchRect(global_model_, global_state_, spheres);
   if (rect.empty()) return;
   rect_ = rect;
-  global_sim::FillLocalPatch(global_model_, global_state_, rect, ++patch_id_, 0, global_dt_s_, &patch_message_);
-  PatchData data(4096);
-  if (data.CopyFrom(patch_message_, static_cast<std::uint32_t>(global_model_.num_particles)) != PatchData::Copy::kOk) {
+  global_sim::FillLocalPatch(global_model_, global_state_, rect, ++patch_id_, 0, global_dt_s_, refined_, &patch_message_);
+  PatchData data(patch_message_.particle_ids_size());
+  if (data.CopyFrom(patch_message_, refined_.id_space()) != PatchData::Copy::kOk) {
     return;
   }
   textile::StepOptions local_step;
@@ -95,7 +98,8 @@ void DualLayerHarness::GlobalStep(const contact::FingerInput& thumb, const conta
   local_step.cg_tolerance = 1e-3;
   local_step.cg_max_iterations = 100;
   local_step.preconditioner = textile::Preconditioner::kBlockJacobi;
-  auto fresh = BuildPatch(data, material_, global_model_.options, local_step, contact_, global_model_.num_particles);
+  auto fresh = BuildPatch(data, material_, global_model_.options, local_step, contact_,
+                          static_cast<int>(refined_.id_space()));
   if (patch_) {
     if (carry_over_) HandOff(*patch_, fresh.get());
     ++handoffs_;

@@ -12,6 +12,7 @@
 #include "libs/textile/fabric_model.h"
 #include "libs/textile/fabric_state.h"
 #include "libs/textile/fabric_stepper.h"
+#include "services/common/refined_grid.h"
 #include "services/global_sim/patch_cutter.h"
 #include "services/local_contact/local_patch_runtime.h"
 
@@ -31,7 +32,8 @@ class DualLayerHarness {
  public:
   DualLayerHarness(const textile::FabricMaterial& material, textile::FabricModel global_model,
                    textile::FabricState global_state, double global_dt_s, double local_dt_s,
-                   const contact::ContactOptions& contact, double patch_margin_m);
+                   const contact::ContactOptions& contact, double patch_margin_m,
+                   int refinement_levels = 0);
 
   /// One local tick with the fingers' poses at its end; every global_dt a global step, a new cut
   /// and a hand-off. Returns the contact output of the tick (state I with no patch yet).
@@ -53,6 +55,7 @@ class DualLayerHarness {
   double global_dt_s_, local_dt_s_;
   contact::ContactOptions contact_;
   double margin_m_;
+  services::RefinedGrid refined_;
   int ticks_per_global_;
   int tick_ = 0;
   int handoffs_ = 0;
