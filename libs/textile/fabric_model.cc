@@ -56,7 +56,7 @@ std::array<int, 9> Slots(const BlockPattern& pattern, const std::array<int, 3>& 
 FabricModel BuildFabricModel(const FabricMaterial& material, const GridSpec& grid,
                              const ModelOptions& options) {
   ValidateInputs(material, options);
-  FabricModel model{GridMesh(grid), material, options, 0, {}, {}, {}, {}, {}, {}, {}};
+  FabricModel model{GridMesh(grid), material, options, 0, {}, {}, {}, {}, {}, {}, {}, {}};
   const GridMesh& mesh = model.mesh;
   const int n = mesh.num_particles();
   model.num_particles = n;
@@ -119,8 +119,22 @@ FabricModel BuildFabricModel(const FabricMaterial& material, const GridSpec& gri
     pairs.emplace_back(e.p[0], e.p[2]);
   }
   model.pattern = BlockPattern::FromPairs(n, pairs);
+  // Off-diagonal blocks no triangle touches hold bending only (lambda alpha_k alpha_l I, two
+  // particles apart on a grid line): moved to the end of their row, read as scalars by the
+  // product.
+  const auto scalar_blocks = [&model] {
+    std::vector<unsigned char> is_scalar(model.pattern.cols.size(), 1);
+    for (int slot : model.pattern.diag_slot) is_scalar[static_cast<std::size_t>(slot)] = 0;
+    for (const auto& e : model.triangles) {
+      for (int slot : Slots(model.pattern, e.p)) is_scalar[static_cast<std::size_t>(slot)] = 0;
+    }
+    return is_scalar;
+  };
+  model.pattern.MoveToRowEnds(scalar_blocks());
+  const std::vector<unsigned char> is_scalar = scalar_blocks();
   for (const auto& e : model.triangles) model.triangle_slots.push_back(Slots(model.pattern, e.p));
   for (const auto& e : model.bends) model.bend_slots.push_back(Slots(model.pattern, e.p));
+  model.product_rows = SplitRows::FromPattern(model.pattern, is_scalar);
   return model;
 }
 

@@ -62,6 +62,9 @@ struct FabricModel {
   BlockPattern pattern;
   std::vector<std::array<int, 9>> triangle_slots;  ///< block slot of (p_k, p_l), k*3+l
   std::vector<std::array<int, 9>> bend_slots;
+  /// The pattern split for the system product: blocks only bending couples (two particles apart
+  /// on a grid line) are a constant scalar times I.
+  SplitRows product_rows;
 };
 
 /// Builds a model. @throws std::invalid_argument for bad options (negative damping, NaN gravity,

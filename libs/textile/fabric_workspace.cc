@@ -9,6 +9,7 @@ FabricWorkspace::FabricWorkspace(const FabricModel& model) : multilevel(model) {
   }
   system.assign(static_cast<std::size_t>(model.pattern.num_blocks()), Eigen::Matrix3d::Zero());
   system_base = system;
+  system_scalars.assign(model.product_rows.scalar_slot.size(), 0.0);
   stiffness_row = Eigen::VectorXd::Zero(model.num_particles);
   precond.assign(static_cast<std::size_t>(model.num_particles), Eigen::Matrix3d::Zero());
 }

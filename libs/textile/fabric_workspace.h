@@ -21,6 +21,9 @@ struct FabricWorkspace {
   /// Constant part of `system` (mass, bending, linear drag) for step system_base_dt_s of
   /// system_base_model; rebuilt when either changes.
   std::vector<Eigen::Matrix3d> system_base;
+  /// Values of the scalar blocks of `system_base` (model.product_rows order): the product reads
+  /// them instead of the 3x3 blocks (no step changes them).
+  std::vector<double> system_scalars;
   double system_base_dt_s = 0.0;
   const FabricModel* system_base_model = nullptr;
   Eigen::VectorXd rhs, dv, dv0, r, c, q, s;  ///< 3n CG vectors (dv0: initial guess)

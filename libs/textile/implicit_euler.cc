@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 
 #include "libs/textile/anchor_spring_force.h"
+#include "libs/textile/check.h"
 #include "libs/textile/fabric_forces.h"
 
 namespace haptex::textile {
@@ -15,11 +16,13 @@ bool IsFree(const FabricState& s, int p) {
   return s.mode[static_cast<std::size_t>(p)] == ParticleMode::kFree;
 }
 
-// y = filter(A x).
-void FilteredMultiply(const FabricModel& model, const FabricState& state,
-                      const std::vector<Eigen::Matrix3d>& a, const Eigen::VectorXd& x,
-                      Eigen::VectorXd* y) {
-  MultiplyBlockRows(model.pattern, a, [&state](int r) { return IsFree(state, r); }, x, y);
+// y = filter(A x), with A = ws->system (its bend-only blocks read as ws->system_scalars);
+// returns x . y.
+double FilteredMultiply(const FabricModel& model, const FabricState& state,
+                        const FabricWorkspace& ws, const Eigen::VectorXd& x, Eigen::VectorXd* y) {
+  const ParticleMode* mode = state.mode.data();
+  return MultiplySplitRows(model.product_rows, ws.system, ws.system_scalars,
+                    [mode](int r) { return mode[r] == ParticleMode::kFree; }, x, y);
 }
 
 // y = P^-1 x for free particles, 0 for constrained ones.
@@ -76,7 +79,7 @@ bool RunPcg(const FabricModel& model, const FabricState& state, const StepOption
     return false;
   }
   if (!(delta0 > 0.0)) return true;
-  FilteredMultiply(model, state, ws->system, ws->dv, &ws->q);
+  FilteredMultiply(model, state, *ws, ws->dv, &ws->q);
   for (int p = 0; p < n; ++p) {
     if (IsFree(state, p)) {
       ws->r.segment<3>(3 * p) = ws->rhs.segment<3>(3 * p) - ws->q.segment<3>(3 * p);
@@ -90,15 +93,22 @@ bool RunPcg(const FabricModel& model, const FabricState& state, const StepOption
   bool breakdown = !(delta >= 0.0);
   int it = 0;
   while (!breakdown && delta > eps2 * delta0 && it < options.cg_max_iterations) {
-    FilteredMultiply(model, state, ws->system, ws->c, &ws->q);
-    const double cq = ws->c.dot(ws->q);
+    const double cq = FilteredMultiply(model, state, *ws, ws->c, &ws->q);
     if (!(cq > 0.0)) {
       breakdown = true;
       break;
     }
     const double alpha = delta / cq;
-    ws->dv += alpha * ws->c;
-    ws->r -= alpha * ws->q;
+    {
+      double* dv = ws->dv.data();
+      double* r = ws->r.data();
+      const double* c = ws->c.data();
+      const double* q = ws->q.data();
+      for (Eigen::Index i = 0; i < ws->r.size(); ++i) {
+        dv[i] += alpha * c[i];
+        r[i] -= alpha * q[i];
+      }
+    }
     Precondition(model, state, o, ws, ws->r, &ws->s);
     const double delta_old = delta;
     delta = ws->r.dot(ws->s);
@@ -141,6 +151,12 @@ CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options,
     sink.system = &ws->system_base;
     AddConstantJacobians(model, &sink);
     sink.system = &ws->system;
+    const SplitRows& split = model.product_rows;
+    for (std::size_t k = 0; k < split.scalar_slot.size(); ++k) {
+      const Eigen::Matrix3d& b = ws->system_base[static_cast<std::size_t>(split.scalar_slot[k])];
+      HAPTEX_TEXTILE_DEMAND(b == b(0, 0) * Eigen::Matrix3d::Identity());  // bending only
+      ws->system_scalars[k] = b(0, 0);
+    }
     ws->system_base_model = &model;
     ws->system_base_dt_s = h;
   }

@@ -143,20 +143,53 @@ void MultilevelPreconditioner::Update(const FabricModel& model, const FabricStat
   }
 }
 
-void MultilevelPreconditioner::Multiply(std::size_t level, const Eigen::VectorXd& x,
-                                        Eigen::VectorXd* y) const {
-  const unsigned char* active = levels_[level].active.data();
-  MultiplyBlockRows(Pattern(level), Blocks(level), [active](int r) { return active[r] != 0; }, x, y);
+// z += D^-1 (r - A z), in one pass over the rows (the new z goes to t, then z and t swap).
+void MultilevelPreconditioner::Smooth(std::size_t level) {
+  Level& l = levels_[level];
+  const BlockPattern& pat = Pattern(level);
+  const Eigen::Matrix3d* blocks = Blocks(level).data();
+  const int* row_start = pat.row_start.data();
+  const int* cols = pat.cols.data();
+  const double* z = l.z.data();
+  const double* r = l.r.data();
+  double* out = l.t.data();
+  for (int p = 0; p < l.n; ++p) {
+    const std::size_t ps = static_cast<std::size_t>(p);
+    if (!l.active[ps]) {
+      out[3 * p] = z[3 * p];
+      out[3 * p + 1] = z[3 * p + 1];
+      out[3 * p + 2] = z[3 * p + 2];
+      continue;
+    }
+    double acc[3] = {0.0, 0.0, 0.0};
+    AccumulateBlockRow(blocks, cols, row_start[p], row_start[p + 1], z, acc);
+    const Eigen::Vector3d res(r[3 * p] - acc[0], r[3 * p + 1] - acc[1], r[3 * p + 2] - acc[2]);
+    Eigen::Map<Eigen::Vector3d>(out + 3 * p) = l.z.segment<3>(3 * p) + l.d_inv[ps] * res;
+  }
+  l.z.swap(l.t);
 }
 
-// z += D^-1 (r - A z).
-void MultilevelPreconditioner::Smooth(std::size_t level, const Eigen::VectorXd& r,
-                                      Eigen::VectorXd* z, Eigen::VectorXd* t) const {
+// Restricts the residual r - A z of level k to level k + 1 (c.r = P^T (r - A z)), one pass.
+void MultilevelPreconditioner::RestrictResidual(std::size_t level) {
   const Level& l = levels_[level];
-  Multiply(level, *z, t);
+  Level& c = levels_[level + 1];
+  const BlockPattern& pat = Pattern(level);
+  const Eigen::Matrix3d* blocks = Blocks(level).data();
+  const int* row_start = pat.row_start.data();
+  const int* cols = pat.cols.data();
+  const double* z = l.z.data();
+  const double* r = l.r.data();
+  double* cr = c.r.data();
+  c.r.setZero();
   for (int p = 0; p < l.n; ++p) {
-    z->segment<3>(3 * p) +=
-        l.d_inv[static_cast<std::size_t>(p)] * (r.segment<3>(3 * p) - t->segment<3>(3 * p));
+    const std::size_t ps = static_cast<std::size_t>(p);
+    if (!l.active[ps]) continue;
+    double acc[3] = {0.0, 0.0, 0.0};
+    AccumulateBlockRow(blocks, cols, row_start[p], row_start[p + 1], z, acc);
+    double* dst = cr + 3 * l.to_coarse[ps];
+    dst[0] += r[3 * p] - acc[0];
+    dst[1] += r[3 * p + 1] - acc[1];
+    dst[2] += r[3 * p + 2] - acc[2];
   }
 }
 
@@ -185,17 +218,10 @@ void MultilevelPreconditioner::Cycle(std::size_t k) {
   for (int p = 0; p < l.n; ++p) {
     l.z.segment<3>(3 * p).noalias() = l.d_inv[static_cast<std::size_t>(p)] * l.r.segment<3>(3 * p);
   }
-  Multiply(k, l.z, &l.t);
-  Level& c = levels_[k + 1];
-  c.r.setZero();
-  for (int p = 0; p < l.n; ++p) {
-    if (!l.active[static_cast<std::size_t>(p)]) continue;
-    c.r.segment<3>(3 * l.to_coarse[static_cast<std::size_t>(p)]) +=
-        l.r.segment<3>(3 * p) - l.t.segment<3>(3 * p);
-  }
+  RestrictResidual(k);
   Cycle(k + 1);
   Prolong(k, &l.z);
-  Smooth(k, l.r, &l.z, &l.t);
+  Smooth(k);
 }
 
 // z += P z_coarse (piecewise constant over each aggregate).

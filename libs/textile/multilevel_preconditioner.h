@@ -46,8 +46,8 @@ class MultilevelPreconditioner {
   const std::vector<Eigen::Matrix3d>& Blocks(std::size_t k) const {
     return k == 0 ? *fine_blocks_ : levels_[k].a;
   }
-  void Multiply(std::size_t k, const Eigen::VectorXd& x, Eigen::VectorXd* y) const;
-  void Smooth(std::size_t k, const Eigen::VectorXd& r, Eigen::VectorXd* z, Eigen::VectorXd* t) const;
+  void Smooth(std::size_t k);
+  void RestrictResidual(std::size_t k);
   void Prolong(std::size_t k, Eigen::VectorXd* z) const;
   void Cycle(std::size_t k);
 

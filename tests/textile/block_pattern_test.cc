@@ -1,5 +1,7 @@
 #include "libs/textile/block_pattern.h"
 
+#include <random>
+
 #include <gtest/gtest.h>
 
 namespace haptex::textile {
@@ -19,6 +21,52 @@ TEST(BlockPatternTest, SymmetricSortedWithDiagonal) {
   }
   EXPECT_EQ(dut.cols[static_cast<std::size_t>(dut.Slot(2, 0))], 0);
   EXPECT_EQ(dut.cols[static_cast<std::size_t>(dut.Slot(0, 2))], 2);
+}
+
+TEST(BlockPatternTest, MovedBlocksGoToTheRowEndsAndTheSplitProductAgrees) {
+  // Rows: 0 -> {0, 1, 2}; 1 -> {0, 1, 3}; 2 -> {0, 2, 3}; 3 -> {1, 2, 3}. Blocks (0, 2), (2, 0),
+  // (1, 3), (3, 1) are scalar.
+  BlockPattern dut = BlockPattern::FromPairs(4, {{0, 1}, {0, 2}, {1, 3}, {2, 3}});
+  const auto scalar = [&dut](int r, int k) {
+    const int c = dut.cols[static_cast<std::size_t>(k)];
+    return (r == 0 && c == 2) || (r == 2 && c == 0) || (r == 1 && c == 3) || (r == 3 && c == 1);
+  };
+  const auto marks = [&dut, &scalar] {
+    std::vector<unsigned char> m(dut.cols.size(), 0);
+    for (int r = 0; r < dut.rows(); ++r) {
+      const auto row = static_cast<std::size_t>(r);
+      for (int k = dut.row_start[row]; k < dut.row_start[row + 1]; ++k) {
+        m[static_cast<std::size_t>(k)] = scalar(r, k) ? 1 : 0;
+      }
+    }
+    return m;
+  };
+  dut.MoveToRowEnds(marks());
+  // Row 0 is now {0, 1, 2}: the scalar block last; row 2 is {2, 3, 0}.
+  EXPECT_EQ(dut.cols[static_cast<std::size_t>(dut.row_start[2])], 2);
+  EXPECT_EQ(dut.Slot(2, 0), dut.row_start[3] - 1);
+  for (int r = 0; r < 4; ++r) {
+    EXPECT_EQ(dut.cols[static_cast<std::size_t>(dut.diag_slot[static_cast<std::size_t>(r)])], r);
+  }
+  const std::vector<unsigned char> is_scalar = marks();
+  const SplitRows split = SplitRows::FromPattern(dut, is_scalar);
+  std::mt19937 rng(3);
+  std::normal_distribution<double> normal;
+  std::vector<Eigen::Matrix3d> blocks(dut.cols.size());
+  std::vector<double> scalars;
+  for (std::size_t k = 0; k < blocks.size(); ++k) {
+    for (int i = 0; i < 9; ++i) blocks[k](i / 3, i % 3) = normal(rng);
+    if (is_scalar[k]) blocks[k] = blocks[k](0, 0) * Eigen::Matrix3d::Identity();
+  }
+  for (int slot : split.scalar_slot) scalars.push_back(blocks[static_cast<std::size_t>(slot)](0, 0));
+  Eigen::VectorXd x(12), y_ref(12), y(12);
+  for (int i = 0; i < 12; ++i) x[i] = normal(rng);
+  const auto active = [](int r) { return r != 1; };
+  MultiplyBlockRows(dut, blocks, active, x, &y_ref);
+  const double xy = MultiplySplitRows(split, blocks, scalars, active, x, &y);
+  EXPECT_LT((y - y_ref).norm(), 1e-12 * y_ref.norm());
+  EXPECT_EQ(y.segment<3>(3).norm(), 0.0);
+  EXPECT_NEAR(xy, x.dot(y_ref), 1e-12 * y_ref.norm() * x.norm());
 }
 
 TEST(BlockPatternDeathTest, MissingBlockIsABug) {
