@@ -11,7 +11,11 @@ FingerFabricContact::FingerFabricContact(const Eigen::VectorXd& particle_area_m2
     : shape_(shape),
       radius_eff_m_(shape.radius_m + options.fabric_half_thickness_m),
       k_N_per_m_(options.pad_stiffness_N_per_m3 * particle_area_m2),
-      particles_(static_cast<std::size_t>(particle_area_m2.size())) {}
+      particles_(static_cast<std::size_t>(particle_area_m2.size())),
+      slot_particle_(static_cast<std::size_t>(particle_area_m2.size()), 0),
+      slot_free_W_(3, particle_area_m2.size()),
+      slot_spring_W_N_(3, particle_area_m2.size()),
+      slot_ratio_(particle_area_m2.size()) {}
 
 void FingerFabricContact::Reset() {
   for (auto& c : particles_) c = ParticleContact{};
@@ -29,6 +33,13 @@ void FingerFabricContact::Prepare(const FingerPose& pose, const textile::FabricS
   const Segment seg = CapsuleSegment(shape_, pose);
   const Eigen::Vector3d pad_normal = pose.R_WF.col(2);
   const double reach = radius_eff_m_ + 0.5 * shape_.length_m;
+  bool was_sliding = false;
+  for (const auto& c : particles_) was_sliding = was_sliding || (c.active && c.sliding);
+
+  // Contacts, with their held points carried along by the finger (the trial of a stick).
+  Eigen::Vector3d normal_resultant_W_N = Eigen::Vector3d::Zero();
+  Eigen::Vector3d friction_W_N = Eigen::Vector3d::Zero();
+  int m = 0;
   const int n = static_cast<int>(particles_.size());
   for (int p = 0; p < n; ++p) {
     ParticleContact& c = particles_[static_cast<std::size_t>(p)];
@@ -51,15 +62,58 @@ void FingerFabricContact::Prepare(const FingerPose& pose, const textile::FabricS
       c.active = true;
       c.anchor_W = q.surface_W;
     } else {
-      // The held point moved with the finger; Coulomb decides whether it stays there.
-      const StickSlipResult s = UpdateStickSlip(pose.ToWorld(c.held_F), q.surface_W, k_N_per_m_[p],
-                                                c.normal_N, mu, c.sliding);
-      c.sliding = s.sliding;
-      // The held point stays on the curved surface.
-      c.anchor_W = ProjectOntoCapsule(seg, radius_eff_m_, s.held_W, q.normal_W);
+      c.anchor_W = pose.ToWorld(c.held_F);  // on the surface: the capsule moved with F
+    }
+    c.normal_W = q.normal_W;
+    const double k = k_N_per_m_[p];
+    const double normal_N = k * q.depth_m;
+    const Eigen::Vector3d spring_W_N = k * (q.surface_W - c.anchor_W);
+    const std::size_t j = static_cast<std::size_t>(m);
+    slot_particle_[j] = p;
+    slot_free_W_.col(m) = q.surface_W;
+    slot_spring_W_N_.col(m) = spring_W_N;
+    slot_ratio_[m] = spring_W_N.norm() / normal_N;
+    normal_resultant_W_N += normal_N * q.normal_W;
+    friction_W_N += spring_W_N;
+    ++m;
+  }
+
+  // Coulomb's law for the finger: stick, break away at mu_s, slide at mu_d, stick again.
+  const FingerConeLoad load = FingerCone(normal_resultant_W_N, friction_W_N);
+  bool sliding = was_sliding;
+  double mu_target = -1.0;  // < 0: the held points stay
+  if (!(load.normal_N > 0.0)) {
+    mu_target = 0.0;  // no normal force, no friction
+  } else if (!was_sliding) {
+    if (load.tangential_N > mu.mu_static * load.normal_N) {
+      sliding = true;
+      mu_target = mu.mu_static;  // the force breaks away at the static limit
+    }
+  } else if (load.tangential_N <= mu.mu_dynamic * load.normal_N * (1.0 + 1e-9)) {
+    // Sliding needs no more than mu_d F^N: the motion stopped or turned. The relative tolerance
+    // keeps a contact that slid to exactly mu_d F^N and stopped from sliding on through rounding.
+    sliding = false;
+  } else {
+    mu_target = mu.mu_dynamic;
+  }
+  const double shared_mu =
+      mu_target < 0.0 ? 0.0
+                      : SharedSlipCoefficient(normal_resultant_W_N, slot_spring_W_N_.leftCols(m),
+                                              slot_ratio_.head(m), mu_target);
+
+  for (int j = 0; j < m; ++j) {
+    const int p = slot_particle_[static_cast<std::size_t>(j)];
+    ParticleContact& c = particles_[static_cast<std::size_t>(p)];
+    const double ratio = slot_ratio_[j];
+    if (mu_target >= 0.0 && ratio > shared_mu) {
+      // Slide between the old and the desired point, and stay on the curved surface.
+      const double keep = shared_mu / ratio;
+      const Eigen::Vector3d between =
+          slot_free_W_.col(j) - (keep / k_N_per_m_[p]) * slot_spring_W_N_.col(j);
+      c.anchor_W = ProjectOntoCapsule(seg, radius_eff_m_, between, c.normal_W);
     }
     c.held_F = pose.ToFinger(c.anchor_W);
-    c.normal_W = q.normal_W;
+    c.sliding = sliding;
     springs->Add(p, k_N_per_m_[p], c.anchor_W);
   }
 }

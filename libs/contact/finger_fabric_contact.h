@@ -1,8 +1,21 @@
 #pragma once
 // States IV-VII (paper 5.3): one finger on the fabric. Every particle that enters the finger gets
-// an inverted proxy: a spring to a held point on the finger's surface that moves with the finger
-// and sticks or slides along the curved surface by Coulomb's law (per particle). The force on the
-// finger is F = sum_i k_i (x_i - x_i^E).
+// an inverted proxy: a spring to a held point on the finger's surface that moves with the finger.
+// The force on the finger is F^d = sum_i k_i (x_i - x_i^E).
+//
+// Friction is decided for the finger as a whole (the god-object proxy of 5.3 sticks or slides;
+// Table 1 makes static/dynamic a state of the finger; Fig. 9 plots F^T/F^N of F^d): the paper's
+// stick condition F^T < mu_s F^N is checked on F^d (FingerCone in coulomb_friction.h). While it
+// holds, every held point stays where it is on the finger. When it fails, the held points slip
+// together, each between its old and its desired point on the curved surface as in the paper's
+// Fig. 5, with one Coulomb coefficient for all (SharedSlipCoefficient): in the break-away tick
+// to F^T = mu_s F^N, then to mu_d F^N while the finger slides, until sliding needs no more than
+// mu_d F^N (the finger stopped or turned) and the contact sticks again.
+//
+// Why not per particle (the paper's text): pressing the finger in stretches the fabric over the
+// pad, so the held points carry radial loads before the rub, and the rim's particles carry little
+// normal force; per-particle stick-slip lets them slip one after another, and the finger's F^T/F^N
+// never got above 0.23-0.26 for mu_s = 0.4 instead of the figure's 0.4.
 
 #include <cstdint>
 #include <vector>
@@ -37,10 +50,12 @@ class FingerFabricContact {
                       const ContactOptions& options);
 
   /// Before the fabric step, with the finger's pose at the end of the step: starts contacts for
-  /// particles inside the finger, drops those now outside, applies Coulomb's law to each held
-  /// point (the finger moved; its particles stick or slide along the curved surface, with the
-  /// normal force of the last step) and adds a spring per contact particle to `springs`.
-  /// Particles with `excluded[p]` (the pinch owns them) and prescribed particles are skipped.
+  /// particles inside the finger, drops those now outside, applies Coulomb's law to the finger
+  /// (the held points moved with it; with the particles where the last step left them, the finger
+  /// sticks or its held points slide along the curved surface) and adds a spring per contact
+  /// particle to `springs`. Particles with `excluded[p]` (the pinch owns them) and prescribed
+  /// particles are skipped. The finger slides if any of its contacts is marked sliding (all are
+  /// marked alike, so a patch hand-off that copies ParticleContact keeps the finger's state).
   void Prepare(const FingerPose& pose, const textile::FabricState& state,
                const std::vector<std::uint8_t>& excluded, const FrictionCoefficients& mu,
                AnchorAccumulator* springs);
@@ -57,7 +72,7 @@ class FingerFabricContact {
   /// Held point of particle p in the finger frame, and whether it slides (for patch hand-off).
   struct ParticleContact {
     bool active = false;
-    bool sliding = false;
+    bool sliding = false;  ///< the finger's friction state (the same for all its contacts)
     Eigen::Vector3d held_F{Eigen::Vector3d::Zero()};
     Eigen::Vector3d anchor_W{Eigen::Vector3d::Zero()};  ///< spring end during the last step
     Eigen::Vector3d normal_W{Eigen::Vector3d::UnitZ()};
@@ -73,6 +88,11 @@ class FingerFabricContact {
   double radius_eff_m_;
   Eigen::VectorXd k_N_per_m_;  ///< per particle
   std::vector<ParticleContact> particles_;
+  // Scratch of Prepare, one column/entry per contact (sized once: no allocation per tick).
+  std::vector<int> slot_particle_;
+  Eigen::Matrix3Xd slot_free_W_;     ///< where the particle meets the surface
+  Eigen::Matrix3Xd slot_spring_W_N_;  ///< k_i s_i: friction spring, held point carried along
+  Eigen::VectorXd slot_ratio_;        ///< k_i |s_i| / F_i^N
 };
 
 }  // namespace haptex::contact

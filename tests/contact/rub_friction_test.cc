@@ -1,13 +1,13 @@
-// Paper Fig. 9: an artificial user presses a finger onto a fabric (a patch held taut in a frame)
-// and rubs it. F_T/F_N stays below mu_s while the contact sticks, holds mu_d while it slides, and
-// the contact sticks again when the finger stops.
+// Paper Fig. 9 and issue 5: an artificial user presses a finger onto a fabric (a patch held taut
+// in a frame) and rubs it. The finger's F_T/F_N (of the force the device gets) stays below mu_s
+// while the contact sticks, peaks within mu_s +- 5 % ([0.38, 0.42] for mu_s = 0.4) when it breaks
+// away, holds mu_d +- 0.02 while it slides, and the contact sticks again when the finger stops.
+// For several coefficient pairs.
 //
-// Known deviation from the paper's figure (and issue 5's [0.38, 0.42] peak): the finger-level
-// peak before gross slip is 0.22-0.26 for mu_s = 0.4, not 0.4. Pressing the finger into the
-// fabric stretches it under the pad, so each particle's friction spring already carries a radial
-// load near mu_d when the rub begins; the particles then reach mu_s one after another (partial
-// slip) instead of all at once. The per-contact law peaks at exactly mu_s (coulomb_friction_test,
-// finger_finger_contact_test). This test prints the finger-level peak and bounds it.
+// This holds because friction is decided for the finger as a whole (finger_fabric_contact.h).
+// With per-particle stick-slip (before issue 5's fix) the peak was 0.23 for mu_s = 0.4: pressing
+// pre-loads the held points radially and the lightly loaded rim slips first, so the particles
+// slipped one after another and the finger never reached mu_s.
 
 #include <algorithm>
 #include <cmath>
@@ -71,14 +71,25 @@ class RubFrictionTest : public ::testing::TestWithParam<RubCase> {};
 TEST_P(RubFrictionTest, StickSlideStick) {
   const RubCase c = GetParam();
   const RubTrace tr = RunRub(c, true);
-  double stick_max = 0.0, peak = 0.0, slip_t = -1.0;
+  double stick_max = 0.0, slip_t = -1.0, peak = 0.0, peak_t = -1.0, rub_max = 0.0;
   double slide_min = 1e9, slide_max = 0.0, slide_friction_min = 1e9, slide_friction_max = 0.0;
   for (std::size_t i = 0; i < tr.t.size(); ++i) {
     const double t = tr.t[i];
     if (t <= kRubStart || t >= kRubEnd) continue;
-    peak = std::max(peak, tr.ratio[i]);
-    if (slip_t < 0.0 && tr.state[i] == ContactState::kV) slip_t = t;
+    rub_max = std::max(rub_max, tr.ratio[i]);
+    if (slip_t < 0.0 && tr.state[i] == ContactState::kV) {
+      slip_t = t;
+      for (std::size_t j = i > 3 ? i - 3 : 0; j < std::min(tr.t.size(), i + 4); ++j) {
+        std::printf("[fig9]   t %.3f s state %-2s F_T/F_N %.4f\n", tr.t[j], ToString(tr.state[j]),
+                    tr.ratio[j]);
+      }
+    }
     if (slip_t < 0.0) stick_max = std::max(stick_max, tr.ratio[i]);
+    // The peak: the largest ratio up to 20 ms after the contact turned dynamic.
+    if ((slip_t < 0.0 || t <= slip_t + 0.02) && tr.ratio[i] > peak) {
+      peak = tr.ratio[i];
+      peak_t = t;
+    }
     if (slip_t > 0.0 && t > slip_t + 0.2) {
       EXPECT_EQ(tr.state[i], ContactState::kV) << "t " << t;
       slide_min = std::min(slide_min, tr.ratio[i]);
@@ -87,24 +98,29 @@ TEST_P(RubFrictionTest, StickSlideStick) {
       slide_friction_max = std::max(slide_friction_max, tr.friction_ratio[i]);
     }
   }
-  std::printf("[fig9] mu_s %.2f mu_d %.2f: stick max %.3f, peak %.3f, slip at %.3f s, sliding %.3f..%.3f "
-              "(contact-level %.3f..%.3f)\n",
-              c.mu_s, c.mu_d, stick_max, peak, slip_t, slide_min, slide_max, slide_friction_min,
-              slide_friction_max);
+  std::printf("[fig9] mu_s %.2f mu_d %.2f: stick max %.3f, peak %.3f at %.3f s, slip at %.3f s, "
+              "sliding %.3f..%.3f (contact-level %.3f..%.3f)\n",
+              c.mu_s, c.mu_d, stick_max, peak, peak_t, slip_t, slide_min, slide_max,
+              slide_friction_min, slide_friction_max);
   ASSERT_GT(slip_t, kRubStart) << "never slid";
   EXPECT_GT(slip_t, kRubStart + 0.002) << "no stick phase";
+  // Sticking: below mu_s. Breaking away: mu_s +- 5 %. Never above that while rubbing.
   EXPECT_LT(stick_max, c.mu_s);
-  EXPECT_LE(peak, c.mu_s * 1.02);
-  EXPECT_GT(peak, c.mu_d);
-  EXPECT_NEAR(slide_min, c.mu_d, 0.1 * c.mu_d);
-  EXPECT_NEAR(slide_max, c.mu_d, 0.1 * c.mu_d);
-  EXPECT_NEAR(slide_friction_min, c.mu_d, 0.1 * c.mu_d);
-  EXPECT_NEAR(slide_friction_max, c.mu_d, 0.1 * c.mu_d);
+  EXPECT_GE(peak, 0.95 * c.mu_s);
+  EXPECT_LE(peak, 1.05 * c.mu_s);
+  EXPECT_LE(rub_max, 1.05 * c.mu_s);
+  // Sliding: mu_d +- 0.02 for the finger. The contacts alone (sum of the friction springs over
+  // the sum of the per-particle normal forces, which leaves out the curvature of the pad) a few
+  // per cent lower.
+  EXPECT_NEAR(slide_min, c.mu_d, 0.02);
+  EXPECT_NEAR(slide_max, c.mu_d, 0.02);
+  EXPECT_NEAR(slide_friction_min, c.mu_d, 0.05 * c.mu_d);
+  EXPECT_NEAR(slide_friction_max, c.mu_d, 0.05 * c.mu_d);
   // The finger stops: the contact sticks again and holds what it had.
   for (std::size_t i = 0; i < tr.t.size(); ++i) {
     if (tr.t[i] < kRubEnd + 0.05) continue;
     EXPECT_EQ(tr.state[i], ContactState::kIV) << "t " << tr.t[i];
-    EXPECT_LE(tr.ratio[i], c.mu_d * 1.1) << "t " << tr.t[i];
+    EXPECT_NEAR(tr.ratio[i], c.mu_d, 0.02) << "t " << tr.t[i];
   }
 }
 
