@@ -74,7 +74,10 @@ PortPlan AssignPorts(const v1::Scene& scene, const std::vector<PlannedService>& 
       if (port > 65535) throw std::invalid_argument("--base-port " + std::to_string(base_port) + " is too high");
       hp.port = static_cast<std::uint16_t>(port);
     } else {
+      // the kernel may hand out a port it gave a moment ago (each probe socket is closed at
+      // once): ask again rather than plan one port twice
       hp.port = free_port();
+      for (int again = 0; again < 100 && used.count({host, hp.port}) > 0; ++again) hp.port = free_port();
     }
     if (!used.insert({host, hp.port}).second) {
       throw std::invalid_argument("port " + std::to_string(hp.port) + " on host " + host + " is given twice (" +

@@ -11,6 +11,7 @@
 #include <signal.h>
 
 #include <chrono>
+#include <ostream>
 #include <cmath>
 #include <regex>
 #include <sstream>
@@ -25,16 +26,12 @@ namespace {
 
 using namespace std::chrono_literals;
 
-std::int64_t MonotonicNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
-
 struct KillCase {
   const char* service;
   bool with_tactile;
 };
+
+void PrintTo(const KillCase& c, std::ostream* os) { *os << c.service; }
 
 class LaunchForceKillTest : public ::testing::TestWithParam<KillCase> {};
 
@@ -50,14 +47,8 @@ TEST_P(LaunchForceKillTest, ForceIsZeroWithin20msAndTheRunRecovers) {
   const int pid = std::stoi(testing::WaitForOutput(launcher, name + ": started \\(pid ([0-9]+)"));
   // Wait until the pinch presses both fingers (the demo pinches from about 2.2 s).
   const std::string log = run + "/mock_grab_forces.csv";
-  bool pressing = false;
-  for (auto until = std::chrono::steady_clock::now() + 60s; !pressing && std::chrono::steady_clock::now() < until;) {
-    std::this_thread::sleep_for(50ms);
-    const auto rows = testing::MockForceRows(log);
-    pressing = !rows.empty() && rows.back().thumb_N > 0.5 && rows.back().index_N > 0.5;
-  }
-  ASSERT_TRUE(pressing) << "the demo never pinched\n" << launcher.Stdout();
-  const double killed_ns = static_cast<double>(MonotonicNs());
+  ASSERT_TRUE(testing::WaitUntilBothFingersPress(log)) << "the demo never pinched\n" << launcher.Stdout();
+  const double killed_ns = static_cast<double>(testing::MonotonicNs());
   ASSERT_EQ(kill(pid, SIGKILL), 0);
   testing::WaitForOutput(launcher, name + ": restarted");
   std::this_thread::sleep_for(500ms);

@@ -10,6 +10,7 @@
 #include <signal.h>
 
 #include <chrono>
+#include <ostream>
 #include <cmath>
 #include <thread>
 
@@ -21,16 +22,12 @@ namespace {
 
 using namespace std::chrono_literals;
 
-std::int64_t MonotonicNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
-
 struct SilentCase {
   const char* service;
   bool force_must_stop;  // the device path depends on this service at haptic rate
 };
+
+void PrintTo(const SilentCase& c, std::ostream* os) { *os << c.service; }
 
 class LaunchSilentServiceTest : public ::testing::TestWithParam<SilentCase> {};
 
@@ -45,19 +42,13 @@ TEST_P(LaunchSilentServiceTest, SilentServiceIsRestartedAndTheDeviceStaysSafe) {
   testing::WaitForOutput(launcher, "running \\(until Ctrl-C\\)");
   const int pid = std::stoi(testing::WaitForOutput(launcher, name + ": started \\(pid ([0-9]+)"));
   const std::string log = run + "/mock_grab_forces.csv";
-  bool pressing = false;
-  for (auto until = std::chrono::steady_clock::now() + 60s; !pressing && std::chrono::steady_clock::now() < until;) {
-    std::this_thread::sleep_for(50ms);
-    const auto rows = testing::MockForceRows(log);
-    pressing = !rows.empty() && rows.back().thumb_N > 0.5 && rows.back().index_N > 0.5;
-  }
-  ASSERT_TRUE(pressing) << "the demo never pinched\n" << launcher.Stdout();
+  ASSERT_TRUE(testing::WaitUntilBothFingersPress(log)) << "the demo never pinched\n" << launcher.Stdout();
 
-  const double stopped_ns = static_cast<double>(MonotonicNs());
+  const double stopped_ns = static_cast<double>(testing::MonotonicNs());
   ASSERT_EQ(kill(pid, SIGSTOP), 0);
   // The launcher must find it silent by itself (no exit status to see: the process lives on).
   testing::WaitForOutput(launcher, name + ": restarted", 60s);
-  const double restarted_seen_ns = static_cast<double>(MonotonicNs());
+  const double restarted_seen_ns = static_cast<double>(testing::MonotonicNs());
   std::this_thread::sleep_for(500ms);
   launcher.Signal(SIGINT);
   const auto code = launcher.WaitFor(90s);

@@ -52,7 +52,7 @@ inline std::string FreshDir(const std::string& name) {
 }
 
 /// Waits for a line matching `pattern` in a process's output; returns its first group (or the
-/// whole match). Fails the test on timeout.
+/// whole match). Fails the test on timeout, or at once when the process ended without it.
 inline std::string WaitForOutput(haptex::testing::Subprocess& p, const std::string& pattern,
                                  std::chrono::seconds timeout = std::chrono::seconds(90)) {
   const std::regex re(pattern);
@@ -61,6 +61,11 @@ inline std::string WaitForOutput(haptex::testing::Subprocess& p, const std::stri
   while (std::chrono::steady_clock::now() < until) {
     const std::string out = p.Stdout();
     if (std::regex_search(out, match, re)) return match.size() > 1 ? match[1].str() : match[0].str();
+    if (p.WaitFor(std::chrono::milliseconds(0)).has_value()) {
+      const std::string last = p.Stdout();
+      if (std::regex_search(last, match, re)) return match.size() > 1 ? match[1].str() : match[0].str();
+      break;  // it ended without printing it: no use waiting
+    }
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   ADD_FAILURE() << "no output matching " << pattern << "\nstdout:\n" << p.Stdout() << "\nstderr:\n" << p.Stderr();
@@ -87,6 +92,23 @@ inline std::vector<ForceRow> MockForceRows(const std::string& csv_path) {
     rows.push_back({v[0], std::hypot(v[1], v[2], v[3]), std::hypot(v[7], v[8], v[9])});
   }
   return rows;
+}
+
+/// CLOCK_MONOTONIC now, the clock of the mock controller's force log.
+inline std::int64_t MonotonicNs() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+/// Waits until the mock's force log shows both fingers pressed (over 0.5 N each), at most 60 s.
+inline bool WaitUntilBothFingersPress(const std::string& force_log_path) {
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (std::chrono::steady_clock::now() < until) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    const auto rows = MockForceRows(force_log_path);
+    if (!rows.empty() && rows.back().thumb_N > 0.5 && rows.back().index_N > 0.5) return true;
+  }
+  return false;
 }
 
 }  // namespace haptex::launch::testing

@@ -43,6 +43,22 @@ TEST(LaunchPortPlanTest, FreePortsWhenNoBasePortOnOneHost) {
   EXPECT_EQ(ports.size(), 9u);  // launcher + 6 services + 2 controller sockets
 }
 
+TEST(LaunchPortPlanTest, AFreePortHandedOutTwiceIsAskedForAgain) {
+  const v1::Scene scene = testing::ShippedScene("demo");
+  // the kernel's ephemeral ports can repeat: every port comes twice here
+  int calls = 0;
+  const PortPlan plan = AssignPorts(scene, DeriveServices(scene), 0,
+                                    [&] { return static_cast<std::uint16_t>(50000 + calls++ / 2); });
+  std::set<std::uint16_t> ports = {plan.launchers.at("local").port};
+  for (const PlacedService& s : plan.services) {
+    EXPECT_TRUE(ports.insert(s.haptex.port).second);
+    if (s.controller) {
+      EXPECT_TRUE(ports.insert(s.controller->port).second);
+    }
+  }
+  EXPECT_EQ(ports.size(), 9u);
+}
+
 TEST(LaunchPortPlanTest, ScenePlacementWins) {
   const v1::Scene scene = testing::SceneFromText(R"(
     name: "placed" fabric { database_name: "wang2011_black_denim_11oz" }
