@@ -79,6 +79,9 @@ PortPlan AssignPorts(const v1::Scene& scene, const std::vector<PlannedService>& 
       hp.port = free_port();
       for (int again = 0; again < 100 && used.count({host, hp.port}) > 0; ++again) hp.port = free_port();
     }
+    if (placed == 0 && base_port == 0 && used.count({host, hp.port}) > 0) {
+      throw std::invalid_argument("no free port on host " + host + " after 100 tries (" + what + ")");
+    }
     if (!used.insert({host, hp.port}).second) {
       throw std::invalid_argument("port " + std::to_string(hp.port) + " on host " + host + " is given twice (" +
                                   what + "); change the scene's ports or --base-port");

@@ -1,5 +1,6 @@
 #include "libs/scene/scene_loader.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -179,6 +180,39 @@ void CheckDevice(const v1::Scene& scene, const FieldLocator& where, Checker& c) 
   c.ZeroOrRange(d, "controller_lost_s", d.controller_lost_s(), 1e-3, 1.0, "s", at);
 }
 
+// A LocalPatch travels in one datagram (no fragmentation): the largest patch the fingers can cause,
+// refined, must fit. Its side: the finger's reach plus the margin on both sides, one border ring
+// each way and one cell for the even corner; about 90 bytes per particle (id, rest uv, position,
+// velocity, mass, border flag, two triangles).
+void CheckPatchFitsADatagram(const v1::Scene& scene, const FieldLocator& mo, Checker& c) {
+  const v1::ModelOptions& m = scene.model();
+  if (scene.fingers_size() == 0 || m.patch_refinement() > 4) return;
+  auto or_default = [](double v, double fallback) { return v > 0 ? v : fallback; };
+  double reach_m = 0.0;
+  for (const v1::FingerSpec& f : scene.fingers()) {
+    reach_m = std::max(reach_m, or_default(f.radius_m(), 0.008) + 0.5 * or_default(f.length_m(), 0.012));
+  }
+  const double radius_m = reach_m + or_default(m.patch_radius_m(), 0.015);
+  const v1::ClothGeometry& cloth = scene.cloth();
+  const double du = or_default(cloth.width_m(), 0.20) / (or_default(cloth.particles_u(), 41) - 1);
+  const double dv = or_default(cloth.height_m(), 0.20) / (or_default(cloth.particles_v(), 41) - 1);
+  if (!(du > 0) || !(dv > 0)) return;
+  const int factor = 1 << m.patch_refinement();
+  auto side = [&](double spacing_m, double particles) {
+    const double coarse = std::min(particles, std::floor(2 * radius_m / spacing_m) + 1 + 2 + 1);
+    return (coarse - 1) * factor + 1;
+  };
+  const double particles = side(du, or_default(cloth.particles_u(), 41)) * side(dv, or_default(cloth.particles_v(), 41));
+  constexpr double kBytesPerParticle = 90.0;
+  constexpr double kDatagramBytes = 60000.0;
+  if (particles * kBytesPerParticle > kDatagramBytes) {
+    c.Add(mo.At(m, "patch_refinement", -1,
+                "patches could reach " + std::to_string(static_cast<long>(particles)) + " particles (about " +
+                    std::to_string(static_cast<long>(particles * kBytesPerParticle / 1000)) +
+                    " kB), over one 60 kB datagram: lower patch_refinement or patch_radius_m, or use a coarser cloth"));
+  }
+}
+
 void CheckRatesAndModel(const v1::Scene& scene, const FieldLocator& where, Checker& c) {
   const v1::Rates& r = scene.rates();
   const FieldLocator at = where.Nested(scene, "rates");
@@ -198,6 +232,7 @@ void CheckRatesAndModel(const v1::Scene& scene, const FieldLocator& where, Check
   c.ZeroOrRange(m, "substeps", m.substeps(), 1, 10000, "", mo);
   c.Range(m, "patch_radius_m", m.patch_radius_m(), 0.0, 0.1, "m", mo);
   c.Range(m, "patch_refinement", m.patch_refinement(), 0, 4, "", mo);
+  CheckPatchFitsADatagram(scene, mo, c);
   c.Range(m, "air_drag_linear", m.air_drag_linear(), 0.0, 100.0, "", mo);
   c.Range(m, "air_drag_quadratic", m.air_drag_quadratic(), 0.0, 10.0, "", mo);
 }

@@ -48,6 +48,8 @@ EnvelopeRecorder::EnvelopeRecorder(const std::string& path, std::string_view sen
   if (sender.size() > sender_.size()) throw std::invalid_argument("recorder: sender name too long");
   std::memcpy(sender_.data(), sender.data(), sender.size());
   sender_bytes_ = sender.size();
+  // touch every page now, so the first pass through the ring does not fault in the sender's loop
+  std::memset(ring_.get(), 0, kRingBytes);
   file_ = std::fopen(path.c_str(), "wb");
   if (file_ == nullptr) throw std::invalid_argument("--record: cannot write " + path);
   writer_ = std::thread([this] {

@@ -61,6 +61,9 @@ int Run(services::ServiceContext& context, const Options& options) {
   runtime::PeriodicLoop loop("global_sim", rate_hz);
   health.AddLoop(&loop.stats());
   const auto c_patches = health.AddCounter("patches_sent");
+  // a patch that does not fit one datagram (two fingers far apart, fast motion, refinement) is
+  // not sent; local_contact keeps the one it has
+  const auto c_patches_unsent = health.AddCounter("patches_not_sent");
   const auto c_results = health.AddCounter("patch_results_merged");
   const auto c_results_bad = health.AddCounter("patch_results_rejected");
   const auto c_nan = health.AddCounter("fabric_nan_events");
@@ -75,7 +78,7 @@ int Run(services::ServiceContext& context, const Options& options) {
   net::NewestWins newest_states;
   v1::LocalPatch patch;
   v1::ClothFrame frame;
-  std::uint64_t patch_id = 0, step = 0, patches = 0, results = 0, results_bad = 0, frames = 0;
+  std::uint64_t patch_id = 0, step = 0, patches = 0, patches_unsent = 0, results = 0, results_bad = 0, frames = 0;
   std::int64_t next_frame_ns = 0;
   std::int64_t now_ns = runtime::SteadyNowNs();
   const double dt = setup.step_options.dt_s;
@@ -135,7 +138,11 @@ int Run(services::ServiceContext& context, const Options& options) {
           const PatchRect rect = FindPatchRect(cloth.model, cloth.state, spheres);
           if (!rect.empty()) {
             FillLocalPatch(cloth.model, cloth.state, rect, ++patch_id, step, dt, refined, &patch);
-            if (context.Send(*local, patch)) ++patches;
+            if (context.Send(*local, patch)) {
+              ++patches;
+            } else {
+              ++patches_unsent;
+            }
           }
         }
         if (viewer && tick.now_ns >= next_frame_ns) {
@@ -159,6 +166,7 @@ int Run(services::ServiceContext& context, const Options& options) {
           ++frames;
         }
         health.SetCounter(c_patches, patches);
+        health.SetCounter(c_patches_unsent, patches_unsent);
         health.SetCounter(c_results, results);
         health.SetCounter(c_results_bad, results_bad);
         health.SetCounter(c_nan, static_cast<std::uint64_t>(cloth.state.diagnostics.nan_events));

@@ -59,10 +59,10 @@ TEST(LaunchRecordingTest, RoundTripKeepsHeaderAndBodies) {
 
 TEST(LaunchRecordingTest, MessagesOfAnySizeAreKeptWholeAndInOrderAcrossWraps) {
   const std::string path = testing::FreshDir("recording_sizes") + "/global_sim.pb";
-  // patch-sized, health-sized and in between; several times the ring in all, at a pace the writer
-  // (every 10 ms) keeps up with: nothing may be lost
+  // patch-sized, health-sized and in between; four times the ring in all (four wraps at varied
+  // offsets), at a pace the writer (every 10 ms) keeps up with: nothing may be lost
   const std::array<std::size_t, 3> sizes{150000, 40, 6000};
-  const int count = 3 * static_cast<int>(services::EnvelopeRecorder::kRingBytes / 150000);
+  const int count = 3 * static_cast<int>(4 * services::EnvelopeRecorder::kRingBytes / (150000 + 40 + 6000));
   {
     services::EnvelopeRecorder recorder(path, "global_sim", 1, 1);
     for (int i = 0; i < count; ++i) {

@@ -150,6 +150,24 @@ tactile { enabled: true mock_display: true
 )", "ok.textproto", db_));
 }
 
+TEST_F(SceneLoaderTest, RefinedPatchesMustFitOneDatagram) {
+  const std::string scene = R"(name: "x"
+fabric { database_name: "test_cotton" }
+cloth { width_m: 0.2 height_m: 0.2 particles_u: 41 particles_v: 41 }
+fingers { finger: FINGER_INDEX }
+device { mock {} }
+model { patch_refinement: REFINE }
+)";
+  auto with = [&](const std::string& levels) {
+    std::string text = scene;
+    text.replace(text.find("REFINE"), 6, levels);
+    return text;
+  };
+  // 5 mm cells, 29 mm sphere: about 15 x 15 particles (20 kB); refined once, 29 x 29 (76 kB)
+  EXPECT_NO_THROW(ParseScene(with("0"), "ok.textproto", db_));
+  EXPECT_TRUE(Mentions(Refused(with("1")), "over one 60 kB datagram"));
+}
+
 TEST_F(SceneLoaderTest, MissingSceneFileIsAnError) {
   EXPECT_THROW(LoadScene("/nonexistent.textproto", db_), TextProtoError);
 }
