@@ -9,6 +9,7 @@
 
 #include "libs/net/session_key.h"
 #include "libs/net/udp_address.h"
+#include "libs/scene/scene_defaults.h"
 
 namespace haptex::scene {
 namespace {
@@ -187,22 +188,16 @@ void CheckDevice(const v1::Scene& scene, const FieldLocator& where, Checker& c) 
 void CheckPatchFitsADatagram(const v1::Scene& scene, const FieldLocator& mo, Checker& c) {
   const v1::ModelOptions& m = scene.model();
   if (scene.fingers_size() == 0 || m.patch_refinement() > 4) return;
-  auto or_default = [](double v, double fallback) { return v > 0 ? v : fallback; };
-  double reach_m = 0.0;
-  for (const v1::FingerSpec& f : scene.fingers()) {
-    reach_m = std::max(reach_m, or_default(f.radius_m(), 0.008) + 0.5 * or_default(f.length_m(), 0.012));
-  }
-  const double radius_m = reach_m + or_default(m.patch_radius_m(), 0.015);
+  const double radius_m = FingerReachM(scene) + PatchMarginM(scene);
   const v1::ClothGeometry& cloth = scene.cloth();
-  const double du = or_default(cloth.width_m(), 0.20) / (or_default(cloth.particles_u(), 41) - 1);
-  const double dv = or_default(cloth.height_m(), 0.20) / (or_default(cloth.particles_v(), 41) - 1);
-  if (!(du > 0) || !(dv > 0)) return;
+  const int nu = ClothParticlesU(cloth), nv = ClothParticlesV(cloth);
+  if (nu < 2 || nv < 2) return;  // refused by the cloth checks
   const int factor = 1 << m.patch_refinement();
-  auto side = [&](double spacing_m, double particles) {
-    const double coarse = std::min(particles, std::floor(2 * radius_m / spacing_m) + 1 + 2 + 1);
+  auto side = [&](double spacing_m, int particles) {
+    const double coarse = std::min<double>(particles, std::floor(2 * radius_m / spacing_m) + 1 + 2 + 1);
     return (coarse - 1) * factor + 1;
   };
-  const double particles = side(du, or_default(cloth.particles_u(), 41)) * side(dv, or_default(cloth.particles_v(), 41));
+  const double particles = side(ClothWidthM(cloth) / (nu - 1), nu) * side(ClothHeightM(cloth) / (nv - 1), nv);
   constexpr double kBytesPerParticle = 90.0;
   constexpr double kDatagramBytes = 60000.0;
   if (particles * kBytesPerParticle > kDatagramBytes) {

@@ -143,6 +143,18 @@ void MultilevelPreconditioner::Update(const FabricModel& model, const FabricStat
   }
 }
 
+namespace {
+
+// Row p of the residual r - A z on one level.
+Eigen::Vector3d RowResidual(const Eigen::Matrix3d* blocks, const int* row_start, const int* cols, const double* z,
+                            const double* r, int p) {
+  double acc[3] = {0.0, 0.0, 0.0};
+  AccumulateBlockRow(blocks, cols, row_start[p], row_start[p + 1], z, acc);
+  return {r[3 * p] - acc[0], r[3 * p + 1] - acc[1], r[3 * p + 2] - acc[2]};
+}
+
+}  // namespace
+
 // z += D^-1 (r - A z), in one pass over the rows (the new z goes to t, then z and t swap).
 void MultilevelPreconditioner::Smooth(std::size_t level) {
   Level& l = levels_[level];
@@ -161,9 +173,7 @@ void MultilevelPreconditioner::Smooth(std::size_t level) {
       out[3 * p + 2] = z[3 * p + 2];
       continue;
     }
-    double acc[3] = {0.0, 0.0, 0.0};
-    AccumulateBlockRow(blocks, cols, row_start[p], row_start[p + 1], z, acc);
-    const Eigen::Vector3d res(r[3 * p] - acc[0], r[3 * p + 1] - acc[1], r[3 * p + 2] - acc[2]);
+    const Eigen::Vector3d res = RowResidual(blocks, row_start, cols, z, r, p);
     Eigen::Map<Eigen::Vector3d>(out + 3 * p) = l.z.segment<3>(3 * p) + l.d_inv[ps] * res;
   }
   l.z.swap(l.t);
@@ -184,12 +194,7 @@ void MultilevelPreconditioner::RestrictResidual(std::size_t level) {
   for (int p = 0; p < l.n; ++p) {
     const std::size_t ps = static_cast<std::size_t>(p);
     if (!l.active[ps]) continue;
-    double acc[3] = {0.0, 0.0, 0.0};
-    AccumulateBlockRow(blocks, cols, row_start[p], row_start[p + 1], z, acc);
-    double* dst = cr + 3 * l.to_coarse[ps];
-    dst[0] += r[3 * p] - acc[0];
-    dst[1] += r[3 * p + 1] - acc[1];
-    dst[2] += r[3 * p + 2] - acc[2];
+    Eigen::Map<Eigen::Vector3d>(cr + 3 * l.to_coarse[ps]) += RowResidual(blocks, row_start, cols, z, r, p);
   }
 }
 

@@ -18,6 +18,7 @@
 #include "libs/runtime/clock.h"
 #include "libs/runtime/periodic_loop.h"
 #include "libs/scene/cloth_setup.h"
+#include "libs/scene/scene_defaults.h"
 #include "libs/textile/fabric_stepper.h"
 #include "services/common/service_context.h"
 #include "services/global_sim/patch_cutter.h"
@@ -47,12 +48,8 @@ int Run(services::ServiceContext& context, const Options& options) {
   const auto viewer = context.FindPeer("viewer");
 
   // Finger reach for the bounding spheres.
-  double reach_m = 0.0;
-  for (const v1::FingerSpec& f : sc.fingers()) {
-    reach_m = std::max(reach_m, Or(f.radius_m(), 0.008) + 0.5 * Or(f.length_m(), 0.012));
-  }
-  reach_m += 0.5 * std::max(0.0006, loaded.fabric.thickness_mm() * 1e-3);
-  const double margin_m = Or(sc.model().patch_radius_m(), 0.015);
+  const double reach_m = scene::FingerReachM(sc) + 0.5 * std::max(0.0006, loaded.fabric.thickness_mm() * 1e-3);
+  const double margin_m = scene::PatchMarginM(sc);
   const services::RefinedGrid refined = services::MakeRefinedGrid(
       cloth.model.mesh.particles_warp(), cloth.model.mesh.particles_weft(), static_cast<int>(sc.model().patch_refinement()));
   const double frame_hz = std::min(60.0, Or(sc.rates().cloth_frame_hz(), 30.0));

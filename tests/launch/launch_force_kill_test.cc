@@ -39,12 +39,9 @@ TEST_P(LaunchForceKillTest, ForceIsZeroWithin20msAndTheRunRecovers) {
   const std::string name = GetParam().service;
   const std::string dir = testing::FreshDir(std::string("force_kill_") + name);
   const std::string run = dir + "/run";
-  std::vector<std::string> argv{haptex::testing::BuildDir() + "/cli/haptex", "launch",
-                                testing::ShippedScenePath("demo"), "--duration", "0", "--out", run};
-  if (!GetParam().with_tactile) argv.insert(argv.end(), {"--skip", "tactile", "--skip", "mock_pins"});
-  haptex::testing::Subprocess launcher(argv);
-  testing::WaitForOutput(launcher, "running \\(until Ctrl-C\\)");
-  const int pid = std::stoi(testing::WaitForOutput(launcher, name + ": started \\(pid ([0-9]+)"));
+  haptex::testing::Subprocess launcher(testing::DemoLaunchArgv(run, GetParam().with_tactile));
+  const int pid = testing::RunningServicePid(launcher, name);
+  ASSERT_GT(pid, 0);
   // Wait until the pinch presses both fingers (the demo pinches from about 2.2 s).
   const std::string log = run + "/mock_grab_forces.csv";
   ASSERT_TRUE(testing::WaitUntilBothFingersPress(log)) << "the demo never pinched\n" << launcher.Stdout();

@@ -36,11 +36,9 @@ TEST_P(LaunchSilentServiceTest, SilentServiceIsRestartedAndTheDeviceStaysSafe) {
   const std::string name = c.service;
   const std::string dir = testing::FreshDir(std::string("silent_") + name);
   const std::string run = dir + "/run";
-  haptex::testing::Subprocess launcher({haptex::testing::BuildDir() + "/cli/haptex", "launch",
-                                        testing::ShippedScenePath("demo"), "--skip", "tactile", "--skip",
-                                        "mock_pins", "--duration", "0", "--out", run});
-  testing::WaitForOutput(launcher, "running \\(until Ctrl-C\\)");
-  const int pid = std::stoi(testing::WaitForOutput(launcher, name + ": started \\(pid ([0-9]+)"));
+  haptex::testing::Subprocess launcher(testing::DemoLaunchArgv(run, false));
+  const int pid = testing::RunningServicePid(launcher, name);
+  ASSERT_GT(pid, 0);
   const std::string log = run + "/mock_grab_forces.csv";
   ASSERT_TRUE(testing::WaitUntilBothFingersPress(log)) << "the demo never pinched\n" << launcher.Stdout();
 

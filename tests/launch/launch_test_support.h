@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "libs/scene/scene_loader.h"
+#include "tests/support/mock_force_log.h"
 #include "tests/support/subprocess.h"
 #include "tests/support/test_paths.h"
 
@@ -72,26 +73,23 @@ inline std::string WaitForOutput(haptex::testing::Subprocess& p, const std::stri
   return "";
 }
 
-/// One row of the mock controller's force log: its CLOCK_MONOTONIC time and the commanded force
-/// magnitude per finger.
-struct ForceRow {
-  double t_ns = 0.0, thumb_N = 0.0, index_N = 0.0;
-};
+using haptex::testing::ForceRow;
+using haptex::testing::MockForceRows;
 
-inline std::vector<ForceRow> MockForceRows(const std::string& csv_path) {
-  std::vector<ForceRow> rows;
-  std::istringstream in(ReadText(csv_path));
-  std::string line;
-  std::getline(in, line);
-  while (std::getline(in, line)) {
-    std::vector<double> v;
-    std::stringstream cells(line);
-    std::string cell;
-    while (std::getline(cells, cell, ',')) v.push_back(std::stod(cell));
-    if (v.size() != 14) continue;
-    rows.push_back({v[0], std::hypot(v[1], v[2], v[3]), std::hypot(v[7], v[8], v[9])});
-  }
-  return rows;
+/// `haptex launch` of the shipped demo until Ctrl-C, into `run_dir`; its tactile pair (tactile,
+/// mock_pins) skipped unless asked for.
+inline std::vector<std::string> DemoLaunchArgv(const std::string& run_dir, bool with_tactile) {
+  std::vector<std::string> argv{haptex::testing::BuildDir() + "/cli/haptex", "launch", ShippedScenePath("demo"),
+                                "--duration", "0", "--out", run_dir};
+  if (!with_tactile) argv.insert(argv.end(), {"--skip", "tactile", "--skip", "mock_pins"});
+  return argv;
+}
+
+/// Waits until every service runs; returns `service`'s pid (0 when it never started).
+inline int RunningServicePid(haptex::testing::Subprocess& launcher, const std::string& service) {
+  WaitForOutput(launcher, "running \\(until Ctrl-C\\)");
+  const std::string pid = WaitForOutput(launcher, service + ": started \\(pid ([0-9]+)");
+  return pid.empty() ? 0 : std::stoi(pid);
 }
 
 /// CLOCK_MONOTONIC now, the clock of the mock controller's force log.

@@ -8,14 +8,14 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include <cmath>
+#include <algorithm>
 #include <optional>
 #include <filesystem>
 #include <fstream>
 #include <regex>
-#include <sstream>
 #include <string>
 
+#include "tests/support/mock_force_log.h"
 #include "tests/support/subprocess.h"
 #include "tests/support/test_paths.h"
 
@@ -58,19 +58,11 @@ TEST(DualLayerProcessTest, PinchAndStretchIsFeltAndEndsAtZeroForce) {
   EXPECT_EQ(NumberAfter(summary, "\"name\":\"global_sim\"", "fabric_nan_events"), 0);
 
   // The force reached the mock's fingers (through the bridge's safety stage) and ended at zero.
-  std::istringstream log(ReadText(run + "/mock_grab_forces.csv"));
-  std::string line;
-  std::getline(log, line);
   double peak_thumb = 0.0, peak_index = 0.0, last_thumb = -1.0, last_index = -1.0;
   int rows = 0;
-  while (std::getline(log, line)) {
-    std::vector<double> v;
-    std::stringstream cells(line);
-    std::string cell;
-    while (std::getline(cells, cell, ',')) v.push_back(std::stod(cell));
-    if (v.size() != 14) continue;
-    last_thumb = std::hypot(v[1], v[2], v[3]);
-    last_index = std::hypot(v[7], v[8], v[9]);
+  for (const haptex::testing::ForceRow& r : haptex::testing::MockForceRows(run + "/mock_grab_forces.csv")) {
+    last_thumb = r.thumb_N;
+    last_index = r.index_N;
     peak_thumb = std::max(peak_thumb, last_thumb);
     peak_index = std::max(peak_index, last_index);
     ++rows;
