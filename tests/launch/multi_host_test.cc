@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <utility>
+
 #include "tests/launch/launch_test_support.h"
 #include "tests/support/subprocess.h"
 
@@ -33,7 +35,9 @@ std::pair<int, std::string> Run(const std::vector<std::string>& argv) {
 // Two namespaces and a veth pair between them; destroyed with the object.
 class TwoHosts {
  public:
-  TwoHosts() : ip_(IpTool()) {
+  /// The two hosts' addresses on the veth link (a /24).
+  TwoHosts(std::string address_a = "192.0.2.1", std::string address_b = "192.0.2.2")
+      : ip_(IpTool()), address_a_(std::move(address_a)), address_b_(std::move(address_b)) {
     const std::string id = std::to_string(getpid() % 100000);
     a_ = "hx_a_" + id;
     b_ = "hx_b_" + id;
@@ -55,8 +59,8 @@ class TwoHosts {
         {ip_, "link", "add", veth_a_, "type", "veth", "peer", "name", veth_b_},
         {ip_, "link", "set", veth_a_, "netns", a_},
         {ip_, "link", "set", veth_b_, "netns", b_},
-        {ip_, "-n", a_, "addr", "add", "192.0.2.1/24", "dev", veth_a_},
-        {ip_, "-n", b_, "addr", "add", "192.0.2.2/24", "dev", veth_b_},
+        {ip_, "-n", a_, "addr", "add", address_a_ + "/24", "dev", veth_a_},
+        {ip_, "-n", b_, "addr", "add", address_b_ + "/24", "dev", veth_b_},
         {ip_, "-n", a_, "link", "set", veth_a_, "up"},
         {ip_, "-n", b_, "link", "set", veth_b_, "up"},
         {ip_, "-n", a_, "link", "set", "lo", "up"},
@@ -76,7 +80,7 @@ class TwoHosts {
   const std::string& b() const { return b_; }
 
  private:
-  std::string ip_, a_, b_, veth_a_, veth_b_;
+  std::string ip_, address_a_, address_b_, a_, b_, veth_a_, veth_b_;
 };
 
 TEST(LaunchMultiHostTest, MockControllerAndBridgeOnTwoHosts) {
@@ -123,6 +127,38 @@ session_key { hex: "00112233445566778899aabbccddeeff00112233445566778899aabbccdd
   EXPECT_THAT(b, ContainsRegex(R"("status_frames_accepted":[1-9])"));
   EXPECT_THAT(b, HasSubstr(R"("status_frames_from_strangers":0)"));
   EXPECT_THAT(b, ContainsRegex(R"("name":"mock_grab","reason":[^}]*"host":"a","address":"192.0.2.1:47606")"));
+}
+
+// The shipped remote scene as its comment tells a user to run it: the device, its bridge and the
+// mock pin display on "lab", the simulation and tactile rendering on "compute", one key in
+// HAPTEX_SESSION_KEY. Forces from compute reach the controller on lab; pin frames from compute
+// reach the display on lab.
+TEST(LaunchMultiHostTest, ShippedRemoteSceneOnLabAndCompute) {
+  TwoHosts hosts("192.0.2.10", "192.0.2.20");
+  if (const std::string why = hosts.Create(); !why.empty()) {
+    GTEST_SKIP() << "two-host test skipped: " << why;
+  }
+  const std::string dir = testing::FreshDir("multi_host_remote");
+  const std::string scene = testing::ShippedScenePath("remote");
+  const std::string haptex = haptex::testing::BuildDir() + "/cli/haptex";
+  const std::vector<std::string> key{"HAPTEX_SESSION_KEY=00112233445566778899aabbccddeeff00112233445566778899aabbccddeeff"};
+  haptex::testing::Subprocess lab(
+      hosts.In(hosts.a(), {haptex, "launch", scene, "--host", "lab", "--duration", "6", "--out", dir + "/lab"}), key);
+  haptex::testing::Subprocess compute(
+      hosts.In(hosts.b(), {haptex, "launch", scene, "--host", "compute", "--duration", "6", "--out", dir + "/compute"}),
+      key);
+  const auto code_lab = lab.WaitFor(150s);
+  const auto code_compute = compute.WaitFor(150s);
+  EXPECT_EQ(code_lab, 0) << lab.Stdout() << lab.Stderr();
+  EXPECT_EQ(code_compute, 0) << compute.Stdout() << compute.Stderr();
+
+  const std::string l = testing::ReadText(dir + "/lab/summary.json");
+  const std::string c = testing::ReadText(dir + "/compute/summary.json");
+  EXPECT_THAT(c, ContainsRegex(R"("name":"local_contact",[^}]*"started_here":true[^}]*"health_received":true)"));
+  EXPECT_THAT(c, ContainsRegex(R"("name":"tactile",[^}]*"started_here":true[^}]*"health_received":true)"));
+  EXPECT_THAT(l, ContainsRegex(R"("force_models":[1-9])")) << "the bridge on lab got compute's force models";
+  EXPECT_THAT(l, ContainsRegex(R"("frames_played":[1-9])")) << "the display on lab got compute's pin frames";
+  EXPECT_THAT(c, ContainsRegex(R"("patches_sent":[1-9])"));
 }
 
 }  // namespace
