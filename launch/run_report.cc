@@ -100,7 +100,7 @@ std::optional<ForceLog> ReadForceLog(const std::string& path) {
         break;
       }
     }
-    if (v.size() != 14) continue;  // a row cut short by a kill
+    if (v.size() != 15) continue;  // a row cut short by a kill
     if (log.t_s.empty()) t0 = v[0];
     log.t_s.push_back((v[0] - t0) * 1e-9);
     for (int f = 0; f < 2; ++f) {

@@ -52,6 +52,7 @@ void WriteHealth(cli::JsonWriter& j, const v1::Health& h) {
 // counters that are watchdog or device events, by name
 bool IsWatchdogCounter(const std::string& name) {
   return name == "device_lost_events" || name == "host_timeouts" || name == "non_finite_forces" ||
+         name == "tick_gap_disarms" ||
          name.find("watchdog") != std::string::npos || name.find("stale") != std::string::npos;
 }
 

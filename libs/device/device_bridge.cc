@@ -15,6 +15,10 @@ void DeviceBridgeConfig::Validate() const {
     throw std::invalid_argument("DeviceBridgeConfig: device_lost_after_s must be > 0 s, got " +
                                 std::to_string(device_lost_after_s));
   }
+  if (!(disarm_after_tick_gap_s > 0.0) || !std::isfinite(disarm_after_tick_gap_s)) {
+    throw std::invalid_argument("DeviceBridgeConfig: disarm_after_tick_gap_s must be > 0 s, got " +
+                                std::to_string(disarm_after_tick_gap_s));
+  }
   const Eigen::Matrix3d R = X_WD.linear();
   if (!X_WD.matrix().allFinite() || !(R.transpose() * R).isIdentity(1e-9) ||
       std::abs(R.determinant() - 1.0) > 1e-9) {
@@ -111,6 +115,9 @@ void DeviceBridge::Tick(double t_s, double dt_s, std::span<std::byte, kCommandFr
   // the controller zeroed force because our commands stopped reaching it: disarm, so the force
   // ramps in again instead of jumping back when commands get through
   const bool controller_timed_out = (controller_flags_ & controller_flags::kHostTimeout) != 0;
+  // our own stall: the controller may have timed out before its flag could reach us
+  const bool tick_gap = dt_s >= config_.disarm_after_tick_gap_s;
+  if (tick_gap) ++counters_.tick_gap_disarms;
 
   CommandFrame command;
   command.host_flags = shutdown_ ? host_flags::kShutdown : 0;
@@ -118,7 +125,8 @@ void DeviceBridge::Tick(double t_s, double dt_s, std::span<std::byte, kCommandFr
     Finger& finger = fingers_[i];
     SafetyInput input;
     input.output_allowed =
-        !lost && !shutdown_ && !zero_force_hold_ && !estop && !controller_timed_out && finger.state.valid;
+        !lost && !shutdown_ && !zero_force_hold_ && !estop && !controller_timed_out && !tick_gap &&
+        finger.state.valid;
     if (finger.has_model) {
       const Eigen::Vector3d& p_W = config_.evaluate_at_predicted_pose ? finger.state.p_pred_W_m
                                                                       : finger.state.p_W_m;

@@ -25,6 +25,11 @@ struct DeviceBridgeConfig {
   GrabValueLimits value_limits;
   /// No accepted StatusFrame for this long: device lost, force zero, start-up ramp on return.
   double device_lost_after_s = 0.050;
+  /// A gap this long between two bridge ticks (the host process stalled) disarms, and force ramps
+  /// in again: the controller may have zeroed force for lack of commands (its host timeout is
+  /// 5 ms; 1 ms is left for link jitter), and the next command must not jump back to the old
+  /// force before the controller's timeout flag reaches us.
+  double disarm_after_tick_gap_s = 0.004;
   /// Evaluate ForceModels at the predicted pose (compensates the link latency) or the measured one.
   bool evaluate_at_predicted_pose = true;
   /// Pose of the device workspace frame D in the world frame W.
@@ -39,6 +44,7 @@ struct BridgeCounters {
   std::uint64_t status_out_of_order = 0;  ///< valid frame, sequence not newer: ignored
   std::uint64_t device_lost_events = 0;   ///< transitions present -> lost
   std::uint64_t force_models = 0;         ///< ForceModels received
+  std::uint64_t tick_gap_disarms = 0;     ///< ticks after a gap >= disarm_after_tick_gap_s
 };
 
 /// Bridge core for both manipulators. Non-copyable (holds ~80 kB of histograms: create it once,

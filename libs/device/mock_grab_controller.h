@@ -70,6 +70,8 @@ class MockGrabController {
   /// Moves a finger (tests, scene resets): position and velocity of the true state.
   void SetFinger(Manipulator m, const Eigen::Vector3d& p_D_m, const Eigen::Vector3d& v_D_m_per_s);
   bool host_timed_out() const { return host_timed_out_; }
+  /// Sequence of the host command in force now, 0 before the first.
+  std::uint32_t host_sequence() const { return has_command_ ? command_.sequence : 0; }
   const FrameCounters& frame_counters() const { return frame_counters_; }
   const MockCounters& counters() const { return counters_; }
   const ScriptParams& script() const { return script_; }

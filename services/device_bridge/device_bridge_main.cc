@@ -87,6 +87,7 @@ int Run(services::ServiceContext& context, const Options& options) {
   const auto c_models = health.AddCounter("force_models");
   const auto c_models_bad = health.AddCounter("force_models_rejected");
   const auto c_lost = health.AddCounter("device_lost_events");
+  const auto c_gap = health.AddCounter("tick_gap_disarms");
   const auto c_nan = health.AddCounter("non_finite_forces");
   const auto c_dropped = health.AddCounter("datagrams_dropped");
   health.SetState(v1::Health::STATE_READY);
@@ -173,6 +174,7 @@ int Run(services::ServiceContext& context, const Options& options) {
         health.SetCounter(c_models, bridge->counters().force_models);
         health.SetCounter(c_models_bad, bad_models);
         health.SetCounter(c_lost, bridge->counters().device_lost_events);
+        health.SetCounter(c_gap, bridge->counters().tick_gap_disarms);
         health.SetCounter(c_nan, non_finite);
         health.SetCounter(c_dropped, context.messenger().received().TotalDropped());
         health.SetState(bridge->device_lost() ? v1::Health::STATE_DEGRADED : v1::Health::STATE_READY);

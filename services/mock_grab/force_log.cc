@@ -9,7 +9,7 @@ ForceLog::ForceLog(const std::string& path) : out_(path) {
   if (!out_) throw std::runtime_error("cannot write force log " + path);
   out_ << "time_ns,thumb_cmd_x,thumb_cmd_y,thumb_cmd_z,thumb_applied_x,thumb_applied_y,thumb_applied_z,"
           "index_cmd_x,index_cmd_y,index_cmd_z,index_applied_x,index_applied_y,index_applied_z,"
-          "host_timed_out\n";
+          "host_timed_out,host_sequence\n";
   writer_ = std::thread([this] {
     while (!stop_.load(std::memory_order_acquire)) {
       WriteWaiting();
@@ -37,7 +37,7 @@ void ForceLog::WriteWaiting() {
       for (int k = 0; k < 3; ++k) out_ << ',' << s.commanded_N[f][k];
       for (int k = 0; k < 3; ++k) out_ << ',' << s.applied_N[f][k];
     }
-    out_ << ',' << (s.host_timed_out ? 1 : 0) << '\n';
+    out_ << ',' << (s.host_timed_out ? 1 : 0) << ',' << s.host_sequence << '\n';
   }
 }
 

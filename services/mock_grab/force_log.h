@@ -3,7 +3,8 @@
 // ring, a writer thread drains it to the file.
 //
 // time_ns (CLOCK_MONOTONIC, comparable across processes on one machine), then per finger (thumb,
-// index) the commanded and the applied force in frame D [N], then host_timed_out.
+// index) the commanded and the applied force in frame D [N], then host_timed_out and the
+// sequence of the host command in force (0 before the first).
 
 #include <atomic>
 #include <cstdint>
@@ -20,6 +21,7 @@ struct ForceSample {
   float commanded_N[2][3] = {};
   float applied_N[2][3] = {};
   bool host_timed_out = false;
+  std::uint32_t host_sequence = 0;
 };
 
 class ForceLog {

@@ -186,6 +186,7 @@ int Run(services::ServiceContext& context, const Options& options) {
             }
           }
           sample.host_timed_out = controller->host_timed_out();
+          sample.host_sequence = controller->host_sequence();
           log->Push(sample);
         }
         context.messenger().Drain([&](const v1::Envelope& e, const net::Messenger::Endpoint&) {

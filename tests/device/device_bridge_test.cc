@@ -162,6 +162,39 @@ TEST(DeviceBridgeTest, ControllerSilenceMeansDeviceLostThenRampsBackIn) {
   EXPECT_LT(first, 3.0);
 }
 
+// The host stalled 5 ms: the controller has zeroed force by now, though its timeout flag has not
+// reached us. The next command must not jump back to 3 N; it ramps in from zero.
+TEST(DeviceBridgeTest, OwnTickGapDisarmsSoForceRampsInAgain) {
+  DeviceBridgeConfig config = FastConfig();
+  config.safety.startup_ramp_s = 0.010;
+  auto dut = std::make_unique<DeviceBridge>(config);
+  CommandBytes out{};
+  std::uint32_t seq = 0;
+  double t = 0.0;
+  auto tick = [&](double dt_s) {
+    t += dt_s;
+    dut->OnStatusDatagram(Status(++seq, t), t);
+    dut->SetForceModel(Manipulator::kThumb, ConstantForce({3.0, 0.0, 0.0}), t);
+    dut->Tick(t, dt_s, out);
+    return dut->last_force_W_N(Manipulator::kThumb).x();
+  };
+  for (int k = 0; k < 100; ++k) tick(kTick_s);
+  ASSERT_NEAR(tick(kTick_s), 3.0, 1e-9);
+  EXPECT_NEAR(tick(0.0035), 3.0, 1e-9) << "a gap shorter than the threshold keeps the force";
+  EXPECT_EQ(dut->counters().tick_gap_disarms, 0u);
+  EXPECT_EQ(tick(0.005), 0.0) << "the tick after a 5 ms gap commands zero";
+  EXPECT_EQ(dut->counters().tick_gap_disarms, 1u);
+  double previous = 0.0;
+  for (int k = 0; k < 60; ++k) {
+    const double f = tick(kTick_s);
+    EXPECT_LE(f, previous + 3.0 * kTick_s / config.safety.startup_ramp_s + 1e-9) << "tick " << k;
+    previous = f;
+  }
+  EXPECT_NEAR(previous, 3.0, 1e-9) << "ramped back in over startup_ramp_s";
+  config.disarm_after_tick_gap_s = 0.0;
+  EXPECT_THROW(DeviceBridge{config}, std::invalid_argument);
+}
+
 TEST(DeviceBridgeTest, NonFiniteForceModelGivesZeroForceAndIsCounted) {
   auto dut = std::make_unique<DeviceBridge>(FastConfig());
   CommandBytes out{};

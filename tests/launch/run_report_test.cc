@@ -14,9 +14,9 @@ using ::testing::HasSubstr;
 TEST(LaunchRunReportTest, ForceLogStatsPerFinger) {
   const std::string path = testing::FreshDir("force_log") + "/f.csv";
   testing::WriteText(path,
-                     "time_ns,tcx,tcy,tcz,tax,tay,taz,icx,icy,icz,iax,iay,iaz,host_timed_out\n"
-                     "1000000000,3,4,0,0,0,0,0,0,1,0,0,0,0\n"
-                     "1500000000,0,0,0,0,0,0,0,0,3,0,0,0,0\n"
+                     "time_ns,tcx,tcy,tcz,tax,tay,taz,icx,icy,icz,iax,iay,iaz,host_timed_out,host_sequence\n"
+                     "1000000000,3,4,0,0,0,0,0,0,1,0,0,0,0,17\n"
+                     "1500000000,0,0,0,0,0,0,0,0,3,0,0,0,0,18\n"
                      "2000000000,0,0");  // cut by a kill: ignored
   const auto log = ReadForceLog(path);
   ASSERT_TRUE(log.has_value());

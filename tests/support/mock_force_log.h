@@ -26,7 +26,7 @@ inline std::vector<ForceRow> MockForceRows(const std::string& csv_path) {
     std::stringstream cells(line);
     std::string cell;
     while (std::getline(cells, cell, ',')) v.push_back(std::stod(cell));
-    if (v.size() != 14) continue;
+    if (v.size() != 15) continue;  // a row cut short by a kill
     rows.push_back({v[0], std::hypot(v[1], v[2], v[3]), std::hypot(v[7], v[8], v[9])});
   }
   return rows;
