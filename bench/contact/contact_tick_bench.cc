@@ -109,6 +109,42 @@ void BM_OneFingerTick(benchmark::State& state) {
 }
 BENCHMARK(BM_OneFingerTick)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
 
+// The contact code alone (ContactSolver::Prepare + Resolve, no fabric step) on the fabric as the
+// ticks above leave it: what the contact part of a tick costs, apart from the fabric step.
+void ContactOnly(benchmark::State& state, bool pinch) {
+  auto sim = MakePatch(1);
+  const double r = ContactOptions{}.thumb.radius_m + ContactOptions{}.fabric_half_thickness_m;
+  auto thumb = [&](double y, double d) { return FingerInput{true, Facing(V(0, y, r - d), V(0, 0, -1))}; };
+  auto index = [&](double y, double d) {
+    return pinch ? FingerInput{true, Facing(V(0, y, -(r - d)), V(0, 0, 1))} : FingerInput{};
+  };
+  for (int k = 0; k < 200; ++k) {
+    const double d = std::min(1.0, k / 100.0) * 0.002;
+    sim->Tick(thumb(0.0, d), index(0.0, d));
+  }
+  ContactSolver& solver = sim->solver();
+  textile::FabricState& fabric = sim->state();
+  std::vector<double> us;
+  us.reserve(1 << 20);
+  int k = 0;
+  for (auto _ : state) {
+    const double y = 0.002 * std::sin(1e-3 * k++);
+    const auto t0 = std::chrono::steady_clock::now();
+    solver.Prepare(thumb(y, 0.002), index(y, 0.002), sim->dt_s(), &fabric);
+    const ContactOutput& out = solver.Resolve(fabric);
+    const auto t1 = std::chrono::steady_clock::now();
+    benchmark::DoNotOptimize(out.finger[0].force_W_N);
+    if (us.size() < us.capacity()) us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
+  }
+  state.counters["samples"] = solver.output().pinch.samples;
+  state.counters["particles"] = solver.output().finger[0].contact_particles;
+  Report(state, &us);
+}
+void BM_PinchContactOnly(benchmark::State& state) { ContactOnly(state, true); }
+void BM_OneFingerContactOnly(benchmark::State& state) { ContactOnly(state, false); }
+BENCHMARK(BM_PinchContactOnly)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_OneFingerContactOnly)->Unit(benchmark::kMicrosecond);
+
 // The fabric step alone (no fingers): the floor under both.
 void BM_PatchStepOnly(benchmark::State& state) {
   auto sim = MakePatch(static_cast<int>(state.range(0)));

@@ -22,6 +22,12 @@ class AnchorAccumulator {
     k_[p] += k_N_per_m;
     ka_.segment<3>(3 * p) += k_N_per_m * anchor_W;
   }
+  /// The same as Add(p, k, anchor) for a spring given by its stiffness and k times its anchor
+  /// (several springs on one particle summed by the caller).
+  void AddMoment(int p, double k_N_per_m, const Eigen::Vector3d& k_anchor_W) {
+    k_[p] += k_N_per_m;
+    ka_.segment<3>(3 * p) += k_anchor_W;
+  }
   /// Writes the springs into `state` (resizing its anchor arrays only if they were never sized).
   void WriteTo(textile::FabricState* state) const;
 

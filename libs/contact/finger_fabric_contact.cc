@@ -33,6 +33,12 @@ void FingerFabricContact::Prepare(const FingerPose& pose, const textile::FabricS
   const Segment seg = CapsuleSegment(shape_, pose);
   const Eigen::Vector3d pad_normal = pose.R_WF.col(2);
   const double reach = radius_eff_m_ + 0.5 * shape_.length_m;
+  // Squared distance to the axis without a square root or division; a particle more than a
+  // relative 1e-9 outside needs no exact query (it would find depth <= 0).
+  const Eigen::Vector3d ab = seg.b_W - seg.a_W;
+  const double len2 = ab.squaredNorm();
+  const double inv_len2 = len2 > 0.0 ? 1.0 / len2 : 0.0;
+  const double outside2 = radius_eff_m_ * radius_eff_m_ * (1.0 + 1e-9);
   bool was_sliding = false;
   for (const auto& c : particles_) was_sliding = was_sliding || (c.active && c.sliding);
 
@@ -49,8 +55,14 @@ void FingerFabricContact::Prepare(const FingerPose& pose, const textile::FabricS
       continue;
     }
     const Eigen::Vector3d x = state.x_W_m.segment<3>(3 * p);
-    // Cheap reject before the exact query: most particles are far from the finger.
+    // Cheap rejects before the exact query: most particles are far from the finger.
     if (!c.active && (x - pose.p_W_m).squaredNorm() >= reach * reach) continue;
+    const Eigen::Vector3d ax = x - seg.a_W;
+    const double t = std::clamp(ax.dot(ab) * inv_len2, 0.0, 1.0);
+    if ((ax - t * ab).squaredNorm() > outside2) {
+      c.active = false;  // outside: no normal force, so no friction memory either
+      continue;
+    }
     const SurfaceQuery q = QueryCapsule(seg, radius_eff_m_, x, c.active ? c.normal_W : pad_normal);
     if (q.depth_m <= 0.0) {
       c.active = false;  // outside: no normal force, so no friction memory either

@@ -7,15 +7,37 @@
 #include "libs/contact/finger_finger_contact.h"
 
 namespace haptex::contact {
+namespace {
+
+// Relative margin of the fast classification: a squared distance (in C, no square root) this far
+// from a threshold decides what the exact test would decide, whatever the rounding of either
+// (both are accurate to ~1e-15 relative). Closer calls: a particle goes to DepthInBoth, a sample
+// to its depth from the same squared distances; triangles are classified only with the margin.
+constexpr double kMargin = 1e-9;
+
+double Max3(double a, double b, double c) { return std::max(a, std::max(b, c)); }
+
+}  // namespace
 
 PinchContact::PinchContact(const textile::FabricModel& patch, const ContactOptions& options)
     : patch_(patch),
       options_(options),
-      radius_thumb_m_(options.thumb.radius_m + options.fabric_half_thickness_m),
-      radius_index_m_(options.index.radius_m + options.fabric_half_thickness_m),
+      // Fabric touching a finger has its midsurface one half thickness off the skin, where that
+      // finger's own contact holds it; one more half thickness of tolerance lets such fabric count
+      // as squeezed. Without it the pinch was entered and lost up to 24 times while the index
+      // closed slowly on fabric the thumb held (tests/contact/pinch_onset_test.cc).
+      radius_thumb_m_(options.thumb.radius_m + 2.0 * options.fabric_half_thickness_m),
+      radius_index_m_(options.index.radius_m + 2.0 * options.fabric_half_thickness_m),
       k_N_per_m_(0.0),
-      near_(static_cast<std::size_t>(patch.num_particles), 0) {
-  // s^2 points per triangle: centroids of its s x s sub-triangles.
+      near_(static_cast<std::size_t>(patch.num_particles), 0),
+      d2_thumb_(static_cast<std::size_t>(patch.num_particles), 0.0),
+      d2_index_(static_cast<std::size_t>(patch.num_particles), 0.0),
+      x_C_(3, patch.num_particles),
+      is_touched_(static_cast<std::size_t>(patch.num_particles), 0),
+      touch_k_(static_cast<std::size_t>(patch.num_particles), 0.0),
+      touch_w_(static_cast<std::size_t>(patch.num_particles), 0.0),
+      touch_kd_C_(Eigen::Matrix3Xd::Zero(3, patch.num_particles)) {
+  // s^2 points per triangle: centroids of its s x s sub-triangles, the same in every triangle.
   const int s = options.pinch_samples_per_edge;
   double area_m2 = 0.0;
   for (const auto& t : patch.triangles) area_m2 += t.area_m2;
@@ -23,25 +45,26 @@ PinchContact::PinchContact(const textile::FabricModel& patch, const ContactOptio
     k_N_per_m_ = options.pad_stiffness_N_per_m3 * area_m2 /
                  static_cast<double>(patch.triangles.size() * static_cast<std::size_t>(s * s));
   }
-  samples_.reserve(patch.triangles.size() * static_cast<std::size_t>(s * s));
-  for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
-    auto add = [&](double b1, double b2) {
-      Sample smp;
-      smp.triangle = static_cast<int>(t);
-      smp.w = {1.0 - b1 - b2, b1, b2};
-      samples_.push_back(smp);
-    };
-    for (int i = 0; i < s; ++i) {
-      for (int j = 0; i + j < s; ++j) {
-        add((i + 1.0 / 3.0) / s, (j + 1.0 / 3.0) / s);
-        if (i + j <= s - 2) add((i + 2.0 / 3.0) / s, (j + 2.0 / 3.0) / s);
-      }
+  auto add = [&](double b1, double b2) { sample_w_.push_back({1.0 - b1 - b2, b1, b2}); };
+  for (int i = 0; i < s; ++i) {
+    for (int j = 0; i + j < s; ++j) {
+      add((i + 1.0 / 3.0) / s, (j + 1.0 / 3.0) / s);
+      if (i + j <= s - 2) add((i + 2.0 / 3.0) / s, (j + 2.0 / 3.0) / s);
     }
   }
+  per_triangle_ = static_cast<int>(sample_w_.size());
+  triangle_p_.reserve(patch.triangles.size());
+  for (const auto& t : patch.triangles) triangle_p_.push_back(t.p);
+  samples_.resize(patch.triangles.size() * sample_w_.size());
+  active_triangles_.reserve(patch.triangles.size());
+  touched_.reserve(static_cast<std::size_t>(patch.num_particles));
 }
 
 void PinchContact::Reset() {
-  for (auto& s : samples_) s.active = false;
+  if (maybe_active_) {
+    for (auto& s : samples_) s.active = false;
+  }
+  maybe_active_ = false;
   active_ = false;
   num_active_ = 0;
 }
@@ -51,12 +74,6 @@ double PinchContact::DepthInBoth(const Eigen::Vector3d& q) const {
   if (dt >= radius_thumb_m_) return radius_thumb_m_ - dt;
   const double di = (q - ClosestPointOnSegment(seg_index_.a_W, seg_index_.b_W, q)).norm();
   return std::min(radius_thumb_m_ - dt, radius_index_m_ - di);
-}
-
-Eigen::Vector3d PinchContact::SamplePosition(const Sample& s, const Eigen::VectorXd& x) const {
-  const auto& p = patch_.triangles[static_cast<std::size_t>(s.triangle)].p;
-  return s.w[0] * x.segment<3>(3 * p[0]) + s.w[1] * x.segment<3>(3 * p[1]) +
-         s.w[2] * x.segment<3>(3 * p[2]);
 }
 
 bool PinchContact::Prepare(const FingerPose& thumb, const FingerPose& index, double grip_N,
@@ -75,70 +92,234 @@ bool PinchContact::Prepare(const FingerPose& thumb, const FingerPose& index, dou
   R_WC_.col(1) = n.cross(e1);
   R_WC_.col(2) = n;
   grip_N_ = grip_N;
+  const Eigen::Matrix3d R_CW = R_WC_.transpose();
+  auto axis_in_c = [&](const Segment& seg) {
+    AxisC axis;
+    axis.a = R_CW * (seg.a_W - origin_W_);
+    axis.ab = R_CW * (seg.b_W - seg.a_W);
+    const double len2 = axis.ab.squaredNorm();
+    axis.inv_len2 = len2 > 0.0 ? 1.0 / len2 : 0.0;
+    return axis;
+  };
+  axis_thumb_C_ = axis_in_c(seg_thumb_);
+  axis_index_C_ = axis_in_c(seg_index_);
 
-  // Particles near the intersection: only their triangles can hold samples in it.
+  // Forget the last tick's touched particles.
+  for (int p : touched_) {
+    is_touched_[static_cast<std::size_t>(p)] = 0;
+    touch_k_[static_cast<std::size_t>(p)] = 0.0;
+    touch_w_[static_cast<std::size_t>(p)] = 0.0;
+    touch_kd_C_.col(p).setZero();
+  }
+  touched_.clear();
+
+  // Particles: where they are in C, how far from each axis, which are near the intersection
+  // (only their triangles can hold samples in it) and which lie in it (owned by the pinch).
   const double reach = std::min(radius_thumb_m_ + 0.5 * options_.thumb.length_m,
                                 radius_index_m_ + 0.5 * options_.index.length_m);
+  const double rt2 = radius_thumb_m_ * radius_thumb_m_, ri2 = radius_index_m_ * radius_index_m_;
   const int np = patch_.num_particles;
   for (int p = 0; p < np; ++p) {
+    const std::size_t up = static_cast<std::size_t>(p);
     const Eigen::Vector3d x = state.x_W_m.segment<3>(3 * p);
-    near_[static_cast<std::size_t>(p)] = (x - origin_W_).squaredNorm() < reach * reach ? 1 : 0;
-    if (near_[static_cast<std::size_t>(p)] && InsideBoth(x)) (*owned)[static_cast<std::size_t>(p)] = 1;
+    const Eigen::Vector3d rel = x - origin_W_;
+    const Eigen::Vector3d x_C = R_CW * rel;
+    x_C_.col(p) = x_C;
+    const double dt2 = axis_thumb_C_.Distance2(x_C);
+    const double di2 = axis_index_C_.Distance2(x_C);
+    d2_thumb_[up] = dt2;
+    d2_index_[up] = di2;
+    near_[up] = rel.squaredNorm() < reach * reach ? 1 : 0;
+    if (!near_[up]) continue;
+    if (dt2 < rt2 * (1.0 - kMargin) && di2 < ri2 * (1.0 - kMargin)) {
+      (*owned)[up] = 1;
+    } else if (!(dt2 > rt2 * (1.0 + kMargin) || di2 > ri2 * (1.0 + kMargin)) && InsideBoth(x)) {
+      (*owned)[up] = 1;
+    }
   }
-  // Let triangles with a near particle count as near (their samples may be inside).
-  num_active_ = 0;
-  weight_sum_ = 0.0;
-  for (Sample& s : samples_) {
-    const auto& p = patch_.triangles[static_cast<std::size_t>(s.triangle)].p;
-    const bool near = near_[static_cast<std::size_t>(p[0])] || near_[static_cast<std::size_t>(p[1])] ||
-                      near_[static_cast<std::size_t>(p[2])];
-    if (!near) {
-      s.active = false;
+
+  // Samples, a triangle at a time. A triangle with no near particle holds none; one whose
+  // particles all lie deeper than the edge ramp in both fingers holds all at the full spring
+  // (the distance to a capsule's axis is convex, so no point of the triangle is farther than
+  // its farthest corner); one whose farthest corner is more than the triangle's diameter
+  // outside a finger holds none (the distance changes no faster than the point moves).
+  int num_active = 0;
+  double weight_sum = 0.0;
+  active_triangles_.clear();
+  const double ramp = std::max(options_.pinch_edge_ramp_m, 0.0);
+  const double full_t = radius_thumb_m_ - ramp, full_i = radius_index_m_ - ramp;
+  const double full_t2 = full_t > 0.0 ? full_t * full_t * (1.0 - kMargin) : -1.0;
+  const double full_i2 = full_i > 0.0 ? full_i * full_i * (1.0 - kMargin) : -1.0;
+  const double out_t2 = rt2 * (1.0 + kMargin), out_i2 = ri2 * (1.0 + kMargin);
+  const double k_full = k_N_per_m_;
+  const int nt = static_cast<int>(triangle_p_.size());
+  const int per = per_triangle_;
+  for (int t = 0; t < nt; ++t) {
+    const auto& p = triangle_p_[static_cast<std::size_t>(t)];
+    Sample* s = &samples_[static_cast<std::size_t>(t * per)];
+    const std::size_t p0 = static_cast<std::size_t>(p[0]), p1 = static_cast<std::size_t>(p[1]),
+                      p2 = static_cast<std::size_t>(p[2]);
+    if (!(near_[p0] || near_[p1] || near_[p2])) {
+      for (int j = 0; j < per; ++j) s[j].active = false;
       continue;
     }
-    const Eigen::Vector3d q = SamplePosition(s, state.x_W_m);
-    const double depth = DepthInBoth(q);
-    if (depth <= 0.0) {
-      s.active = false;
-      continue;
+    const Eigen::Vector3d x0 = x_C_.col(p[0]), x1 = x_C_.col(p[1]), x2 = x_C_.col(p[2]);
+    const double far_t2 = Max3(d2_thumb_[p0], d2_thumb_[p1], d2_thumb_[p2]);
+    const double far_i2 = Max3(d2_index_[p0], d2_index_[p1], d2_index_[p2]);
+    const int active_before = num_active;
+    if (far_t2 < full_t2 && far_i2 < full_i2) {
+      for (int j = 0; j < per; ++j) {
+        Sample& smp = s[j];
+        if (!smp.active) {
+          // A new sample sticks where it meets the plane (paper: "initially static contact").
+          const auto& w = sample_w_[static_cast<std::size_t>(j)];
+          smp.ideal_C = (w[0] * x0 + w[1] * x1 + w[2] * x2).head<2>();
+          smp.active = true;
+          smp.sliding = false;
+        }
+        smp.k_N_per_m = k_full;
+        weight_sum += k_full;
+      }
+      num_active += per;
+    } else {
+      const double diam = std::sqrt(Max3((x1 - x0).squaredNorm(), (x2 - x0).squaredNorm(),
+                                         (x2 - x1).squaredNorm()));
+      const double out_t = (radius_thumb_m_ + diam) * (1.0 + kMargin);
+      const double out_i = (radius_index_m_ + diam) * (1.0 + kMargin);
+      if (far_t2 > out_t * out_t || far_i2 > out_i * out_i) {
+        for (int j = 0; j < per; ++j) s[j].active = false;
+        continue;
+      }
+      for (int j = 0; j < per; ++j) {
+        Sample& smp = s[j];
+        const auto& w = sample_w_[static_cast<std::size_t>(j)];
+        const Eigen::Vector3d q_C = w[0] * x0 + w[1] * x1 + w[2] * x2;
+        const double dt2 = axis_thumb_C_.Distance2(q_C);
+        const double di2 = axis_index_C_.Distance2(q_C);
+        double k = k_full;  // deeper than the ramp in both: the full spring
+        bool inside = !(dt2 > out_t2 || di2 > out_i2);  // else certainly outside a finger
+        if (inside && !(dt2 < full_t2 && di2 < full_i2)) {
+          // Near an edge: the depth in both decides.
+          const double depth =
+              std::min(radius_thumb_m_ - std::sqrt(dt2), radius_index_m_ - std::sqrt(di2));
+          const double edge_ramp = options_.pinch_edge_ramp_m;
+          inside = depth > 0.0;
+          k = k_full * (edge_ramp > 0.0 ? std::min(1.0, depth / edge_ramp) : 1.0);
+        }
+        if (!inside) {
+          smp.active = false;
+          continue;
+        }
+        if (!smp.active) {
+          smp.ideal_C = q_C.head<2>();
+          smp.active = true;
+          smp.sliding = false;
+        }
+        smp.k_N_per_m = k;
+        weight_sum += k;
+        ++num_active;
+      }
     }
-    const double ramp = options_.pinch_edge_ramp_m;
-    s.k_N_per_m = k_N_per_m_ * (ramp > 0.0 ? std::min(1.0, depth / ramp) : 1.0);
-    if (!s.active) {
-      // A new sample sticks where it meets the plane (paper: "initially static contact").
-      const Eigen::Vector3d q_C = R_WC_.transpose() * (q - origin_W_);
-      s.ideal_C = q_C.head<2>();
-      s.active = true;
-      s.sliding = false;
-    }
-    ++num_active_;
-    weight_sum_ += s.k_N_per_m;
+    if (num_active > active_before) active_triangles_.push_back(t);
   }
+  num_active_ = num_active;
+  weight_sum_ = weight_sum;
   active_ = num_active_ > 0;
+  maybe_active_ = active_;
   if (!active_) return false;
 
-  // Each sample's share of the grip is in proportion to its spring (full inside, ramped at the edge).
+  // Each sample's share of the grip is in proportion to its spring (full inside, ramped at the
+  // edge). Coulomb's law for each sample (both faces grip: 2 mu), as UpdateStickSlip states it,
+  // in C: the frictionless point is the sample projected onto the plane, (q_C.x, q_C.y).
   const double grip_per_stiffness = grip_N_ / weight_sum_;
-  const FrictionCoefficients two_faces{2.0 * mu.mu_static, 2.0 * mu.mu_dynamic};
-  for (Sample& s : samples_) {
-    if (!s.active) continue;
-    const Eigen::Vector3d q = SamplePosition(s, state.x_W_m);
-    const Eigen::Vector3d held_W = origin_W_ + R_WC_.col(0) * s.ideal_C.x() + R_WC_.col(1) * s.ideal_C.y();
-    const Eigen::Vector3d free_W = q - (q - origin_W_).dot(n) * n;
-    const StickSlipResult r = UpdateStickSlip(held_W, free_W, s.k_N_per_m, grip_per_stiffness * s.k_N_per_m,
-                                              two_faces, s.sliding);
-    s.sliding = r.sliding;
-    s.ideal_C = (R_WC_.transpose() * (r.held_W - origin_W_)).head<2>();
-    s.anchor_W = origin_W_ + R_WC_.col(0) * s.ideal_C.x() + R_WC_.col(1) * s.ideal_C.y();
-    // Lumped onto the particles: stiffness w k and the anchor that gives the same force now.
-    const auto& p = patch_.triangles[static_cast<std::size_t>(s.triangle)].p;
-    for (int m = 0; m < 3; ++m) {
-      const double w = s.w[static_cast<std::size_t>(m)];
-      if (w <= 0.0) continue;
-      const int pm = p[static_cast<std::size_t>(m)];
-      if (state.mode[static_cast<std::size_t>(pm)] != textile::ParticleMode::kFree) continue;
-      springs->Add(pm, w * s.k_N_per_m, state.x_W_m.segment<3>(3 * pm) + (s.anchor_W - q));
+  const double mu_s = 2.0 * mu.mu_static, mu_d = 2.0 * mu.mu_dynamic;
+  double k_ideal_x = 0.0, k_ideal_y = 0.0;
+  int num_sliding = 0;
+  for (int t : active_triangles_) {
+    const auto& p = triangle_p_[static_cast<std::size_t>(t)];
+    const Eigen::Vector3d x0 = x_C_.col(p[0]), x1 = x_C_.col(p[1]), x2 = x_C_.col(p[2]);
+    Sample* s = &samples_[static_cast<std::size_t>(t * per)];
+    // Per corner m: sum of w k, of w, and of w k (anchor - q) in C.
+    double kw0 = 0.0, kw1 = 0.0, kw2 = 0.0, ww0 = 0.0, ww1 = 0.0, ww2 = 0.0;
+    double d0x = 0.0, d0y = 0.0, d0z = 0.0, d1x = 0.0, d1y = 0.0, d1z = 0.0, d2x = 0.0, d2y = 0.0,
+           d2z = 0.0;
+    for (int j = 0; j < per; ++j) {
+      Sample& smp = s[j];
+      if (!smp.active) continue;
+      const auto& w = sample_w_[static_cast<std::size_t>(j)];
+      const double qx = w[0] * x0.x() + w[1] * x1.x() + w[2] * x2.x();
+      const double qy = w[0] * x0.y() + w[1] * x1.y() + w[2] * x2.y();
+      const double qz = w[0] * x0.z() + w[1] * x1.z() + w[2] * x2.z();
+      const double k = smp.k_N_per_m;
+      const double normal_N = grip_per_stiffness * k;
+      double ix = smp.ideal_C.x(), iy = smp.ideal_C.y();
+      if (normal_N > 0.0 && k > 0.0) {
+        const double sx = qx - ix, sy = qy - iy;
+        const double s2 = sx * sx + sy * sy;
+        const double limit = (smp.sliding ? mu_d : mu_s) * normal_N * (1.0 + 1e-9);
+        if (k * k * s2 <= limit * limit) {
+          smp.sliding = false;  // sticks: the ideal position stays
+        } else {
+          // Slides: the ideal position trails the frictionless point at mu_d of the load.
+          const double f = mu_d * normal_N / (k * std::sqrt(s2));
+          ix = qx - f * sx;
+          iy = qy - f * sy;
+          smp.ideal_C = Eigen::Vector2d(ix, iy);
+          smp.sliding = true;
+        }
+      } else {
+        ix = qx;  // no load, no friction
+        iy = qy;
+        smp.ideal_C = Eigen::Vector2d(ix, iy);
+      }
+      num_sliding += smp.sliding ? 1 : 0;
+      k_ideal_x += k * ix;
+      k_ideal_y += k * iy;
+      // anchor - q, in C: the spring pulls the sample to its ideal position on the plane.
+      const double dx = ix - qx, dy = iy - qy, dz = -qz;
+      const double wk0 = w[0] * k, wk1 = w[1] * k, wk2 = w[2] * k;
+      kw0 += wk0;
+      kw1 += wk1;
+      kw2 += wk2;
+      ww0 += w[0];
+      ww1 += w[1];
+      ww2 += w[2];
+      d0x += wk0 * dx;
+      d0y += wk0 * dy;
+      d0z += wk0 * dz;
+      d1x += wk1 * dx;
+      d1y += wk1 * dy;
+      d1z += wk1 * dz;
+      d2x += wk2 * dx;
+      d2y += wk2 * dy;
+      d2z += wk2 * dz;
     }
+    const double corner[3][5] = {{kw0, ww0, d0x, d0y, d0z}, {kw1, ww1, d1x, d1y, d1z}, {kw2, ww2, d2x, d2y, d2z}};
+    for (std::size_t m = 0; m < 3; ++m) {
+      const int pm = p[m];
+      const std::size_t um = static_cast<std::size_t>(pm);
+      if (!is_touched_[um]) {
+        is_touched_[um] = 1;
+        touched_.push_back(pm);
+      }
+      touch_k_[um] += corner[m][0];
+      touch_w_[um] += corner[m][1];
+      double* kd = touch_kd_C_.col(pm).data();
+      kd[0] += corner[m][2];
+      kd[1] += corner[m][3];
+      kd[2] += corner[m][4];
+    }
+  }
+  k_ideal_C_ = Eigen::Vector2d(k_ideal_x, k_ideal_y);
+  num_sliding_ = num_sliding;
+  last_triangle_ = active_triangles_.back();
+  // Lumped onto the particles: each sample's spring w k towards (its particle + anchor - q), so
+  // a particle gets the sum of w k and the anchor that gives the same force now.
+  for (int p : touched_) {
+    const std::size_t up = static_cast<std::size_t>(p);
+    if (state.mode[up] != textile::ParticleMode::kFree) continue;
+    const double k = touch_k_[up];
+    springs->AddMoment(p, k, k * state.x_W_m.segment<3>(3 * p) + R_WC_ * touch_kd_C_.col(p));
   }
   return true;
 }
@@ -150,32 +331,25 @@ void PinchContact::Resolve(const textile::FabricState& state, const Eigen::Matri
   result->normal_W = R_WC_.col(2);
   if (!active_) return;
   result->grip_N = grip_N_;
+  // Every sum over the samples is linear in the particles: sum_samples k q = sum_p (sum w k) x_p.
+  Eigen::Vector3d kq = Eigen::Vector3d::Zero();  // sum k (q - origin)
+  Eigen::Vector2d uv = Eigen::Vector2d::Zero();
+  Eigen::Vector3d vel = Eigen::Vector3d::Zero();
+  for (int p : touched_) {
+    const std::size_t up = static_cast<std::size_t>(p);
+    kq += touch_k_[up] * (state.x_W_m.segment<3>(3 * p) - origin_W_);
+    uv += touch_w_[up] * rest_uv_m.row(p).transpose();
+    vel += touch_w_[up] * state.v_W_m_per_s.segment<3>(3 * p);
+  }
   const Eigen::Vector3d n = R_WC_.col(2);
-  for (Sample& s : samples_) {
-    if (!s.active) continue;
-    const Eigen::Vector3d q = SamplePosition(s, state.x_W_m);
-    result->fabric_force_W_N += s.k_N_per_m * (s.anchor_W - q);
-    const Eigen::Vector3d free_W = q - (q - origin_W_).dot(n) * n;
-    result->friction_W_N += s.k_N_per_m * (free_W - s.anchor_W);
-
-    const auto& p = patch_.triangles[static_cast<std::size_t>(s.triangle)].p;
-    Eigen::Vector2d uv = Eigen::Vector2d::Zero();
-    Eigen::Vector3d vel = Eigen::Vector3d::Zero();
-    for (int m = 0; m < 3; ++m) {
-      const int pm = p[static_cast<std::size_t>(m)];
-      uv += s.w[static_cast<std::size_t>(m)] * rest_uv_m.row(pm).transpose();
-      vel += s.w[static_cast<std::size_t>(m)] * state.v_W_m_per_s.segment<3>(3 * pm);
-    }
-    result->touch_uv_m += uv;
-    result->touch_velocity_W += vel;
-    result->touch_triangle = s.triangle;
-    ++result->samples;
-    if (s.sliding) ++result->sliding_samples;
-  }
-  if (result->samples > 0) {
-    result->touch_uv_m /= result->samples;
-    result->touch_velocity_W /= result->samples;
-  }
+  const Eigen::Vector3d k_anchor = R_WC_.col(0) * k_ideal_C_.x() + R_WC_.col(1) * k_ideal_C_.y();
+  result->fabric_force_W_N = k_anchor - kq;                   // sum k (anchor - q)
+  result->friction_W_N = (kq - kq.dot(n) * n) - k_anchor;     // sum k (free - anchor)
+  result->samples = num_active_;
+  result->sliding_samples = num_sliding_;
+  result->touch_triangle = last_triangle_;
+  result->touch_uv_m = uv / result->samples;
+  result->touch_velocity_W = vel / result->samples;
 }
 
 }  // namespace haptex::contact

@@ -8,6 +8,7 @@
 // alone; the others keep the one-finger model without friction, so the fabric can fold over one
 // finger while pinched.
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -72,35 +73,64 @@ class PinchContact {
     s.active = state.active;
     s.sliding = state.sliding;
     s.ideal_C = state.ideal_C;
+    maybe_active_ = maybe_active_ || state.active;
   }
 
  private:
   struct Sample {
-    int triangle = 0;
-    std::array<double, 3> w{};            ///< barycentric weights of the triangle's particles
+    Eigen::Vector2d ideal_C{Eigen::Vector2d::Zero()};  ///< ideal position on the contact plane
+    double k_N_per_m = 0.0;  ///< spring during the last step: ramps in near the edge
     bool active = false;
     bool sliding = false;
-    Eigen::Vector2d ideal_C{Eigen::Vector2d::Zero()};  ///< ideal position on the contact plane
-    Eigen::Vector3d anchor_W{Eigen::Vector3d::Zero()};  ///< spring end during the last step
-    double k_N_per_m = 0.0;  ///< spring during the last step: ramps in near the edge
+  };
+  /// A capsule axis in the contact frame C, for squared distances without a square root.
+  struct AxisC {
+    Eigen::Vector3d a{Eigen::Vector3d::Zero()};
+    Eigen::Vector3d ab{Eigen::Vector3d::Zero()};
+    double inv_len2 = 0.0;  ///< 0 for a sphere
+    [[gnu::always_inline]] double Distance2(const Eigen::Vector3d& q) const {
+      const Eigen::Vector3d aq = q - a;
+      const double t = std::clamp(aq.dot(ab) * inv_len2, 0.0, 1.0);
+      return (aq - t * ab).squaredNorm();
+    }
   };
   /// How deep q lies inside both fingers [m]: min over the two of (radius - distance to axis);
-  /// negative outside the intersection.
+  /// negative outside the intersection. The exact test of a particle that the squared distances
+  /// in C leave too close to call.
   double DepthInBoth(const Eigen::Vector3d& q) const;
   bool InsideBoth(const Eigen::Vector3d& q) const { return DepthInBoth(q) > 0.0; }
-  Eigen::Vector3d SamplePosition(const Sample& s, const Eigen::VectorXd& x) const;
 
   const textile::FabricModel& patch_;
   ContactOptions options_;
-  double radius_thumb_m_, radius_index_m_;
+  double radius_thumb_m_, radius_index_m_;  ///< reach of the pinch: radius + 2 half thicknesses
   double k_N_per_m_;  ///< per sample (uniform mesh: triangle area / samples)
-  std::vector<Sample> samples_;  ///< every candidate point, fixed at construction
-  std::vector<std::uint8_t> near_;  ///< per particle, scratch
+  int per_triangle_ = 1;  ///< samples per triangle
+  std::vector<std::array<int, 3>> triangle_p_;  ///< particles of each triangle (compact copy)
+  std::vector<std::array<double, 3>> sample_w_;  ///< barycentric weights of sample j of any triangle
+  std::vector<Sample> samples_;  ///< every candidate point, fixed at construction; triangle-major
+  bool maybe_active_ = false;  ///< some sample may be active (Reset has work to do)
+
+  // Per tick (sized at construction, so no allocation per tick).
+  std::vector<std::uint8_t> near_;  ///< per particle
+  std::vector<double> d2_thumb_, d2_index_;  ///< per particle: squared distance to each axis
+  Eigen::Matrix3Xd x_C_;  ///< per particle: position in C (at Prepare)
+  std::vector<int> active_triangles_;  ///< triangles with an active sample, ascending
+  // What Resolve needs, per particle touched by an active sample: sum of w k and of w over the
+  // samples on it (the samples' springs and touch points are linear in the particles).
+  std::vector<int> touched_;
+  std::vector<std::uint8_t> is_touched_;
+  std::vector<double> touch_k_, touch_w_;
+  Eigen::Matrix3Xd touch_kd_C_;  ///< sum of w k (anchor - sample point), in C
+  Eigen::Vector2d k_ideal_C_{Eigen::Vector2d::Zero()};  ///< sum of k ideal_C over active samples
+  int num_sliding_ = 0;
+  int last_triangle_ = -1;
+
   bool active_ = false;
   int num_active_ = 0;
   double weight_sum_ = 0.0;  ///< sum of the active samples' springs [N/m]
   double grip_N_ = 0.0;
   Segment seg_thumb_{}, seg_index_{};
+  AxisC axis_thumb_C_{}, axis_index_C_{};
   Eigen::Vector3d origin_W_{Eigen::Vector3d::Zero()};
   Eigen::Matrix3d R_WC_{Eigen::Matrix3d::Identity()};
 };

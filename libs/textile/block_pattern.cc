@@ -5,6 +5,11 @@
 
 #include "libs/textile/check.h"
 
+#if defined(__GNUC__) && defined(__x86_64__)
+#include <immintrin.h>
+#define HAPTEX_TEXTILE_HAVE_AVX_KERNEL 1
+#endif
+
 namespace haptex::textile {
 
 int BlockPattern::Slot(int r, int c) const {
@@ -85,5 +90,118 @@ SplitRows SplitRows::FromPattern(const BlockPattern& pattern,
   }
   return s;
 }
+
+namespace internal {
+namespace {
+
+// Scalar blocks of row r, then x_r . y_r.
+inline double FinishRow(const SplitRows& split, const double* scalars, const double* x, int r,
+                        double acc[3], double* y) {
+  const int* s_col = split.scalar_col.data();
+  for (int k = split.scalar_start[static_cast<std::size_t>(r)];
+       k < split.scalar_start[static_cast<std::size_t>(r) + 1]; ++k) {
+    const double* xc = x + 3 * s_col[k];
+    const double v = scalars[k];
+    acc[0] += v * xc[0];
+    acc[1] += v * xc[1];
+    acc[2] += v * xc[2];
+  }
+  y[3 * r] = acc[0];
+  y[3 * r + 1] = acc[1];
+  y[3 * r + 2] = acc[2];
+  return x[3 * r] * acc[0] + x[3 * r + 1] * acc[1] + x[3 * r + 2] * acc[2];
+}
+
+double RangeGeneric(const SplitRows& split, const Eigen::Matrix3d* blocks, const double* scalars,
+                    const double* x, double* y, int r0, int r1) {
+  const int* g_start = split.general_start.data();
+  const int* g_first = split.general_first_slot.data();
+  const int* g_col = split.general_col.data();
+  double xy = 0.0;
+  for (int r = r0; r < r1; ++r) {
+    // c[b][j][i]: column j of the row's even (b = 0) or odd (b = 1) blocks, row i.
+    double c[2][3][3] = {};
+    const double* m = blocks[g_first[r]].data();
+    for (int k = g_start[r]; k < g_start[r + 1]; ++k, m += 9) {
+      const double* xc = x + 3 * g_col[k];
+      double(&cb)[3][3] = c[(k - g_start[r]) & 1];
+      for (int j = 0; j < 3; ++j) {
+        for (int i = 0; i < 3; ++i) cb[j][i] += m[3 * j + i] * xc[j];
+      }
+    }
+    double acc[3];
+    for (int i = 0; i < 3; ++i) {
+      acc[i] = ((c[0][0][i] + c[1][0][i]) + (c[0][1][i] + c[1][1][i])) + (c[0][2][i] + c[1][2][i]);
+    }
+    xy += FinishRow(split, scalars, x, r, acc, y);
+  }
+  return xy;
+}
+
+#ifdef HAPTEX_TEXTILE_HAVE_AVX_KERNEL
+// The same sums, one 4-wide multiply and add per block column: column 0 and 1 are loaded from
+// m and m + 3 (lanes 0..2 are rows 0..2), column 2 from m + 5 (lanes 1..3 are rows 0..2), so no
+// load leaves the block. No FMA: the products round as in RangeGeneric.
+__attribute__((target("avx"))) double RangeAvx(const SplitRows& split,
+                                               const Eigen::Matrix3d* blocks,
+                                               const double* scalars, const double* x, double* y,
+                                               int r0, int r1) {
+  const int* g_start = split.general_start.data();
+  const int* g_first = split.general_first_slot.data();
+  const int* g_col = split.general_col.data();
+  double xy = 0.0;
+  for (int r = r0; r < r1; ++r) {
+    // Even and odd blocks in separate accumulators: six independent chains of adds.
+    __m256d c0 = _mm256_setzero_pd(), c1 = _mm256_setzero_pd(), c2 = _mm256_setzero_pd();
+    __m256d d0 = _mm256_setzero_pd(), d1 = _mm256_setzero_pd(), d2 = _mm256_setzero_pd();
+    const double* m = blocks[g_first[r]].data();
+    const int* col = g_col + g_start[r];
+    const int count = g_start[r + 1] - g_start[r];
+    int k = 0;
+    for (; k + 1 < count; k += 2, m += 18) {
+      const double* xc = x + 3 * col[k];
+      const double* xd = x + 3 * col[k + 1];
+      c0 = _mm256_add_pd(c0, _mm256_mul_pd(_mm256_loadu_pd(m), _mm256_broadcast_sd(xc)));
+      c1 = _mm256_add_pd(c1, _mm256_mul_pd(_mm256_loadu_pd(m + 3), _mm256_broadcast_sd(xc + 1)));
+      c2 = _mm256_add_pd(c2, _mm256_mul_pd(_mm256_loadu_pd(m + 5), _mm256_broadcast_sd(xc + 2)));
+      d0 = _mm256_add_pd(d0, _mm256_mul_pd(_mm256_loadu_pd(m + 9), _mm256_broadcast_sd(xd)));
+      d1 = _mm256_add_pd(d1, _mm256_mul_pd(_mm256_loadu_pd(m + 12), _mm256_broadcast_sd(xd + 1)));
+      d2 = _mm256_add_pd(d2, _mm256_mul_pd(_mm256_loadu_pd(m + 14), _mm256_broadcast_sd(xd + 2)));
+    }
+    if (k < count) {
+      const double* xc = x + 3 * col[k];
+      c0 = _mm256_add_pd(c0, _mm256_mul_pd(_mm256_loadu_pd(m), _mm256_broadcast_sd(xc)));
+      c1 = _mm256_add_pd(c1, _mm256_mul_pd(_mm256_loadu_pd(m + 3), _mm256_broadcast_sd(xc + 1)));
+      c2 = _mm256_add_pd(c2, _mm256_mul_pd(_mm256_loadu_pd(m + 5), _mm256_broadcast_sd(xc + 2)));
+    }
+    const __m256d s01 = _mm256_add_pd(_mm256_add_pd(c0, d0), _mm256_add_pd(c1, d1));
+    const __m256d s2 = _mm256_add_pd(c2, d2);
+    alignas(32) double a01[4], a2[4];
+    _mm256_store_pd(a01, s01);
+    _mm256_store_pd(a2, s2);
+    double acc[3] = {a01[0] + a2[1], a01[1] + a2[2], a01[2] + a2[3]};
+    xy += FinishRow(split, scalars, x, r, acc, y);
+  }
+  return xy;
+}
+
+bool CpuHasAvx() {
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx");
+}
+const bool kCpuHasAvx = CpuHasAvx();
+#endif
+
+}  // namespace
+
+double MultiplySplitRowRange(const SplitRows& split, const Eigen::Matrix3d* blocks,
+                             const double* scalars, const double* x, double* y, int r0, int r1) {
+#ifdef HAPTEX_TEXTILE_HAVE_AVX_KERNEL
+  if (kCpuHasAvx) return RangeAvx(split, blocks, scalars, x, y, r0, r1);
+#endif
+  return RangeGeneric(split, blocks, scalars, x, y, r0, r1);
+}
+
+}  // namespace internal
 
 }  // namespace haptex::textile

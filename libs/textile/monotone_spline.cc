@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <stdexcept>
 #include <string>
 
@@ -53,6 +54,18 @@ MonotoneSpline::MonotoneSpline(std::vector<double> x, std::vector<double> y)
       m_[k + 1] = tau * beta * delta[k];
     }
   }
+  // Segment lookup: about four cells per segment, so the walk from a cell's segment is short.
+  const std::size_t cells = 4 * (n - 1);
+  const double span = x_[n - 1] - x_[0];
+  cells_per_x_ = static_cast<double>(cells) / span;
+  if (!std::isfinite(cells_per_x_)) cells_per_x_ = 0.0;  // absurd span: walk from segment 0
+  cell_segment_.resize(cells);
+  for (std::size_t c = 0; c < cells; ++c) {
+    const double start = x_[0] + static_cast<double>(c) / cells_per_x_;
+    const auto it = std::upper_bound(x_.begin(), x_.end(), start);
+    const auto k = static_cast<std::size_t>(std::max<std::ptrdiff_t>(it - x_.begin() - 1, 0));
+    cell_segment_[c] = static_cast<int>(std::min(k, n - 2));
+  }
 }
 
 void MonotoneSpline::Evaluate(double x, double* y, double* dy_dx) const {
@@ -68,8 +81,15 @@ void MonotoneSpline::Evaluate(double x, double* y, double* dy_dx) const {
     *dy_dx = m_[n - 1];
     return;
   }
-  const auto it = std::upper_bound(x_.begin(), x_.end(), x);
-  const std::size_t k = static_cast<std::size_t>(it - x_.begin()) - 1;
+  // k with x_k <= x < x_{k+1} (x_0 < x < x_{n-1} here): a cell's segment, then a short walk
+  // (which also absorbs any rounding in the cell index).
+  const double cell = (x - x_[0]) * cells_per_x_;
+  const std::size_t last_cell = cell_segment_.size() - 1;
+  const std::size_t c =
+      cell < static_cast<double>(last_cell) ? static_cast<std::size_t>(cell) : last_cell;
+  std::size_t k = static_cast<std::size_t>(cell_segment_[c]);
+  while (x_[k + 1] <= x) ++k;
+  while (x < x_[k]) --k;
   const double h = x_[k + 1] - x_[k];
   const double t = (x - x_[k]) / h;
   const double t2 = t * t;

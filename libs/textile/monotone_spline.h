@@ -15,7 +15,8 @@ class MonotoneSpline {
   /// increasing, y non-decreasing, and every value finite.
   MonotoneSpline(std::vector<double> x, std::vector<double> y);
 
-  /// Value and slope dy/dx at x.
+  /// Value and slope dy/dx at x. The segment comes from a table over uniform cells (a lookup
+  /// and at most a step or two, instead of a binary search); same result as a binary search.
   void Evaluate(double x, double* y, double* dy_dx) const;
   double Value(double x) const;
   double Slope(double x) const;
@@ -28,6 +29,9 @@ class MonotoneSpline {
 
  private:
   std::vector<double> x_, y_, m_;
+  /// cell_segment_[c]: the segment holding the start of uniform cell c of [x_0, x_{n-1}].
+  std::vector<int> cell_segment_;
+  double cells_per_x_ = 0.0;
 };
 
 }  // namespace haptex::textile

@@ -11,8 +11,25 @@
 namespace haptex::textile {
 namespace {
 
-constexpr int kAggregate = 2;      // particles per aggregate along each grid direction
 constexpr int kCoarsestNodes = 32; // stop coarsening at or below this many nodes
+
+// Fine node i of a line of n takes these next-level nodes (every second fine node) and weights:
+// itself if even, else the mean of its two even neighbours (the last one alone at an end).
+int CoarseLine(int i, int n, int coarse[2], double weight[2]) {
+  if (i % 2 == 0) {
+    coarse[0] = i / 2;
+    weight[0] = 1.0;
+    return 1;
+  }
+  coarse[0] = (i - 1) / 2;
+  if (i + 1 >= n) {
+    weight[0] = 1.0;
+    return 1;
+  }
+  coarse[1] = (i + 1) / 2;
+  weight[0] = weight[1] = 0.5;
+  return 2;
+}
 
 }  // namespace
 
@@ -22,35 +39,93 @@ MultilevelPreconditioner::MultilevelPreconditioner(const FabricModel& model) {
   levels_[0].n = model.num_particles;
   fine_pattern_ = &model.pattern;
   levels_[0].active.assign(static_cast<std::size_t>(model.num_particles), 1);
+  levels_[0].scalar.assign(model.pattern.cols.size(), 0);
+  for (int slot : model.product_rows.scalar_slot) levels_[0].scalar[static_cast<std::size_t>(slot)] = 1;
   while (levels_.back().n > kCoarsestNodes && (nu > 1 || nv > 1)) {
-    const int cu = (nu + kAggregate - 1) / kAggregate, cv = (nv + kAggregate - 1) / kAggregate;
+    const int cu = (nu + 1) / 2, cv = (nv + 1) / 2;
     Level& fine = levels_.back();
-    fine.to_coarse.resize(static_cast<std::size_t>(fine.n));
+    fine.p_start.assign(1, 0);
     for (int j = 0; j < nv; ++j) {
+      int cj[2], ci[2];
+      double wj[2], wi[2];
+      const int mj = CoarseLine(j, nv, cj, wj);
       for (int i = 0; i < nu; ++i) {
-        fine.to_coarse[static_cast<std::size_t>(i + nu * j)] = i / kAggregate + cu * (j / kAggregate);
+        const int mi = CoarseLine(i, nu, ci, wi);
+        for (int b = 0; b < mj; ++b) {
+          for (int a = 0; a < mi; ++a) {
+            fine.p_coarse.push_back(ci[a] + cu * cj[b]);
+            fine.p_weight.push_back(wi[a] * wj[b]);
+          }
+        }
+        fine.p_start.push_back(static_cast<int>(fine.p_coarse.size()));
       }
     }
-    std::vector<std::pair<int, int>> pairs;
     const BlockPattern& fp = Pattern(levels_.size() - 1);
-    for (int r = 0; r < fine.n; ++r) {
-      for (int k = fp.row_start[static_cast<std::size_t>(r)]; k < fp.row_start[static_cast<std::size_t>(r) + 1]; ++k) {
-        const int a = fine.to_coarse[static_cast<std::size_t>(r)];
-        const int b = fine.to_coarse[static_cast<std::size_t>(fp.cols[static_cast<std::size_t>(k)])];
-        if (a != b) pairs.emplace_back(a, b);
+    auto each_coarse_pair = [&](auto&& visit) {
+      for (int r = 0; r < fine.n; ++r) {
+        for (int k = fp.row_start[static_cast<std::size_t>(r)]; k < fp.row_start[static_cast<std::size_t>(r) + 1]; ++k) {
+          const int c = fp.cols[static_cast<std::size_t>(k)];
+          for (int ea = fine.p_start[static_cast<std::size_t>(r)]; ea < fine.p_start[static_cast<std::size_t>(r) + 1]; ++ea) {
+            for (int eb = fine.p_start[static_cast<std::size_t>(c)]; eb < fine.p_start[static_cast<std::size_t>(c) + 1]; ++eb) {
+              visit(k, fine.p_coarse[static_cast<std::size_t>(ea)], fine.p_coarse[static_cast<std::size_t>(eb)],
+                    fine.p_weight[static_cast<std::size_t>(ea)] * fine.p_weight[static_cast<std::size_t>(eb)]);
+            }
+          }
+        }
       }
-    }
+    };
+    std::vector<std::pair<int, int>> pairs;
+    each_coarse_pair([&](int, int a, int b, double) {
+      if (a != b) pairs.emplace_back(a, b);
+    });
     Level coarse;
     coarse.n = cu * cv;
     coarse.own_pattern = BlockPattern::FromPairs(coarse.n, pairs);
-    fine.slot_to_coarse.resize(fp.cols.size());
-    for (int r = 0; r < fine.n; ++r) {
-      for (int k = fp.row_start[static_cast<std::size_t>(r)]; k < fp.row_start[static_cast<std::size_t>(r) + 1]; ++k) {
-        fine.slot_to_coarse[static_cast<std::size_t>(k)] = coarse.own_pattern.Slot(
-            fine.to_coarse[static_cast<std::size_t>(r)],
-            fine.to_coarse[static_cast<std::size_t>(fp.cols[static_cast<std::size_t>(k)])]);
+    // A coarse block is scalar when every fine block it sums is; those go to the row ends.
+    auto mark_scalar = [&] {
+      coarse.scalar.assign(coarse.own_pattern.cols.size(), 1);
+      for (int slot : coarse.own_pattern.diag_slot) coarse.scalar[static_cast<std::size_t>(slot)] = 0;
+      each_coarse_pair([&](int k, int a, int b, double) {
+        if (!fine.scalar[static_cast<std::size_t>(k)]) {
+          coarse.scalar[static_cast<std::size_t>(coarse.own_pattern.Slot(a, b))] = 0;
+        }
+      });
+    };
+    mark_scalar();
+    coarse.own_pattern.MoveToRowEnds(coarse.scalar);
+    mark_scalar();
+    coarse.general_end.resize(static_cast<std::size_t>(coarse.n));
+    for (int r = 0; r < coarse.n; ++r) {
+      int k = coarse.own_pattern.row_start[static_cast<std::size_t>(r)];
+      while (k < coarse.own_pattern.row_start[static_cast<std::size_t>(r) + 1] &&
+             !coarse.scalar[static_cast<std::size_t>(k)]) {
+        ++k;
+      }
+      coarse.general_end[static_cast<std::size_t>(r)] = k;
+    }
+    coarse.scalar_value.assign(coarse.own_pattern.cols.size(), 0.0);
+    coarse.mirror_slot.assign(coarse.own_pattern.cols.size(), -1);
+    for (int r = 0; r < coarse.n; ++r) {
+      for (int k = coarse.own_pattern.row_start[static_cast<std::size_t>(r)];
+           k < coarse.own_pattern.row_start[static_cast<std::size_t>(r) + 1]; ++k) {
+        const int c = coarse.own_pattern.cols[static_cast<std::size_t>(k)];
+        if (r > c) coarse.mirror_slot[static_cast<std::size_t>(k)] = coarse.own_pattern.Slot(c, r);
       }
     }
+    fine.g_start.assign(fp.cols.size() + 1, 0);
+    each_coarse_pair([&](int k, int a, int b, double) {
+      if (a <= b) ++fine.g_start[static_cast<std::size_t>(k) + 1];
+    });
+    for (std::size_t k = 0; k < fp.cols.size(); ++k) fine.g_start[k + 1] += fine.g_start[k];
+    fine.g_slot.resize(static_cast<std::size_t>(fine.g_start.back()));
+    fine.g_weight.resize(fine.g_slot.size());
+    std::vector<int> fill(fine.g_start.begin(), fine.g_start.end() - 1);
+    each_coarse_pair([&](int k, int a, int b, double w) {
+      if (a > b) return;
+      const std::size_t e = static_cast<std::size_t>(fill[static_cast<std::size_t>(k)]++);
+      fine.g_slot[e] = coarse.own_pattern.Slot(a, b);
+      fine.g_weight[e] = w;
+    });
     levels_.push_back(std::move(coarse));
     nu = cu;
     nv = cv;
@@ -95,16 +170,24 @@ void MultilevelPreconditioner::Update(const FabricModel& model, const FabricStat
       }
     }
     if (l + 1 == levels_.size()) break;
-    // Galerkin coarse matrix: sum of the active fine blocks of each aggregate pair.
+    // Galerkin coarse matrix P^T A P over the active fine rows and columns.
     Level& next = levels_[l + 1];
     for (auto& b : next.a) b.setZero();
     for (int r = 0; r < lev.n; ++r) {
       if (!lev.active[static_cast<std::size_t>(r)]) continue;
       for (int k = pat.row_start[static_cast<std::size_t>(r)]; k < pat.row_start[static_cast<std::size_t>(r) + 1]; ++k) {
         if (!lev.active[static_cast<std::size_t>(pat.cols[static_cast<std::size_t>(k)])]) continue;
-        next.a[static_cast<std::size_t>(lev.slot_to_coarse[static_cast<std::size_t>(k)])] +=
-            blocks[static_cast<std::size_t>(k)];
+        const Eigen::Matrix3d& block = blocks[static_cast<std::size_t>(k)];
+        for (int e = lev.g_start[static_cast<std::size_t>(k)]; e < lev.g_start[static_cast<std::size_t>(k) + 1]; ++e) {
+          next.a[static_cast<std::size_t>(lev.g_slot[static_cast<std::size_t>(e)])] +=
+              lev.g_weight[static_cast<std::size_t>(e)] * block;
+        }
       }
+    }
+    for (std::size_t k = 0; k < next.a.size(); ++k) {
+      const int mirror = next.mirror_slot[k];
+      if (mirror >= 0) next.a[k] = next.a[static_cast<std::size_t>(mirror)].transpose();
+      if (next.scalar[k]) next.scalar_value[k] = next.a[k](0, 0);
     }
     for (int p = 0; p < next.n; ++p) {
       Eigen::Matrix3d& d = next.a[static_cast<std::size_t>(next.own_pattern.diag_slot[static_cast<std::size_t>(p)])];
@@ -145,11 +228,21 @@ void MultilevelPreconditioner::Update(const FabricModel& model, const FabricStat
 
 namespace {
 
-// Row p of the residual r - A z on one level.
-Eigen::Vector3d RowResidual(const Eigen::Matrix3d* blocks, const int* row_start, const int* cols, const double* z,
+// Row p of the residual r - A z on one level; the row's blocks from general_end[p] on are
+// scalar, with values in scalar_value (general_end null: no scalar blocks).
+Eigen::Vector3d RowResidual(const Eigen::Matrix3d* blocks, const int* row_start, const int* cols,
+                            const int* general_end, const double* scalar_value, const double* z,
                             const double* r, int p) {
   double acc[3] = {0.0, 0.0, 0.0};
-  AccumulateBlockRow(blocks, cols, row_start[p], row_start[p + 1], z, acc);
+  const int k_general = general_end ? general_end[p] : row_start[p + 1];
+  AccumulateBlockRow(blocks, cols, row_start[p], k_general, z, acc);
+  for (int k = k_general; k < row_start[p + 1]; ++k) {
+    const double* zc = z + 3 * cols[k];
+    const double v = scalar_value[k];
+    acc[0] += v * zc[0];
+    acc[1] += v * zc[1];
+    acc[2] += v * zc[2];
+  }
   return {r[3 * p] - acc[0], r[3 * p + 1] - acc[1], r[3 * p + 2] - acc[2]};
 }
 
@@ -162,6 +255,8 @@ void MultilevelPreconditioner::Smooth(std::size_t level) {
   const Eigen::Matrix3d* blocks = Blocks(level).data();
   const int* row_start = pat.row_start.data();
   const int* cols = pat.cols.data();
+  const int* general_end = level > 0 ? l.general_end.data() : nullptr;
+  const double* scalar_value = l.scalar_value.data();
   const double* z = l.z.data();
   const double* r = l.r.data();
   double* out = l.t.data();
@@ -173,7 +268,7 @@ void MultilevelPreconditioner::Smooth(std::size_t level) {
       out[3 * p + 2] = z[3 * p + 2];
       continue;
     }
-    const Eigen::Vector3d res = RowResidual(blocks, row_start, cols, z, r, p);
+    const Eigen::Vector3d res = RowResidual(blocks, row_start, cols, general_end, scalar_value, z, r, p);
     Eigen::Map<Eigen::Vector3d>(out + 3 * p) = l.z.segment<3>(3 * p) + l.d_inv[ps] * res;
   }
   l.z.swap(l.t);
@@ -187,6 +282,8 @@ void MultilevelPreconditioner::RestrictResidual(std::size_t level) {
   const Eigen::Matrix3d* blocks = Blocks(level).data();
   const int* row_start = pat.row_start.data();
   const int* cols = pat.cols.data();
+  const int* general_end = level > 0 ? l.general_end.data() : nullptr;
+  const double* scalar_value = l.scalar_value.data();
   const double* z = l.z.data();
   const double* r = l.r.data();
   double* cr = c.r.data();
@@ -194,7 +291,11 @@ void MultilevelPreconditioner::RestrictResidual(std::size_t level) {
   for (int p = 0; p < l.n; ++p) {
     const std::size_t ps = static_cast<std::size_t>(p);
     if (!l.active[ps]) continue;
-    Eigen::Map<Eigen::Vector3d>(cr + 3 * l.to_coarse[ps]) += RowResidual(blocks, row_start, cols, z, r, p);
+    const Eigen::Vector3d res = RowResidual(blocks, row_start, cols, general_end, scalar_value, z, r, p);
+    for (int e = l.p_start[ps]; e < l.p_start[ps + 1]; ++e) {
+      Eigen::Map<Eigen::Vector3d>(cr + 3 * l.p_coarse[static_cast<std::size_t>(e)]) +=
+          l.p_weight[static_cast<std::size_t>(e)] * res;
+    }
   }
 }
 
@@ -229,13 +330,17 @@ void MultilevelPreconditioner::Cycle(std::size_t k) {
   Smooth(k);
 }
 
-// z += P z_coarse (piecewise constant over each aggregate).
+// z += P z_coarse at the active nodes.
 void MultilevelPreconditioner::Prolong(std::size_t k, Eigen::VectorXd* z) const {
   const Level& l = levels_[k];
   const Level& c = levels_[k + 1];
   for (int p = 0; p < l.n; ++p) {
-    if (!l.active[static_cast<std::size_t>(p)]) continue;
-    z->segment<3>(3 * p) += c.z.segment<3>(3 * l.to_coarse[static_cast<std::size_t>(p)]);
+    const std::size_t ps = static_cast<std::size_t>(p);
+    if (!l.active[ps]) continue;
+    for (int e = l.p_start[ps]; e < l.p_start[ps + 1]; ++e) {
+      z->segment<3>(3 * p) += l.p_weight[static_cast<std::size_t>(e)] *
+                              c.z.segment<3>(3 * l.p_coarse[static_cast<std::size_t>(e)]);
+    }
   }
 }
 
@@ -257,8 +362,12 @@ void MultilevelPreconditioner::Apply(const Eigen::VectorXd& r, Eigen::VectorXd* 
   c.r.setZero();
   for (int p = 0; p < top.n; ++p) {
     z->segment<3>(3 * p).noalias() = top.d_inv[static_cast<std::size_t>(p)] * r.segment<3>(3 * p);
-    if (!top.active[static_cast<std::size_t>(p)]) continue;
-    c.r.segment<3>(3 * top.to_coarse[static_cast<std::size_t>(p)]) += r.segment<3>(3 * p);
+    const std::size_t ps = static_cast<std::size_t>(p);
+    if (!top.active[ps]) continue;
+    for (int e = top.p_start[ps]; e < top.p_start[ps + 1]; ++e) {
+      c.r.segment<3>(3 * top.p_coarse[static_cast<std::size_t>(e)]) +=
+          top.p_weight[static_cast<std::size_t>(e)] * r.segment<3>(3 * p);
+    }
   }
   Cycle(1);
   Prolong(0, z);
