@@ -94,16 +94,8 @@ MultilevelPreconditioner::MultilevelPreconditioner(const FabricModel& model) {
     mark_scalar();
     coarse.own_pattern.MoveToRowEnds(coarse.scalar);
     mark_scalar();
-    coarse.general_end.resize(static_cast<std::size_t>(coarse.n));
-    for (int r = 0; r < coarse.n; ++r) {
-      int k = coarse.own_pattern.row_start[static_cast<std::size_t>(r)];
-      while (k < coarse.own_pattern.row_start[static_cast<std::size_t>(r) + 1] &&
-             !coarse.scalar[static_cast<std::size_t>(k)]) {
-        ++k;
-      }
-      coarse.general_end[static_cast<std::size_t>(r)] = k;
-    }
-    coarse.scalar_value.assign(coarse.own_pattern.cols.size(), 0.0);
+    coarse.split = SplitRows::FromPattern(coarse.own_pattern, coarse.scalar);
+    coarse.scalars.assign(coarse.split.scalar_slot.size(), 0.0);
     coarse.mirror_slot.assign(coarse.own_pattern.cols.size(), -1);
     for (int r = 0; r < coarse.n; ++r) {
       for (int k = coarse.own_pattern.row_start[static_cast<std::size_t>(r)];
@@ -140,6 +132,7 @@ MultilevelPreconditioner::MultilevelPreconditioner(const FabricModel& model) {
     lev.r = Eigen::VectorXd::Zero(3 * lev.n);
     lev.z = Eigen::VectorXd::Zero(3 * lev.n);
     lev.t = Eigen::VectorXd::Zero(3 * lev.n);
+    if (l > 0) lev.az = Eigen::VectorXd::Zero(3 * lev.n);
   }
   dense_ = Eigen::MatrixXd::Zero(3 * levels_.back().n, 3 * levels_.back().n);
   dense_rhs_ = Eigen::VectorXd::Zero(3 * levels_.back().n);
@@ -187,7 +180,9 @@ void MultilevelPreconditioner::Update(const FabricModel& model, const FabricStat
     for (std::size_t k = 0; k < next.a.size(); ++k) {
       const int mirror = next.mirror_slot[k];
       if (mirror >= 0) next.a[k] = next.a[static_cast<std::size_t>(mirror)].transpose();
-      if (next.scalar[k]) next.scalar_value[k] = next.a[k](0, 0);
+    }
+    for (std::size_t k = 0; k < next.scalars.size(); ++k) {
+      next.scalars[k] = next.a[static_cast<std::size_t>(next.split.scalar_slot[k])](0, 0);
     }
     for (int p = 0; p < next.n; ++p) {
       Eigen::Matrix3d& d = next.a[static_cast<std::size_t>(next.own_pattern.diag_slot[static_cast<std::size_t>(p)])];
@@ -228,37 +223,37 @@ void MultilevelPreconditioner::Update(const FabricModel& model, const FabricStat
 
 namespace {
 
-// Row p of the residual r - A z on one level; the row's blocks from general_end[p] on are
-// scalar, with values in scalar_value (general_end null: no scalar blocks).
+// Row p of the residual r - A z of the finest level (a single-level hierarchy only).
 Eigen::Vector3d RowResidual(const Eigen::Matrix3d* blocks, const int* row_start, const int* cols,
-                            const int* general_end, const double* scalar_value, const double* z,
-                            const double* r, int p) {
+                            const double* z, const double* r, int p) {
   double acc[3] = {0.0, 0.0, 0.0};
-  const int k_general = general_end ? general_end[p] : row_start[p + 1];
-  AccumulateBlockRow(blocks, cols, row_start[p], k_general, z, acc);
-  for (int k = k_general; k < row_start[p + 1]; ++k) {
-    const double* zc = z + 3 * cols[k];
-    const double v = scalar_value[k];
-    acc[0] += v * zc[0];
-    acc[1] += v * zc[1];
-    acc[2] += v * zc[2];
-  }
+  AccumulateBlockRow(blocks, cols, row_start[p], row_start[p + 1], z, acc);
   return {r[3 * p] - acc[0], r[3 * p + 1] - acc[1], r[3 * p + 2] - acc[2]};
 }
 
 }  // namespace
 
-// z += D^-1 (r - A z), in one pass over the rows (the new z goes to t, then z and t swap).
-void MultilevelPreconditioner::Smooth(std::size_t level) {
-  Level& l = levels_[level];
+// Row p of r - A z: from the coarse level's product az, or computed (finest level).
+Eigen::Vector3d MultilevelPreconditioner::Residual(std::size_t level, int p) const {
+  const Level& l = levels_[level];
+  if (level > 0) return l.r.segment<3>(3 * p) - l.az.segment<3>(3 * p);
   const BlockPattern& pat = Pattern(level);
-  const Eigen::Matrix3d* blocks = Blocks(level).data();
-  const int* row_start = pat.row_start.data();
-  const int* cols = pat.cols.data();
-  const int* general_end = level > 0 ? l.general_end.data() : nullptr;
-  const double* scalar_value = l.scalar_value.data();
+  return RowResidual(Blocks(level).data(), pat.row_start.data(), pat.cols.data(), l.z.data(), l.r.data(), p);
+}
+
+// Coarse levels: az = A z (the split product, as CG's).
+void MultilevelPreconditioner::MultiplyCoarse(std::size_t level) {
+  Level& l = levels_[level];
+  if (level == 0) return;
+  const unsigned char* active = l.active.data();
+  MultiplySplitRows(l.split, l.a, l.scalars, [active](int row) { return active[row] != 0; }, l.z, &l.az);
+}
+
+// z += D^-1 (r - A z) (the new z goes to t, then z and t swap).
+void MultilevelPreconditioner::Smooth(std::size_t level) {
+  MultiplyCoarse(level);
+  Level& l = levels_[level];
   const double* z = l.z.data();
-  const double* r = l.r.data();
   double* out = l.t.data();
   for (int p = 0; p < l.n; ++p) {
     const std::size_t ps = static_cast<std::size_t>(p);
@@ -268,30 +263,22 @@ void MultilevelPreconditioner::Smooth(std::size_t level) {
       out[3 * p + 2] = z[3 * p + 2];
       continue;
     }
-    const Eigen::Vector3d res = RowResidual(blocks, row_start, cols, general_end, scalar_value, z, r, p);
-    Eigen::Map<Eigen::Vector3d>(out + 3 * p) = l.z.segment<3>(3 * p) + l.d_inv[ps] * res;
+    Eigen::Map<Eigen::Vector3d>(out + 3 * p) = l.z.segment<3>(3 * p) + l.d_inv[ps] * Residual(level, p);
   }
   l.z.swap(l.t);
 }
 
-// Restricts the residual r - A z of level k to level k + 1 (c.r = P^T (r - A z)), one pass.
+// Restricts the residual r - A z of level k to level k + 1 (c.r = P^T (r - A z)).
 void MultilevelPreconditioner::RestrictResidual(std::size_t level) {
+  MultiplyCoarse(level);
   const Level& l = levels_[level];
   Level& c = levels_[level + 1];
-  const BlockPattern& pat = Pattern(level);
-  const Eigen::Matrix3d* blocks = Blocks(level).data();
-  const int* row_start = pat.row_start.data();
-  const int* cols = pat.cols.data();
-  const int* general_end = level > 0 ? l.general_end.data() : nullptr;
-  const double* scalar_value = l.scalar_value.data();
-  const double* z = l.z.data();
-  const double* r = l.r.data();
   double* cr = c.r.data();
   c.r.setZero();
   for (int p = 0; p < l.n; ++p) {
     const std::size_t ps = static_cast<std::size_t>(p);
     if (!l.active[ps]) continue;
-    const Eigen::Vector3d res = RowResidual(blocks, row_start, cols, general_end, scalar_value, z, r, p);
+    const Eigen::Vector3d res = Residual(level, p);
     for (int e = l.p_start[ps]; e < l.p_start[ps + 1]; ++e) {
       Eigen::Map<Eigen::Vector3d>(cr + 3 * l.p_coarse[static_cast<std::size_t>(e)]) +=
           l.p_weight[static_cast<std::size_t>(e)] * res;

@@ -46,12 +46,13 @@ class MultilevelPreconditioner {
     std::vector<int> g_start, g_slot;
     std::vector<double> g_weight;
     // Blocks that only bending makes (a scalar times the identity, never diagonal): scalar[slot].
-    // On coarse levels they sit at the end of each row, from general_end[row], and their values
-    // are read from scalar_value (3 multiply-adds instead of 9 in the products).
+    // On coarse levels they sit at the end of each row and the products read them as one value
+    // each (split, scalars: as CG's product of the finest level, MultiplySplitRows).
     std::vector<unsigned char> scalar;
-    std::vector<int> general_end;
+    SplitRows split;
+    std::vector<double> scalars;
+    Eigen::VectorXd az;  // A z of a coarse level
     std::vector<int> mirror_slot;  // coarse levels: slot of block (c, r) for block (r, c), r > c; else -1
-    std::vector<double> scalar_value;
     std::vector<unsigned char> active;  // level 0: free particle
     Eigen::VectorXd r, z, t;
   };
@@ -62,6 +63,8 @@ class MultilevelPreconditioner {
   const std::vector<Eigen::Matrix3d>& Blocks(std::size_t k) const {
     return k == 0 ? *fine_blocks_ : levels_[k].a;
   }
+  Eigen::Vector3d Residual(std::size_t k, int p) const;
+  void MultiplyCoarse(std::size_t k);
   void Smooth(std::size_t k);
   void RestrictResidual(std::size_t k);
   void Prolong(std::size_t k, Eigen::VectorXd* z) const;
