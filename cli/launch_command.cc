@@ -22,6 +22,7 @@
 #include "launch/run_summary.h"
 #include "launch/service_set.h"
 #include "launch/supervisor.h"
+#include "libs/runtime/rt_setup.h"
 #include "libs/scene/scene_loader.h"
 #include "libs/scene/session_key_source.h"
 
@@ -46,6 +47,7 @@ struct LaunchOptions {
   double silent_after_s = 3;
   int max_restarts = 3;
   bool no_plots = false;
+  int rt_priority = 0;  // SCHED_FIFO for the launcher and (inherited) every service; 0: normal
   bool dry_run = false;
 };
 
@@ -192,6 +194,14 @@ int Launch(const LaunchOptions& o) {
   std::cout << "run folder " << run_dir << "\n"
             << "launcher receiving Health on " << config.launcher.Peer() << "; Ctrl-C stops the run" << std::endl;
 
+  if (o.rt_priority > 0) {
+    // Services inherit the policy through fork: one setting for the whole run, as measured.
+    const runtime::RtSetupResult rt = runtime::TrySetFifoPriority(o.rt_priority);
+    std::cout << (rt.ok ? "real-time: " + rt.message + " for the launcher and every service it starts"
+                        : "real-time refused (" + rt.message + "): normal scheduling")
+              << std::endl;
+  }
+
   launch::RunRecord record;
   record.scene_name = scene.name();
   record.scene_path = scene_path;
@@ -262,6 +272,10 @@ void AddLaunchCommand(CLI::App& app, int* exit_code) {
   launch->add_option("--max-restarts", o->max_restarts, "restarts per service before the run stops")
       ->check(CLI::Range(0, 100))->capture_default_str();
   launch->add_flag("--no-plots", o->no_plots, "do not draw the plots");
+  launch->add_option("--rt-priority", o->rt_priority,
+                     "SCHED_FIFO priority 1..99 for the launcher and every service it starts (0: normal "
+                     "scheduling; needs root or CAP_SYS_NICE)")
+      ->check(CLI::Range(0, 99))->capture_default_str();
   launch->add_flag("--dry-run", o->dry_run, "print the services, ports and command lines; start nothing");
   launch->callback([o, exit_code] { *exit_code = Launch(*o); });
 }
