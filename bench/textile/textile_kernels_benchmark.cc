@@ -68,6 +68,19 @@ void BM_Assembly(benchmark::State& bm) {
 }
 BENCHMARK(BM_Assembly)->Arg(20)->Arg(41)->Arg(81)->Unit(benchmark::kMicrosecond);
 
+// Forces and (df/dx) v only, no system blocks: what a step that reuses its Jacobian assembles.
+void BM_ForcesOnly(benchmark::State& bm) {
+  Setup s(static_cast<int>(bm.range(0)));
+  ForceSink forces_only = s.sink;
+  forces_only.system = nullptr;
+  for (auto _ : bm) {
+    s.f.setZero();
+    AccumulateForces(s.model, s.state, &forces_only);
+    benchmark::DoNotOptimize(s.f.data());
+  }
+}
+BENCHMARK(BM_ForcesOnly)->Arg(20)->Arg(41)->Arg(81)->Unit(benchmark::kMicrosecond);
+
 void BM_Product(benchmark::State& bm) {
   Setup s(static_cast<int>(bm.range(0)));
   const ParticleMode* mode = s.state.mode.data();

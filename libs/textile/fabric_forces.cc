@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <vector>
 
 #include <Eigen/Geometry>
 
+#include "libs/textile/check.h"
 #include "libs/textile/external_force.h"
 
 namespace haptex::textile {
@@ -16,242 +18,439 @@ namespace {
 // Full unrolling of the fixed 3- and 9-long element loops (-O2 keeps them as loops over stack
 // arrays, several times slower here).
 #define HAPTEX_UNROLL _Pragma("GCC unroll 9")
+// Every helper on V4 is inlined into the kernel, so it is compiled once per instruction set
+// (and no 32-byte vector crosses a call in the generic build).
+#define HAPTEX_LANES_INLINE inline __attribute__((always_inline))
+
+#if defined(__GNUC__) && defined(__x86_64__)
+#define HAPTEX_TEXTILE_HAVE_AVX2_KERNEL 1
+#endif
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 // The per-force functions (tensile_force.cc, shear_force.cc, bending_force.cc, drag_force.cc)
 // are the reference; this file evaluates the same forces and Jacobians in one pass per element,
 // writing each system block once (dx and dv terms combined) and computing (df/dx) v per element
 // instead of per block. tests/textile/fabric_forces_test.cc checks the two agree.
+//
+// Triangles go four at a time: lane j of a V4 is triangle t + j (structure of arrays), so every
+// element operation is one 4-wide operation. A GCC/Clang vector extension: pairs of SSE2
+// operations in the generic build, one AVX operation in the avx2 build. Both builds do the same
+// IEEE operations in the same order (no FMA), so the results do not depend on the CPU. Forces
+// and (df/dx) v are the one-triangle formulas, added per lane in triangle order (triangles of a
+// group share particles). Blocks (l, k) are blocks (k, l) transposed, and a group's terms reach
+// a shared block in block order: the system differs from a triangle-by-triangle sum by rounding.
+// Helpers take and return V4 by value; they are always inlined, so the psabi note (32-byte
+// vectors change the calling convention without AVX) never applies. GCC reports it at the end
+// of the file, so it stays off for the rest of the file.
+#pragma GCC diagnostic ignored "-Wpsabi"
+using V4 = double __attribute__((vector_size(32)));
+using M4 = long long __attribute__((vector_size(32)));  // lane masks of V4 comparisons: -1 or 0
+constexpr int kLanes = 4;
 
-// One tensile direction of a triangle: d = sum w_k x_k. Adds -A (sigma + c dir.d_dot) w_k dir
-// to f. Its Jacobian blocks are A_kl = w_k w_l (beta dir dir^T + alpha I) (dx and dv combined,
-// scaled by the sink), and -A kx d_dot (times w_k) is its (df/dx) v. Everything is zero for a
-// collapsed element (no defined direction), so the caller adds the terms unconditionally.
-// Plain arrays: the element math stays in registers (Eigen's 3x3 temporaries did not).
-struct Direction {
-  double dir[3] = {0.0, 0.0, 0.0};
-  double beta = 0.0, alpha = 0.0;
-  double kx_ddot[3] = {0.0, 0.0, 0.0};
-};
-
-inline double Dot3(const double* a, const double* b) {
+HAPTEX_LANES_INLINE V4 Splat(double s) { return V4{s, s, s, s}; }
+// Four square roots, correctly rounded as std::sqrt: two 2-wide instructions (which the avx2
+// build keeps as such) instead of four scalar ones, each with its errno branch.
+HAPTEX_LANES_INLINE V4 Sqrt(V4 a) {
+#ifdef __SSE2__
+  using V2 = double __attribute__((vector_size(16)));
+  const V2 lo = _mm_sqrt_pd(__builtin_shufflevector(a, a, 0, 1));
+  const V2 hi = _mm_sqrt_pd(__builtin_shufflevector(a, a, 2, 3));
+  return __builtin_shufflevector(lo, hi, 0, 1, 2, 3);
+#else
+  return V4{std::sqrt(a[0]), std::sqrt(a[1]), std::sqrt(a[2]), std::sqrt(a[3])};
+#endif
+}
+// |a|: the sign bit cleared, as std::abs does.
+HAPTEX_LANES_INLINE V4 Abs(V4 a) {
+  return std::bit_cast<V4>(std::bit_cast<M4>(a) & ~std::bit_cast<M4>(Splat(-0.0)));
+}
+HAPTEX_LANES_INLINE V4 Dot3(const V4* a, const V4* b) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
+HAPTEX_LANES_INLINE bool Any(M4 m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
 
-// A 3x3 block as its 9 column-major entries: 4 pairs (SSE2 registers, or the target's 2-wide
-// vectors: a GCC/Clang vector extension, no ISA beyond the baseline) and the last entry.
-using V2 = double __attribute__((vector_size(16)));
-struct Outer {
-  V2 v[4];
-  double last;
+// base[index[j]] in lane j.
+HAPTEX_LANES_INLINE V4 Gather(const double* base, const int index[kLanes]) {
+  return V4{base[index[0]], base[index[1]], base[index[2]], base[index[3]]};
+}
+// Weight k (a_k or b_k) of each lane's triangle.
+HAPTEX_LANES_INLINE V4 Weight(const TriangleElement* const el[kLanes],
+                              std::array<double, 3> TriangleElement::*weights, std::size_t k) {
+  return V4{(el[0]->*weights)[k], (el[1]->*weights)[k], (el[2]->*weights)[k],
+            (el[3]->*weights)[k]};
+}
+// 4x4 transpose: rows r[e] (entry e of lanes 0..3) become c[j] (entries 0..3 of lane j).
+HAPTEX_LANES_INLINE void Transpose(const V4 r[4], V4 c[4]) {
+  const V4 t0 = __builtin_shufflevector(r[0], r[1], 0, 4, 2, 6);
+  const V4 t1 = __builtin_shufflevector(r[0], r[1], 1, 5, 3, 7);
+  const V4 t2 = __builtin_shufflevector(r[2], r[3], 0, 4, 2, 6);
+  const V4 t3 = __builtin_shufflevector(r[2], r[3], 1, 5, 3, 7);
+  c[0] = __builtin_shufflevector(t0, t2, 0, 1, 4, 5);
+  c[1] = __builtin_shufflevector(t1, t3, 0, 1, 4, 5);
+  c[2] = __builtin_shufflevector(t0, t2, 2, 3, 6, 7);
+  c[3] = __builtin_shufflevector(t1, t3, 2, 3, 6, 7);
+}
+// *p += a for 4 doubles at p (a Matrix3d's data: 8-byte aligned only).
+HAPTEX_LANES_INLINE void AddTo(V4 a, double* p) {
+  V4 b;
+  std::memcpy(&b, p, sizeof b);
+  b += a;
+  std::memcpy(p, &b, sizeof b);
+}
+
+// Adds block entries m (entry e of lanes 0..3) to the block at slot index kl of each lane's
+// triangle: two 4-wide and one scalar add per block.
+HAPTEX_LANES_INLINE void AddBlocks(const V4 m[9], const std::array<int, 9>* slots, int lanes,
+                                   int kl, Eigen::Matrix3d* system) {
+  V4 lo[kLanes], hi[kLanes];
+  Transpose(m, lo);
+  Transpose(m + 4, hi);
+  for (int j = 0; j < lanes; ++j) {
+    double* block = system[static_cast<std::size_t>(slots[j][static_cast<std::size_t>(kl)])].data();
+    AddTo(lo[j], block);
+    AddTo(hi[j], block + 4);
+    block[8] += m[8][j];
+  }
+}
+
+// A strain curve read through its public interface (StrainCurve, MonotoneSpline), evaluated for
+// four strains with the arithmetic of StrainCurve::Evaluate, so to the same values.
+struct CurveLanes {
+  const double* x;
+  const double* y;
+  const double* m;
+  int last;  // index of the last knot
+  double compression_N_per_m;
+  bool odd;
+  int top_step;  // first step of the segment search (0 for a single segment)
 };
 
-// p q^T = ExpandColumn(p) * ExpandRow(q) entrywise (column-major: entry i + 3 j is p_i q_j).
-inline Outer ExpandColumn(const double p[3]) {
-  return {{V2{p[0], p[1]}, V2{p[2], p[0]}, V2{p[1], p[2]}, V2{p[0], p[1]}}, p[2]};
-}
-inline Outer ExpandRow(const double q[3]) {
-  return {{V2{q[0], q[0]}, V2{q[0], q[1]}, V2{q[1], q[1]}, V2{q[2], q[2]}}, q[2]};
-}
-inline Outer Product(const Outer& a, const Outer& b) {
-  return {{a.v[0] * b.v[0], a.v[1] * b.v[1], a.v[2] * b.v[2], a.v[3] * b.v[3]}, a.last * b.last};
-}
-inline void AddScaled(double s, const Outer& a, Outer* m) {
-  HAPTEX_UNROLL
-  for (int i = 0; i < 4; ++i) m->v[i] += s * a.v[i];
-  m->last += s * a.last;
-}
-// block += m (a Matrix3d's data: 8-byte aligned only).
-inline void AddTo(const Outer& m, double* block) {
-  HAPTEX_UNROLL
-  for (int i = 0; i < 4; ++i) {
-    V2 b;
-    std::memcpy(&b, block + 2 * i, sizeof b);
-    b += m.v[i];
-    std::memcpy(block + 2 * i, &b, sizeof b);
+CurveLanes LanesOf(const StrainCurve& curve) {
+  const MonotoneSpline& s = curve.loading();
+  HAPTEX_TEXTILE_DEMAND(s.knots_x().size() >= 2);
+  const int last = static_cast<int>(s.knots_x().size()) - 1;
+  // Steps top_step, top_step / 2, ..., 1 reach segment 2 top_step - 1 from segment 0.
+  int top_step = 0, reach = 0;
+  while (reach < last - 1) {
+    top_step = top_step == 0 ? 1 : 2 * top_step;
+    reach = 2 * top_step - 1;
   }
-  block[8] += m.last;
+  return {s.knots_x().data(), s.knots_y().data(), s.tangents().data(), last,
+          curve.compression_N_per_m(), curve.odd(), top_step};
 }
 
-inline void TensileDirection(double area, const std::array<double, 3>& w, const StrainCurve& curve,
-                             double damping_s, const double d[3], const double d_dot[3],
-                             bool jacobians, double dx_scale, double dv_scale, double f[3][3],
-                             Direction* out) {
-  const double len = std::sqrt(Dot3(d, d));
-  if (!(len > 1e-12)) return;  // collapsed element: no defined direction
-  const double inv_len = 1.0 / len;
-  double* dir = out->dir;
+HAPTEX_LANES_INLINE void Evaluate(const CurveLanes* c, V4 strain, V4* f, V4* df) {
+  const M4 negative = ~(strain >= 0.0);
+  const V4 arg = c->odd ? (negative ? -strain : strain) : strain;
+  const double x0 = c->x[0], x_last = c->x[c->last];
+  // Per lane: the last segment k with x_k <= arg (the one holding an interior strain; outside
+  // the knots the linear ends below replace the lane). Binary lifting with conditional moves:
+  // strains of neighbouring triangles scatter over a few segments, so a walk from the previous
+  // lane's segment mispredicted its branches.
+  int seg[kLanes];
+  for (int j = 0; j < kLanes; ++j) {
+    const double a = arg[j];
+    int k = 0;
+    for (int step = c->top_step; step > 0; step >>= 1) {
+      const int probe = std::min(k + step, c->last - 1);
+      k = c->x[probe] <= a ? probe : k;
+    }
+    seg[j] = k;
+  }
+  const V4 xk = Gather(c->x, seg), xk1 = Gather(c->x + 1, seg), yk = Gather(c->y, seg),
+           yk1 = Gather(c->y + 1, seg), mk = Gather(c->m, seg), mk1 = Gather(c->m + 1, seg);
+  const V4 h = xk1 - xk;
+  const V4 t = (arg - xk) / h;
+  const V4 t2 = t * t;
+  const V4 t3 = t2 * t;
+  const V4 h00 = 2.0 * t3 - 3.0 * t2 + 1.0, h10 = t3 - 2.0 * t2 + t, h01 = -2.0 * t3 + 3.0 * t2,
+           h11 = t3 - t2;
+  V4 y = h00 * yk + h10 * h * mk + h01 * yk1 + h11 * h * mk1;
+  const V4 d00 = 6.0 * t2 - 6.0 * t, d10 = 3.0 * t2 - 4.0 * t + 1.0, d01 = -6.0 * t2 + 6.0 * t,
+           d11 = 3.0 * t2 - 2.0 * t;
+  V4 dy = (d00 * yk + d01 * yk1) / h + d10 * mk + d11 * mk1;
+  // Linear beyond the end knots, with the end tangents.
+  const M4 above = arg >= x_last;
+  y = above ? c->y[c->last] + c->m[c->last] * (arg - x_last) : y;
+  dy = above ? Splat(c->m[c->last]) : dy;
+  const M4 below = arg <= x0;
+  y = below ? c->y[0] + c->m[0] * (arg - x0) : y;
+  dy = below ? Splat(c->m[0]) : dy;
+  if (c->odd) {
+    *f = negative ? -y : y;
+    *df = dy;
+  } else {
+    *f = negative ? c->compression_N_per_m * strain : y;
+    *df = negative ? Splat(c->compression_N_per_m) : dy;
+  }
+}
+
+// One tensile direction of four triangles: d = sum w_k x_k. Adds -A (sigma + c dir.d_dot) w_k dir
+// to f. Its Jacobian blocks are A_kl = w_k w_l (beta dir dir^T + alpha I) (dx and dv combined,
+// scaled by the sink), and -A kx d_dot (times w_k) is its (df/dx) v. Everything is zero in a
+// collapsed element's lane (no defined direction), so the caller adds the terms unconditionally.
+struct DirectionLanes {
+  V4 dir[3];
+  V4 beta, alpha;
+  V4 kx_ddot[3];
+};
+
+HAPTEX_LANES_INLINE void TensileDirection(V4 area, const V4 w[3], const CurveLanes* curve,
+                                          double damping_s, const V4 d[3], const V4 d_dot[3],
+                                          bool jacobians, double dx_scale, double dv_scale,
+                                          V4 f[3][3], DirectionLanes* out) {
+  const V4 len = Sqrt(Dot3(d, d));
+  const M4 live = len > 1e-12;  // else collapsed: no defined direction
+  const V4 inv_len = 1.0 / len;
+  V4* dir = out->dir;
   HAPTEX_UNROLL
-  for (int i = 0; i < 3; ++i) dir[i] = d[i] * inv_len;
-  double sigma = 0.0, slope = 0.0;
-  curve.Evaluate(len - 1.0, &sigma, &slope);
-  const double c = damping_s * slope;
-  const double dir_ddot = Dot3(dir, d_dot);
-  const double total = sigma + c * dir_ddot;
+  for (int i = 0; i < 3; ++i) dir[i] = live ? d[i] * inv_len : Splat(0.0);
+  V4 sigma, slope;
+  Evaluate(curve, len - 1.0, &sigma, &slope);
+  const V4 c = damping_s * slope;
+  const V4 dir_ddot = Dot3(dir, d_dot);
+  const V4 total = live ? sigma + c * dir_ddot : Splat(0.0);
   HAPTEX_UNROLL
-  for (std::size_t k = 0; k < 3; ++k) {
-    const double s = area * total * w[k];
+  for (int k = 0; k < 3; ++k) {
+    const V4 s = area * total * w[k];
     HAPTEX_UNROLL
     for (int i = 0; i < 3; ++i) f[k][i] -= s * dir[i];
   }
   if (!jacobians) return;
   // kx = slope ddT + t (I - ddT), t = max(sigma, 0) / len; kv = c ddT.
-  const double t = std::max(sigma, 0.0) * inv_len;
-  out->beta = -area * (dx_scale * (slope - t) + dv_scale * c);
-  out->alpha = -area * dx_scale * t;
-  const double along = (slope - t) * dir_ddot;
+  const V4 t = (sigma < 0.0 ? Splat(0.0) : sigma) * inv_len;
+  out->beta = live ? -area * (dx_scale * (slope - t) + dv_scale * c) : Splat(0.0);
+  out->alpha = live ? -area * dx_scale * t : Splat(0.0);
+  const V4 along = (slope - t) * dir_ddot;
   HAPTEX_UNROLL
-  for (int i = 0; i < 3; ++i) out->kx_ddot[i] = -area * (along * dir[i] + t * d_dot[i]);
+  for (int i = 0; i < 3; ++i) {
+    out->kx_ddot[i] = live ? -area * (along * dir[i] + t * d_dot[i]) : Splat(0.0);
+  }
 }
 
-// beta dir dir^T + alpha I of one direction (zero for a collapsed element).
-inline Outer DirectionStiffness(const Direction& d) {
-  double bd[3];
-  HAPTEX_UNROLL
-  for (int i = 0; i < 3; ++i) bd[i] = d.beta * d.dir[i];
-  Outer k = Product(ExpandColumn(bd), ExpandRow(d.dir));
-  k.v[0] += V2{d.alpha, 0.0};
-  k.v[2] += V2{d.alpha, 0.0};
-  k.last += d.alpha;
-  return k;
+// Entry (i, j) of beta dir dir^T + alpha I.
+HAPTEX_LANES_INLINE V4 StiffnessEntry(const DirectionLanes& d, int i, int j) {
+  const V4 e = d.beta * d.dir[i] * d.dir[j];
+  return i == j ? e + d.alpha : e;
 }
 
 // Tensile (warp, weft), shear and quadratic drag of every triangle; each of its 9 system blocks
 // is one sum of rank-one terms, written once.
-void AddTriangleForces(const FabricModel& model, const Eigen::VectorXd& x,
-                       const Eigen::VectorXd& v, ForceSink* sink) {
+HAPTEX_LANES_INLINE void TriangleKernel(const FabricModel& model, const double* xp,
+                                        const double* vp, ForceSink* sink) {
   const bool jac = sink->wants_jacobians();
   const double dxs = sink->dx_scale, dvs = sink->dv_scale;
   const double stretch_s = model.options.damping.stretch_s;
   const double shear_s = model.options.damping.shear_s;
   const DragOptions& drag = model.options.drag;
   const double q = 0.5 * drag.air_density_kg_per_m3 * drag.quadratic_coefficient;
-  const FabricMaterial& mat = model.material;
-  const double* xp = x.data();
-  const double* vp = v.data();
+  const CurveLanes warp_curve = LanesOf(model.material.tensile_warp);
+  const CurveLanes weft_curve = LanesOf(model.material.tensile_weft);
+  const CurveLanes shear_curve = LanesOf(model.material.shear);
   double* fp = sink->force_N->data();
   double* dfv = jac ? sink->dfdx_v->data() : nullptr;
   Eigen::Matrix3d* system = jac ? sink->system->data() : nullptr;
   const std::size_t num_triangles = model.triangles.size();
-  for (std::size_t t = 0; t < num_triangles; ++t) {
-    const TriangleElement& e = model.triangles[t];
-    const double area = e.area_m2;
-    const double* xk[3] = {xp + 3 * e.p[0], xp + 3 * e.p[1], xp + 3 * e.p[2]};
-    const double* vk[3] = {vp + 3 * e.p[0], vp + 3 * e.p[1], vp + 3 * e.p[2]};
-    double u[3], w[3], u_dot[3], w_dot[3];
+  for (std::size_t t0 = 0; t0 < num_triangles; t0 += kLanes) {
+    // The tail group repeats its last triangle in the unused lanes (computed, never scattered).
+    const int lanes = static_cast<int>(std::min<std::size_t>(kLanes, num_triangles - t0));
+    const TriangleElement* el[kLanes];
+    for (int j = 0; j < kLanes; ++j) el[j] = &model.triangles[t0 + std::min(j, lanes - 1)];
+    // Lanes gathered with whole-vector constructors (lane-by-lane stores to a vector in memory
+    // would stall its next load).
+    int corner[3][kLanes];  // 3 x particle index: offset of corner k's coordinates
+    for (int k = 0; k < 3; ++k) {
+      for (int j = 0; j < kLanes; ++j) corner[k][j] = 3 * el[j]->p[static_cast<std::size_t>(k)];
+    }
+    const V4 area = V4{el[0]->area_m2, el[1]->area_m2, el[2]->area_m2, el[3]->area_m2};
+    const V4 a[3] = {Weight(el, &TriangleElement::a, 0), Weight(el, &TriangleElement::a, 1),
+                     Weight(el, &TriangleElement::a, 2)};
+    const V4 b[3] = {Weight(el, &TriangleElement::b, 0), Weight(el, &TriangleElement::b, 1),
+                     Weight(el, &TriangleElement::b, 2)};
+    V4 xk[3][3], vk[3][3];  // [corner][axis]
+    HAPTEX_UNROLL
+    for (int k = 0; k < 3; ++k) {
+      HAPTEX_UNROLL
+      for (int i = 0; i < 3; ++i) {
+        xk[k][i] = Gather(xp + i, corner[k]);
+        vk[k][i] = Gather(vp + i, corner[k]);
+      }
+    }
+    V4 u[3], w[3], u_dot[3], w_dot[3];
     HAPTEX_UNROLL
     for (int i = 0; i < 3; ++i) {
-      u[i] = e.a[0] * xk[0][i] + e.a[1] * xk[1][i] + e.a[2] * xk[2][i];
-      w[i] = e.b[0] * xk[0][i] + e.b[1] * xk[1][i] + e.b[2] * xk[2][i];
-      u_dot[i] = e.a[0] * vk[0][i] + e.a[1] * vk[1][i] + e.a[2] * vk[2][i];
-      w_dot[i] = e.b[0] * vk[0][i] + e.b[1] * vk[1][i] + e.b[2] * vk[2][i];
+      u[i] = a[0] * xk[0][i] + a[1] * xk[1][i] + a[2] * xk[2][i];
+      w[i] = b[0] * xk[0][i] + b[1] * xk[1][i] + b[2] * xk[2][i];
+      u_dot[i] = a[0] * vk[0][i] + a[1] * vk[1][i] + a[2] * vk[2][i];
+      w_dot[i] = b[0] * vk[0][i] + b[1] * vk[1][i] + b[2] * vk[2][i];
     }
-    double f[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
+    V4 f[3][3] = {};
 
     // Tensile, warp and weft.
-    Direction warp, weft;
-    TensileDirection(area, e.a, mat.tensile_warp, stretch_s, u, u_dot, jac, dxs, dvs, f, &warp);
-    TensileDirection(area, e.b, mat.tensile_weft, stretch_s, w, w_dot, jac, dxs, dvs, f, &weft);
+    DirectionLanes warp{}, weft{};
+    TensileDirection(area, a, &warp_curve, stretch_s, u, u_dot, jac, dxs, dvs, f, &warp);
+    TensileDirection(area, b, &weft_curve, stretch_s, w, w_dot, jac, dxs, dvs, f, &weft);
 
     // Shear: gamma = U.V, d gamma / d x_k = g_k = a_k V + b_k U.
-    double g[3][3];
-    double gamma_dot = 0.0;
+    V4 g[3][3];
+    V4 gamma_dot = Splat(0.0);
     HAPTEX_UNROLL
-    for (std::size_t k = 0; k < 3; ++k) {
+    for (int k = 0; k < 3; ++k) {
       HAPTEX_UNROLL
-      for (int i = 0; i < 3; ++i) g[k][i] = e.a[k] * w[i] + e.b[k] * u[i];
+      for (int i = 0; i < 3; ++i) g[k][i] = a[k] * w[i] + b[k] * u[i];
       gamma_dot += Dot3(g[k], vk[k]);
     }
-    double tau = 0.0, shear_slope = 0.0;
-    mat.shear.Evaluate(Dot3(u, w), &tau, &shear_slope);
-    const double shear_c = shear_s * shear_slope;
-    const double shear_total = tau + shear_c * gamma_dot;
-    const double shear_f = area * shear_total;
+    V4 tau, shear_slope;
+    Evaluate(&shear_curve, Dot3(u, w), &tau, &shear_slope);
+    const V4 shear_c = shear_s * shear_slope;
+    const V4 shear_total = tau + shear_c * gamma_dot;
+    const V4 shear_f = area * shear_total;
     HAPTEX_UNROLL
-    for (std::size_t k = 0; k < 3; ++k) {
+    for (int k = 0; k < 3; ++k) {
       HAPTEX_UNROLL
       for (int i = 0; i < 3; ++i) f[k][i] -= shear_f * g[k][i];
     }
 
-    // Quadratic drag on the normal velocity (Jacobian in v only): dq n n^T per block.
-    double n[3] = {0.0, 0.0, 0.0};
-    double dq = 0.0;
+    // Quadratic drag on the normal velocity (Jacobian in v only): dq n n^T per block; zero in a
+    // lane whose triangle has (numerically) no area.
+    V4 n[3] = {};
+    V4 dq = Splat(0.0);
     if (q > 0.0) {
-      const double e1[3] = {xk[1][0] - xk[0][0], xk[1][1] - xk[0][1], xk[1][2] - xk[0][2]};
-      const double e2[3] = {xk[2][0] - xk[0][0], xk[2][1] - xk[0][1], xk[2][2] - xk[0][2]};
-      const double cross[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                               e1[0] * e2[1] - e1[1] * e2[0]};
-      const double twice_area = std::sqrt(Dot3(cross, cross));
-      if (twice_area > 1e-14) {
-        const double inv_twice_area = 1.0 / twice_area;
+      V4 e1[3], e2[3], vm[3];
+      HAPTEX_UNROLL
+      for (int i = 0; i < 3; ++i) {
+        e1[i] = xk[1][i] - xk[0][i];
+        e2[i] = xk[2][i] - xk[0][i];
+      }
+      const V4 cross[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                           e1[0] * e2[1] - e1[1] * e2[0]};
+      const V4 twice_area = Sqrt(Dot3(cross, cross));
+      const M4 live = twice_area > 1e-14;
+      if (Any(live)) {
+        const V4 inv_twice_area = 1.0 / twice_area;
         HAPTEX_UNROLL
-        for (int i = 0; i < 3; ++i) n[i] = cross[i] * inv_twice_area;
-        double vm[3];
+        for (int i = 0; i < 3; ++i) {
+          n[i] = live ? cross[i] * inv_twice_area : Splat(0.0);
+          vm[i] = (vk[0][i] + vk[1][i] + vk[2][i]) / 3.0;
+        }
+        const V4 vn = Dot3(n, vm);
+        const V4 drag_area = 0.5 * twice_area;
+        const V4 fc = live ? -q * drag_area * vn * Abs(vn) / 3.0 : Splat(0.0);
         HAPTEX_UNROLL
-        for (int i = 0; i < 3; ++i) vm[i] = (vk[0][i] + vk[1][i] + vk[2][i]) / 3.0;
-        const double vn = Dot3(n, vm);
-        const double drag_area = 0.5 * twice_area;
-        const double fc = -q * drag_area * vn * std::abs(vn) / 3.0;
-        HAPTEX_UNROLL
-        for (std::size_t k = 0; k < 3; ++k) {
+        for (int k = 0; k < 3; ++k) {
           HAPTEX_UNROLL
           for (int i = 0; i < 3; ++i) f[k][i] += fc * n[i];
         }
-        dq = dvs * (-q * drag_area * 2.0 * std::abs(vn) / 9.0);
+        dq = live ? dvs * (-q * drag_area * 2.0 * Abs(vn) / 9.0) : Splat(0.0);
       }
     }
 
-    HAPTEX_UNROLL
-    for (std::size_t k = 0; k < 3; ++k) {
-      double* fk = fp + 3 * e.p[k];
+    for (int j = 0; j < lanes; ++j) {
       HAPTEX_UNROLL
-      for (int i = 0; i < 3; ++i) fk[i] += f[k][i];
+      for (int k = 0; k < 3; ++k) {
+        double* fk = fp + 3 * el[j]->p[k];
+        HAPTEX_UNROLL
+        for (int i = 0; i < 3; ++i) fk[i] += f[k][i][j];
+      }
     }
     if (!jac) continue;
 
     // (df/dx) v per particle.
-    const double shear_kx = -area * shear_slope * gamma_dot;
-    const double shear_sys = -area * (dxs * shear_slope + dvs * shear_c);
+    const V4 shear_kx = -area * shear_slope * gamma_dot;
+    const V4 shear_sys = -area * (dxs * shear_slope + dvs * shear_c);
+    V4 dk[3][3];
     HAPTEX_UNROLL
-    for (std::size_t k = 0; k < 3; ++k) {
-      double* dk = dfv + 3 * e.p[k];
+    for (int k = 0; k < 3; ++k) {
       HAPTEX_UNROLL
       for (int i = 0; i < 3; ++i) {
-        dk[i] += shear_kx * g[k][i] + e.a[k] * warp.kx_ddot[i] + e.b[k] * weft.kx_ddot[i];
+        dk[k][i] = shear_kx * g[k][i] + a[k] * warp.kx_ddot[i] + b[k] * weft.kx_ddot[i];
+      }
+    }
+    for (int j = 0; j < lanes; ++j) {
+      HAPTEX_UNROLL
+      for (int k = 0; k < 3; ++k) {
+        double* dj = dfv + 3 * el[j]->p[k];
+        HAPTEX_UNROLL
+        for (int i = 0; i < 3; ++i) dj[i] += dk[k][i][j];
       }
     }
 
     // Blocks (k, l) = shear_sys g_k g_l^T + a_k a_l K_warp + b_k b_l K_weft + dq n n^T, with
-    // K = beta dir dir^T + alpha I; on a grid half the weight products are zero (skipped).
-    Outer shear_p[3], shear_q[3];
+    // K = beta dir dir^T + alpha I, entry (i, j) at i + 3 j (column-major). On a grid half the
+    // weight products are zero: skipped when zero in all four lanes.
+    V4 k_warp[9], k_weft[9], k_drag[9], shear_p[3][3];
+    HAPTEX_UNROLL
+    for (int e = 0; e < 9; ++e) {
+      k_warp[e] = StiffnessEntry(warp, e % 3, e / 3);
+      k_weft[e] = StiffnessEntry(weft, e % 3, e / 3);
+      k_drag[e] = dq * n[e % 3] * n[e / 3];
+    }
     HAPTEX_UNROLL
     for (int k = 0; k < 3; ++k) {
-      double sg[3];
       HAPTEX_UNROLL
-      for (int i = 0; i < 3; ++i) sg[i] = shear_sys * g[k][i];
-      shear_p[k] = ExpandColumn(sg);
-      shear_q[k] = ExpandRow(g[k]);
+      for (int i = 0; i < 3; ++i) shear_p[k][i] = shear_sys * g[k][i];
     }
-    const Outer k_warp = DirectionStiffness(warp);
-    const Outer k_weft = DirectionStiffness(weft);
-    const bool drag_active = dq != 0.0;
-    double dn[3];
+    const bool drag_active = Any(dq != 0.0);
+    const std::array<int, 9>* slots = &model.triangle_slots[t0];
+    // Block (l, k) is block (k, l) transposed: computed once, written twice.
     HAPTEX_UNROLL
-    for (int i = 0; i < 3; ++i) dn[i] = dq * n[i];
-    const Outer k_drag = Product(ExpandColumn(dn), ExpandRow(n));
-    const auto& slots = model.triangle_slots[t];
-    HAPTEX_UNROLL
-    for (std::size_t k = 0; k < 3; ++k) {
+    for (int k = 0; k < 3; ++k) {
       HAPTEX_UNROLL
-      for (std::size_t l = 0; l < 3; ++l) {
-        Outer m = Product(shear_p[k], shear_q[l]);
-        const double aa = e.a[k] * e.a[l], bb = e.b[k] * e.b[l];
-        if (aa != 0.0) AddScaled(aa, k_warp, &m);
-        if (bb != 0.0) AddScaled(bb, k_weft, &m);
-        if (drag_active) AddScaled(1.0, k_drag, &m);
-        AddTo(m, system[static_cast<std::size_t>(slots[k * 3 + l])].data());
+      for (int l = k; l < 3; ++l) {
+        V4 m[9];
+        HAPTEX_UNROLL
+        for (int e = 0; e < 9; ++e) m[e] = shear_p[k][e % 3] * g[l][e / 3];
+        const V4 aa = a[k] * a[l], bb = b[k] * b[l];
+        if (Any(aa != 0.0)) {
+          HAPTEX_UNROLL
+          for (int e = 0; e < 9; ++e) m[e] += aa * k_warp[e];
+        }
+        if (Any(bb != 0.0)) {
+          HAPTEX_UNROLL
+          for (int e = 0; e < 9; ++e) m[e] += bb * k_weft[e];
+        }
+        if (drag_active) {
+          HAPTEX_UNROLL
+          for (int e = 0; e < 9; ++e) m[e] += k_drag[e];
+        }
+        AddBlocks(m, slots, lanes, k * 3 + l, system);
+        if (l != k) {
+          const V4 mt[9] = {m[0], m[3], m[6], m[1], m[4], m[7], m[2], m[5], m[8]};
+          AddBlocks(mt, slots, lanes, l * 3 + k, system);
+        }
       }
     }
   }
+}
+
+void AddTriangleForcesGeneric(const FabricModel& model, const double* x, const double* v,
+                              ForceSink* sink) {
+  TriangleKernel(model, x, v, sink);
+}
+
+#ifdef HAPTEX_TEXTILE_HAVE_AVX2_KERNEL
+// The same kernel on 256-bit registers. No FMA: the products round as in the generic build.
+__attribute__((target("avx2"))) void AddTriangleForcesAvx2(const FabricModel& model,
+                                                           const double* x, const double* v,
+                                                           ForceSink* sink) {
+  TriangleKernel(model, x, v, sink);
+}
+
+bool CpuHasAvx2() {
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx2");
+}
+const bool kCpuHasAvx2 = CpuHasAvx2();
+#endif
+
+void AddTriangleForces(const FabricModel& model, const Eigen::VectorXd& x,
+                       const Eigen::VectorXd& v, ForceSink* sink) {
+#ifdef HAPTEX_TEXTILE_HAVE_AVX2_KERNEL
+  if (kCpuHasAvx2) return AddTriangleForcesAvx2(model, x.data(), v.data(), sink);
+#endif
+  AddTriangleForcesGeneric(model, x.data(), v.data(), sink);
 }
 
 // Volino's linear bending with damping; the constant Jacobian blocks only when asked for.
@@ -260,18 +459,37 @@ void AddBending(const FabricModel& model, const Eigen::VectorXd& x, const Eigen:
   const double damping_s = model.options.damping.bend_s;
   const bool jac = sink->wants_jacobians();
   const bool blocks = jac && !sink->constant_jacobians_added;
+  const double* xp = x.data();
+  const double* vp = v.data();
+  double* fp = sink->force_N->data();
+  double* dfv = jac ? sink->dfdx_v->data() : nullptr;
   for (std::size_t b = 0; b < model.bends.size(); ++b) {
     const BendElement& e = model.bends[b];
-    Eigen::Vector3d r = Eigen::Vector3d::Zero(), r_dot = Eigen::Vector3d::Zero();
-    for (std::size_t k = 0; k < 3; ++k) {
-      r += e.alpha[k] * x.segment<3>(3 * e.p[k]);
-      r_dot += e.alpha[k] * v.segment<3>(3 * e.p[k]);
+    // Plain arrays, same operations as the Eigen expressions (which did not stay in registers).
+    const double* xk[3] = {xp + 3 * e.p[0], xp + 3 * e.p[1], xp + 3 * e.p[2]};
+    const double* vk[3] = {vp + 3 * e.p[0], vp + 3 * e.p[1], vp + 3 * e.p[2]};
+    double r[3], r_dot[3];
+    HAPTEX_UNROLL
+    for (int i = 0; i < 3; ++i) {
+      r[i] = 0.0 + e.alpha[0] * xk[0][i] + e.alpha[1] * xk[1][i] + e.alpha[2] * xk[2][i];
+      r_dot[i] = 0.0 + e.alpha[0] * vk[0][i] + e.alpha[1] * vk[1][i] + e.alpha[2] * vk[2][i];
     }
-    const Eigen::Vector3d f = -e.lambda_N_per_m * (r + damping_s * r_dot);
-    const Eigen::Vector3d kv = -e.lambda_N_per_m * r_dot;
+    double f[3], kv[3];
+    HAPTEX_UNROLL
+    for (int i = 0; i < 3; ++i) {
+      f[i] = -e.lambda_N_per_m * (r[i] + damping_s * r_dot[i]);
+      kv[i] = -e.lambda_N_per_m * r_dot[i];
+    }
+    HAPTEX_UNROLL
     for (std::size_t k = 0; k < 3; ++k) {
-      sink->force_N->segment<3>(3 * e.p[k]) += e.alpha[k] * f;
-      if (jac) sink->dfdx_v->segment<3>(3 * e.p[k]) += e.alpha[k] * kv;
+      double* fk = fp + 3 * e.p[k];
+      HAPTEX_UNROLL
+      for (int i = 0; i < 3; ++i) fk[i] += e.alpha[k] * f[i];
+      if (jac) {
+        double* dk = dfv + 3 * e.p[k];
+        HAPTEX_UNROLL
+        for (int i = 0; i < 3; ++i) dk[i] += e.alpha[k] * kv[i];
+      }
     }
     if (blocks) {
       const double scale = -e.lambda_N_per_m * (sink->dx_scale + sink->dv_scale * damping_s);

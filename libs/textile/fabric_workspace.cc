@@ -2,9 +2,10 @@
 
 namespace haptex::textile {
 
-FabricWorkspace::FabricWorkspace(const FabricModel& model) : multilevel(model) {
+FabricWorkspace::FabricWorkspace(const FabricModel& model)
+    : multilevel(model), gauss_seidel(model.product_rows) {
   const int n3 = 3 * model.num_particles;
-  for (Eigen::VectorXd* v : {&force_N, &dfdx_v, &rhs, &dv, &dv0, &r, &c, &q, &s, &x_backup, &v_backup}) {
+  for (Eigen::VectorXd* v : {&force_N, &dfdx_v, &rhs, &dv, &dv0, &r, &c, &q, &s, &x_backup, &v_backup, &t, &z, &y_split}) {
     *v = Eigen::VectorXd::Zero(n3);
   }
   system.assign(static_cast<std::size_t>(model.pattern.num_blocks()), Eigen::Matrix3d::Zero());

@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 
 #include "libs/textile/fabric_model.h"
+#include "libs/textile/gauss_seidel_preconditioner.h"
 #include "libs/textile/multilevel_preconditioner.h"
 
 namespace haptex::textile {
@@ -27,9 +28,11 @@ struct FabricWorkspace {
   double system_base_dt_s = 0.0;
   const FabricModel* system_base_model = nullptr;
   Eigen::VectorXd rhs, dv, dv0, r, c, q, s;  ///< 3n CG vectors (dv0: initial guess)
+  Eigen::VectorXd t, z, y_split;         ///< 3n, Gauss-Seidel's sweeps and its split unknown
   Eigen::VectorXd x_backup, v_backup;    ///< roll-back copy of the state
   Eigen::VectorXd stiffness_row;         ///< n, symplectic stability estimate at the state
   MultilevelPreconditioner multilevel;   ///< used when StepOptions::preconditioner says so
+  GaussSeidelPreconditioner gauss_seidel;  ///< likewise
 };
 
 }  // namespace haptex::textile

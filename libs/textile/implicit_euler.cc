@@ -51,6 +51,35 @@ void UpdateBlockJacobi(const FabricModel& model, FabricWorkspace* ws) {
   }
 }
 
+// CG's entry, from the reference size delta0 and |filtered rhs|^2: non-finite sizes end the
+// solve (report->finite false), a zero right-hand side gives the exact dv = 0 on the free
+// particles, a non-positive reference is a breakdown.
+enum class PcgStart { kIterate, kDone, kBreakdown };
+PcgStart StartPcg(const FabricModel& model, const FabricState& state, double delta0,
+                  double rhs_norm2, bool finite, FabricWorkspace* ws, CgReport* report) {
+  report->iterations = 0;
+  report->relative_residual = 0.0;
+  report->converged = true;
+  report->finite = finite && std::isfinite(delta0) && std::isfinite(rhs_norm2);
+  if (!report->finite) return PcgStart::kDone;
+  if (rhs_norm2 == 0.0) {
+    for (int p = 0; p < model.num_particles; ++p) {
+      if (IsFree(state, p)) ws->dv.segment<3>(3 * p).setZero();
+    }
+    return PcgStart::kDone;
+  }
+  return delta0 > 0.0 ? PcgStart::kIterate : PcgStart::kBreakdown;
+}
+
+// CG's exit: iterations, the relative (preconditioned) residual, convergence.
+void FinishReport(int iterations, double delta, double delta0, double eps2, bool breakdown,
+                  CgReport* report) {
+  report->iterations = iterations;
+  report->relative_residual = std::sqrt(std::max(delta, 0.0) / delta0);
+  report->converged = !breakdown && delta <= eps2 * delta0;
+  report->finite = std::isfinite(delta);
+}
+
 // Filtered PCG from the guess in ws->dv (Baraff-Witkin's modified PCG). Returns true on a
 // breakdown (an indefinite preconditioner or matrix), leaving the best iterate in ws->dv.
 bool RunPcg(const FabricModel& model, const FabricState& state, const StepOptions& options,
@@ -66,19 +95,8 @@ bool RunPcg(const FabricModel& model, const FabricState& state, const StepOption
     delta0 += ws->rhs.segment<3>(3 * p).dot(ws->s.segment<3>(3 * p));
     rhs_norm2 += ws->rhs.segment<3>(3 * p).squaredNorm();
   }
-  report->iterations = 0;
-  report->relative_residual = 0.0;
-  report->converged = true;
-  report->finite = std::isfinite(delta0) && std::isfinite(rhs_norm2);
-  if (!report->finite) return false;
-  if (rhs_norm2 == 0.0) {
-    // Nothing drives the free particles: the exact answer is dv = 0 there.
-    for (int p = 0; p < n; ++p) {
-      if (IsFree(state, p)) ws->dv.segment<3>(3 * p).setZero();
-    }
-    return false;
-  }
-  if (!(delta0 > 0.0)) return true;
+  const PcgStart start = StartPcg(model, state, delta0, rhs_norm2, true, ws, report);
+  if (start != PcgStart::kIterate) return start == PcgStart::kBreakdown;
   FilteredMultiply(model, state, *ws, ws->dv, &ws->q);
   for (int p = 0; p < n; ++p) {
     if (IsFree(state, p)) {
@@ -119,11 +137,68 @@ bool RunPcg(const FabricModel& model, const FabricState& state, const StepOption
     }
     ws->c = ws->s + (delta / delta_old) * ws->c;
   }
-  report->iterations = it;
-  report->relative_residual = std::sqrt(std::max(delta, 0.0) / delta0);
-  report->converged = !breakdown && delta <= eps2 * delta0;
-  report->finite = std::isfinite(delta);
+  FinishReport(it, delta, delta0, eps2, breakdown, report);
   return breakdown;
+}
+
+// PCG on Gauss-Seidel's split system (gauss_seidel_preconditioner.h) for the correction to the
+// guess in ws->dv: A y = r0 = filter(rhs - A dv), y~ = (D_w + U) y from 0, then dv += y. The
+// tolerance is on r' M^-1 r relative to rhs' M^-1 rhs (M: the SSOR preconditioner), as RunPcg
+// measures in its preconditioner's norm. Returns true on a breakdown (dv left at the guess).
+bool RunGaussSeidelPcg(const FabricModel& model, const FabricState& state,
+                       const StepOptions& options, FabricWorkspace* ws, CgReport* report) {
+  const int n = model.num_particles;
+  const SplitRows& split = model.product_rows;
+  const GaussSeidelPreconditioner& gs = ws->gauss_seidel;
+  const std::vector<Eigen::Matrix3d>& a = ws->system;
+  const std::vector<double>& scalars = ws->system_scalars;
+  // s = filter(rhs); q = filter(rhs - A dv).
+  FilteredMultiply(model, state, *ws, ws->dv, &ws->q);
+  double rhs_norm2 = 0.0;
+  for (int p = 0; p < n; ++p) {
+    if (IsFree(state, p)) {
+      ws->s.segment<3>(3 * p) = ws->rhs.segment<3>(3 * p);
+      ws->q.segment<3>(3 * p) = ws->rhs.segment<3>(3 * p) - ws->q.segment<3>(3 * p);
+      rhs_norm2 += ws->rhs.segment<3>(3 * p).squaredNorm();
+    } else {
+      ws->s.segment<3>(3 * p).setZero();
+      ws->q.segment<3>(3 * p).setZero();
+    }
+  }
+  gs.ForwardSolve(split, a, scalars, ws->s, &ws->z);
+  const double delta0 = gs.MultiplyDiagonal(ws->z, &ws->t);
+  const PcgStart start = StartPcg(model, state, delta0, rhs_norm2, ws->q.allFinite(), ws, report);
+  if (start != PcgStart::kIterate) return start == PcgStart::kBreakdown;
+  gs.ForwardSolve(split, a, scalars, ws->q, &ws->r);  // r~ = (D_w + L)^-1 r0
+  ws->y_split.setZero();
+  double delta = gs.MultiplyDiagonal(ws->r, &ws->s);
+  ws->c = ws->s;
+  const double eps2 = options.cg_tolerance * options.cg_tolerance;
+  bool breakdown = !(delta >= 0.0);
+  int it = 0;
+  while (!breakdown && delta > eps2 * delta0 && it < options.cg_max_iterations) {
+    const double cq = gs.MultiplySplit(split, a, scalars, ws->c, &ws->t, &ws->z, &ws->q);
+    if (!(cq > 0.0)) {
+      breakdown = true;
+      break;
+    }
+    const double alpha = delta / cq;
+    ws->y_split += alpha * ws->c;
+    ws->r -= alpha * ws->q;
+    const double delta_old = delta;
+    delta = gs.MultiplyDiagonal(ws->r, &ws->s);
+    ++it;
+    if (!(delta >= 0.0)) {
+      breakdown = true;
+      break;
+    }
+    ws->c = ws->s + (delta / delta_old) * ws->c;
+  }
+  FinishReport(it, delta, delta0, eps2, breakdown, report);
+  if (breakdown) return true;
+  gs.BackwardSolve(split, a, scalars, ws->y_split, &ws->t);  // y = (D_w + U)^-1 y~
+  ws->dv += ws->t;
+  return false;
 }
 
 }  // namespace
@@ -179,8 +254,13 @@ CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options,
     }
   }
 
+  const ParticleMode* mode = state->mode.data();
+  bool gauss_seidel_ok = true;
   if (options.preconditioner == Preconditioner::kMultilevel) {
     ws->multilevel.Update(model, *state, ws->system);
+  } else if (options.preconditioner == Preconditioner::kGaussSeidel) {
+    gauss_seidel_ok = ws->gauss_seidel.Update(model.product_rows, model.pattern, ws->system, options.ssor_omega,
+                                              [mode](int r) { return mode[r] == ParticleMode::kFree; });
   } else {
     UpdateBlockJacobi(model, ws);
   }
@@ -189,8 +269,10 @@ CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options,
   ws->dv0 = ws->dv;
   CgReport report;
   Preconditioner pc = options.preconditioner;
-  bool breakdown = RunPcg(model, *state, options, pc, ws, &report);
-  if (breakdown && pc == Preconditioner::kMultilevel) {
+  bool breakdown = pc == Preconditioner::kGaussSeidel
+                       ? (!gauss_seidel_ok || RunGaussSeidelPcg(model, *state, options, ws, &report))
+                       : RunPcg(model, *state, options, pc, ws, &report);
+  if (breakdown && pc != Preconditioner::kBlockJacobi) {
     report.preconditioner_fallback = true;
     ws->dv = ws->dv0;
     pc = Preconditioner::kBlockJacobi;

@@ -16,11 +16,13 @@ void ValidateStepOptions(const StepOptions& o) {
   if (o.substeps < 0) fail("substeps must be >= 0 (0 = automatic)");
   if (o.max_substeps < 1) fail("max_substeps must be >= 1");
   if (!(o.max_speed_m_per_s > 0.0)) fail("max_speed_m_per_s must be > 0");
+  if (!(o.ssor_omega > 0.0 && o.ssor_omega < 2.0)) fail("ssor_omega must be in (0, 2)");
   if (o.method != Integrator::kImplicitEuler && o.method != Integrator::kSymplecticEuler) {
     fail("method is unknown");
   }
   if (o.preconditioner != Preconditioner::kBlockJacobi &&
-      o.preconditioner != Preconditioner::kMultilevel) {
+      o.preconditioner != Preconditioner::kMultilevel &&
+      o.preconditioner != Preconditioner::kGaussSeidel) {
     fail("preconditioner is unknown");
   }
 }

@@ -12,6 +12,9 @@ enum class Integrator {
 enum class Preconditioner {
   kBlockJacobi,  ///< inverse 3x3 diagonal blocks: cheapest per iteration
   kMultilevel,   ///< aggregation multigrid V-cycle: far fewer iterations on fine, stiff meshes
+  /// symmetric Gauss-Seidel / SSOR with Eisenstat's trick: about one product per iteration, far
+  /// fewer iterations than block Jacobi on small stiff patches, no set-up beyond the diagonal
+  kGaussSeidel,
 };
 
 struct StepOptions {
@@ -23,6 +26,8 @@ struct StepOptions {
   /// the workspace's history within the CG tolerance.
   bool cg_warm_start = true;
   Preconditioner preconditioner = Preconditioner::kMultilevel;
+  /// kGaussSeidel's relaxation factor omega in (0, 2): 1 is symmetric Gauss-Seidel.
+  double ssor_omega = 1.0;
   /// Symplectic substeps per step; 0 = the fewest that the stability estimate allows.
   int substeps = 0;
   int max_substeps = 2000;        ///< refuse configurations needing more

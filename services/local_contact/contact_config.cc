@@ -2,6 +2,8 @@
 
 #include <array>
 
+#include "libs/contact/haptic_step_options.h"
+
 namespace haptex::local_contact {
 namespace {
 
@@ -43,11 +45,7 @@ std::array<bool, 2> SceneFingers(const scene::LoadedScene& loaded) {
 }
 
 textile::StepOptions LocalStepOptions(const scene::LoadedScene& loaded, double local_hz) {
-  textile::StepOptions step;
-  step.dt_s = 1.0 / local_hz;
-  step.cg_tolerance = 1e-2;
-  step.cg_max_iterations = 20;
-  step.preconditioner = textile::Preconditioner::kBlockJacobi;
+  textile::StepOptions step = contact::HapticPatchStepOptions(1.0 / local_hz);
   if (loaded.scene.model().local_integrator() == v1::ModelOptions::INTEGRATOR_SEMI_IMPLICIT) {
     step.method = textile::Integrator::kSymplecticEuler;
     step.max_substeps = 2000;

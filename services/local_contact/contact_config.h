@@ -15,8 +15,8 @@ contact::ContactOptions ContactOptionsFromScene(const scene::LoadedScene& scene)
 /// Which fingers the scene simulates (index 0 thumb, 1 index).
 std::array<bool, 2> SceneFingers(const scene::LoadedScene& scene);
 
-/// The local integrator at `local_hz`: implicit Euler with block-Jacobi PCG (or the scene's
-/// semi-implicit choice), loose tolerance and few iterations: the haptic budget rules.
+/// The local integrator at `local_hz`: contact::HapticPatchStepOptions (or the scene's
+/// semi-implicit choice): the haptic budget rules.
 textile::StepOptions LocalStepOptions(const scene::LoadedScene& scene, double local_hz);
 
 }  // namespace haptex::local_contact

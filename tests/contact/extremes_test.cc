@@ -7,9 +7,11 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <tuple>
 
 #include <gtest/gtest.h>
 
+#include "libs/contact/haptic_step_options.h"
 #include "libs/contact/patch_simulation.h"
 #include "libs/textile/fabric_model.h"
 #include "tests/contact/contact_test_util.h"
@@ -32,15 +34,21 @@ struct Extreme {
 
 void PrintTo(const Extreme& e, std::ostream* os) { *os << e.label; }
 
-class ContactExtremesTest : public ::testing::TestWithParam<Extreme> {};
+
+// The tests' tight solve (block Jacobi to 1e-3) and the haptic tick's (local_contact's).
+enum class Solver { kTight, kHaptic };
+
+class ContactExtremesTest : public ::testing::TestWithParam<std::tuple<Extreme, Solver>> {};
 
 TEST_P(ContactExtremesTest, FiniteBoundedNoTunnelling) {
-  const Extreme e = GetParam();
+  const Extreme e = std::get<0>(GetParam());
+  const bool haptic = std::get<1>(GetParam()) == Solver::kHaptic;
   textile::FabricMaterial material = testing::DatabaseMaterial(e.fabric);
   if (e.stiffness_scale != 1.0) material = textile::testing::ScaleStiffness(material, e.stiffness_scale);
   ContactOptions options;
   options.finger_fabric = {e.mu_s, e.mu_d};
-  auto sim = testing::MakeFlatPatch(material, 0.04, 21, options, testing::LocalStep());
+  auto sim = testing::MakeFlatPatch(material, 0.04, 21, options,
+                                    haptic ? HapticPatchStepOptions(0.001) : testing::LocalStep());
   const double r = options.thumb.radius_m + options.fabric_half_thickness_m;
   const double dt = sim->dt_s();
   const Eigen::Vector3d down(0, 0, -1);
@@ -102,9 +110,9 @@ TEST_P(ContactExtremesTest, FiniteBoundedNoTunnelling) {
                 options.finger_finger_normal_N_per_m * 2 * r, 1e-6);
     EXPECT_GE(sim->solver().output().pinch.grip_N, 20.0);
   }
-  std::printf("[extremes] %s: max finger force %.3f N, deepest particle %.2f mm, tunnelled %d, "
+  std::printf("[extremes] %s (%s solve): max finger force %.3f N, deepest particle %.2f mm, tunnelled %d, "
               "step status %s, clamps %lld\n",
-              e.label, max_force, 1e3 * deepest, tunnelled, textile::ToString(sim->last_step().status),
+              e.label, haptic ? "haptic" : "tight", max_force, 1e3 * deepest, tunnelled, textile::ToString(sim->last_step().status),
               static_cast<long long>(sim->solver().diagnostics().force_clamps));
   EXPECT_EQ(tunnelled, 0);
   if (e.check_tunnelling) {
@@ -114,7 +122,7 @@ TEST_P(ContactExtremesTest, FiniteBoundedNoTunnelling) {
 
 INSTANTIATE_TEST_SUITE_P(
     Matrix, ContactExtremesTest,
-    ::testing::Values(
+    ::testing::Combine(::testing::Values(
         Extreme{"squeeze_20N", "wang2011_black_denim_11oz", 1, 0.4, 0.2, 0.1, Motion::kSqueeze, false},
         Extreme{"mu_0", "wang2011_black_denim_11oz", 1, 0.0, 0.0, 0.05, Motion::kPressAndRub, true},
         Extreme{"mu_2", "wang2011_black_denim_11oz", 1, 2.0, 1.5, 0.05, Motion::kPressAndRub, true},
@@ -124,7 +132,11 @@ INSTANTIATE_TEST_SUITE_P(
         Extreme{"lightest", "wang2011_gray_interlock", 1, 0.4, 0.2, 0.5, Motion::kPressAndRub, true},
         Extreme{"stiffest", "wang2011_royal_target", 1, 0.4, 0.2, 0.5, Motion::kPressAndRub, true},
         Extreme{"stiffest_x10", "wang2011_royal_target", 10, 0.4, 0.2, 0.5, Motion::kPressAndRub, true}),
-    [](const ::testing::TestParamInfo<Extreme>& param_info) { return std::string(param_info.param.label); });
+        ::testing::Values(Solver::kTight, Solver::kHaptic)),
+    [](const ::testing::TestParamInfo<std::tuple<Extreme, Solver>>& param_info) {
+      return std::string(std::get<0>(param_info.param).label) +
+             (std::get<1>(param_info.param) == Solver::kHaptic ? "_haptic" : "_tight");
+    });
 
 }  // namespace
 }  // namespace haptex::contact

@@ -2,6 +2,8 @@
 
 #include "libs/contact/patch_simulation.h"
 
+#include "libs/contact/haptic_step_options.h"
+
 #include <gtest/gtest.h>
 
 #include "tests/contact/contact_test_util.h"
@@ -22,6 +24,24 @@ class PatchSimulationTest : public ::testing::Test {
   }
   FingerInput Index(double z) const {
     return {true, testing::PoseFacing(V(0, 0, z), V(0, 0, 1), V::UnitX())};
+  }
+  // Warmed up through one-finger contact into a pinch (the path with the most work), ticks
+  // allocate nothing.
+  void ExpectWarmedUpTickDoesNotAllocate() {
+    if (!haptex::testing::AllocationCountingSupported()) GTEST_SKIP() << "allocation counting off (ASan)";
+    const double r = options_.thumb.radius_m + options_.fabric_half_thickness_m;
+    for (int k = 0; k < 50; ++k) sim_->Tick(Thumb(r - 0.001), {});
+    for (int k = 0; k < 50; ++k) sim_->Tick(Thumb(r - 0.002), Index(-(r - 0.002)));
+    ASSERT_EQ(sim_->solver().output().state == ContactState::kVIII ||
+                  sim_->solver().output().state == ContactState::kIX,
+              true)
+        << ToString(sim_->solver().output().state);
+    haptex::testing::AllocationCounter counter;
+    for (int k = 0; k < 50; ++k) {
+      sim_->Tick(Thumb(r - 0.002 + 1e-5 * k), Index(-(r - 0.002) + 1e-5 * k));
+    }
+    for (int k = 0; k < 20; ++k) sim_->Tick(Thumb(r - 0.001), {});
+    EXPECT_EQ(counter.count(), 0);
   }
   ContactOptions options_;
   std::unique_ptr<PatchSimulation> sim_;
@@ -58,22 +78,13 @@ TEST_F(PatchSimulationTest, NonFiniteFingerIsIgnoredAndCounted) {
   EXPECT_TRUE(sim_->state().x_W_m.allFinite());
 }
 
-TEST_F(PatchSimulationTest, WarmedUpTickDoesNotAllocate) {
-  if (!haptex::testing::AllocationCountingSupported()) GTEST_SKIP() << "allocation counting off (ASan)";
-  const double r = options_.thumb.radius_m + options_.fabric_half_thickness_m;
-  // Warm up through one-finger contact into a pinch, the path with the most work.
-  for (int k = 0; k < 50; ++k) sim_->Tick(Thumb(r - 0.001), {});
-  for (int k = 0; k < 50; ++k) sim_->Tick(Thumb(r - 0.002), Index(-(r - 0.002)));
-  ASSERT_EQ(sim_->solver().output().state == ContactState::kVIII ||
-                sim_->solver().output().state == ContactState::kIX,
-            true)
-      << ToString(sim_->solver().output().state);
-  haptex::testing::AllocationCounter counter;
-  for (int k = 0; k < 50; ++k) {
-    sim_->Tick(Thumb(r - 0.002 + 1e-5 * k), Index(-(r - 0.002) + 1e-5 * k));
-  }
-  for (int k = 0; k < 20; ++k) sim_->Tick(Thumb(r - 0.001), {});
-  EXPECT_EQ(counter.count(), 0);
+TEST_F(PatchSimulationTest, WarmedUpTickDoesNotAllocate) { ExpectWarmedUpTickDoesNotAllocate(); }
+
+// The same with local_contact's haptic step (Gauss-Seidel PCG).
+TEST_F(PatchSimulationTest, WarmedUpHapticTickDoesNotAllocate) {
+  sim_ = testing::MakeFlatPatch(testing::DatabaseMaterial("wang2011_black_denim_11oz"), 0.02, 21,
+                                options_, HapticPatchStepOptions(0.001));
+  ExpectWarmedUpTickDoesNotAllocate();
 }
 
 }  // namespace

@@ -39,6 +39,18 @@ ForceSink SinkFor(Assembled* a, const FabricState& s) {
   return sink;
 }
 
+// The sum of the reference per-force functions at the state.
+Assembled Reference(const FabricModel& model, const FabricState& s) {
+  Assembled ref = Empty(model);
+  ForceSink rs = SinkFor(&ref, s);
+  AddTensileForces(model, s.x_W_m, s.v_W_m_per_s, &rs);
+  AddShearForces(model, s.x_W_m, s.v_W_m_per_s, &rs);
+  AddBendingForces(model, s.x_W_m, s.v_W_m_per_s, &rs);
+  AddDragForces(model, s.x_W_m, s.v_W_m_per_s, &rs);
+  AddExternalForces(model, s, &rs);
+  return ref;
+}
+
 double MaxAbs(const std::vector<Eigen::Matrix3d>& blocks) {
   double m = 0.0;
   for (const auto& b : blocks) m = std::max(m, b.cwiseAbs().maxCoeff());
@@ -58,13 +70,7 @@ TEST(FabricForcesTest, FusedAssemblyEqualsSumOfForces) {
     testing::Perturb(&s, 2e-3, 0.3, 11);
     SetPointLoad(3, Eigen::Vector3d(0.1, -0.2, 0.3), &s);
 
-    Assembled ref = Empty(model);
-    ForceSink rs = SinkFor(&ref, s);
-    AddTensileForces(model, s.x_W_m, s.v_W_m_per_s, &rs);
-    AddShearForces(model, s.x_W_m, s.v_W_m_per_s, &rs);
-    AddBendingForces(model, s.x_W_m, s.v_W_m_per_s, &rs);
-    AddDragForces(model, s.x_W_m, s.v_W_m_per_s, &rs);
-    AddExternalForces(model, s, &rs);
+    const Assembled ref = Reference(model, s);
 
     Assembled fused = Empty(model);
     ForceSink fs = SinkFor(&fused, s);
@@ -93,6 +99,53 @@ TEST(FabricForcesTest, FusedAssemblyEqualsSumOfForces) {
     os.force_N = &f_only;
     AccumulateForces(model, s, &os);
     EXPECT_LE((f_only - ref.f).cwiseAbs().maxCoeff(), f_tol);
+  }
+}
+
+// The fused assembly against the reference per-force functions for one state.
+void ExpectFusedEqualsReference(const FabricModel& model, const FabricState& s, const char* what) {
+  const Assembled ref = Reference(model, s);
+  Assembled fused = Empty(model);
+  ForceSink fs = SinkFor(&fused, s);
+  AccumulateForces(model, s, &fs);
+  EXPECT_LE((fused.f - ref.f).cwiseAbs().maxCoeff(), 1e-12 * ref.f.cwiseAbs().maxCoeff()) << what;
+  EXPECT_LE((fused.dfdx_v - ref.dfdx_v).cwiseAbs().maxCoeff(),
+            1e-12 * ref.dfdx_v.cwiseAbs().maxCoeff())
+      << what;
+  const double a_tol = 1e-12 * MaxAbs(ref.system);
+  for (std::size_t k = 0; k < ref.system.size(); ++k) {
+    EXPECT_LE((fused.system[k] - ref.system[k]).cwiseAbs().maxCoeff(), a_tol)
+        << what << ", block " << k;
+  }
+  Eigen::VectorXd f_only = Eigen::VectorXd::Zero(3 * model.num_particles);
+  ForceSink os;
+  os.force_N = &f_only;
+  AccumulateForces(model, s, &os);
+  EXPECT_LE((f_only - ref.f).cwiseAbs().maxCoeff(), 1e-12 * ref.f.cwiseAbs().maxCoeff()) << what;
+}
+
+// The kernel takes triangles four at a time: a count that is not a multiple of four (a 4x4 grid
+// has 18), a collapsed quad (both its triangles have coincident corners: no tensile force, no
+// drag) and a patch without quadratic drag must still match the reference.
+TEST(FabricForcesTest, FusedAssemblyHandlesTailCollapsedElementsAndNoDrag) {
+  for (const double drag_coefficient : {1.5, 0.0}) {
+    ModelOptions options;
+    options.drag.quadratic_coefficient = drag_coefficient;
+    const FabricModel model = BuildFabricModel(MaterialFromKes(testing::CompositeDenim()),
+                                               {0.03, 0.03, 4, 4}, options);
+    ASSERT_NE(model.triangles.size() % 4, 0u);
+    FabricState s = MakeRestState(model);
+    for (int p = 0; p < model.num_particles; ++p) {
+      s.x(p) = s.x(p).cwiseProduct(Eigen::Vector3d(1.02, 0.99, 1.0));
+    }
+    testing::Perturb(&s, 1e-3, 0.3, 5);
+    ExpectFusedEqualsReference(model, s, drag_coefficient > 0.0 ? "drag" : "no drag");
+
+    // Collapse the first quad (corners 0, 1, nu, nu + 1) onto particle 0.
+    const int nu = model.mesh.particles_warp();
+    for (const int p : {1, nu, nu + 1}) s.x(p) = s.x(0);
+    ExpectFusedEqualsReference(model, s, drag_coefficient > 0.0 ? "collapsed, drag"
+                                                                : "collapsed, no drag");
   }
 }
 

@@ -1,0 +1,228 @@
+#include "libs/textile/gauss_seidel_preconditioner.h"
+
+#include <random>
+
+#include <Eigen/LU>
+#include <gtest/gtest.h>
+
+#include "libs/textile/fabric_forces.h"
+#include "libs/textile/fabric_stepper.h"
+#include "libs/textile/kes_material.h"
+#include "tests/support/allocation_counter.h"
+#include "tests/textile/fabric_textproto.h"
+#include "tests/textile/force_jacobian_check.h"
+#include "tests/textile/textile_test_util.h"
+
+namespace haptex::textile {
+namespace {
+
+FabricModel DenimModel(int n, double size_m) {
+  return BuildFabricModel(
+      MaterialFromKes(testing::LoadDatabaseFabric("wang2011_black_denim_11oz")), {size_m, size_m, n, n});
+}
+
+// A 2 x 2 cm patch at 1 mm spacing with its border fixed, as under the fingers.
+FabricState BorderFixed(const FabricModel& model) {
+  FabricState s = MakeRestState(model);
+  for (int p : model.mesh.BorderParticles()) s.Fix(p);
+  return s;
+}
+
+// The system A = M - h df/dv - h^2 df/dx (h = 1 ms) in a deformed, moving state: its blocks
+// and the values of its scalar blocks.
+struct System {
+  std::vector<Eigen::Matrix3d> blocks;
+  std::vector<double> scalars;
+};
+
+System Assemble(const FabricModel& model, FabricState* s) {
+  for (int p = 0; p < model.num_particles; ++p) {
+    s->x(p) = s->x(p).cwiseProduct(Eigen::Vector3d(1.01, 0.995, 1.0));
+  }
+  testing::Perturb(s, 2e-5, 0.05, 3);
+  System a;
+  a.blocks.assign(static_cast<std::size_t>(model.pattern.num_blocks()), Eigen::Matrix3d::Zero());
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(3 * model.num_particles), fv = f;
+  ForceSink sink;
+  sink.force_N = &f;
+  sink.system = &a.blocks;
+  sink.dx_scale = -1e-6;
+  sink.dv_scale = -1e-3;
+  sink.dfdx_v = &fv;
+  sink.v = &s->v_W_m_per_s;
+  AccumulateForces(model, *s, &sink);
+  for (int p = 0; p < model.num_particles; ++p) {
+    a.blocks[static_cast<std::size_t>(model.pattern.diag_slot[static_cast<std::size_t>(p)])] +=
+        model.mass_kg[p] * Eigen::Matrix3d::Identity();
+  }
+  for (int slot : model.product_rows.scalar_slot) {
+    a.scalars.push_back(a.blocks[static_cast<std::size_t>(slot)](0, 0));
+  }
+  return a;
+}
+
+// The filtered system as a dense matrix: free rows and columns only (others zero).
+Eigen::MatrixXd Dense(const FabricModel& model, const FabricState& s, const System& a) {
+  const int n = model.num_particles;
+  Eigen::MatrixXd m = Eigen::MatrixXd::Zero(3 * n, 3 * n);
+  for (int r = 0; r < n; ++r) {
+    for (int k = model.pattern.row_start[static_cast<std::size_t>(r)];
+         k < model.pattern.row_start[static_cast<std::size_t>(r) + 1]; ++k) {
+      const int c = model.pattern.cols[static_cast<std::size_t>(k)];
+      if (s.mode[static_cast<std::size_t>(r)] == ParticleMode::kFree &&
+          s.mode[static_cast<std::size_t>(c)] == ParticleMode::kFree) {
+        m.block<3, 3>(3 * r, 3 * c) = a.blocks[static_cast<std::size_t>(k)];
+      }
+    }
+  }
+  return m;
+}
+
+Eigen::VectorXd RandomFree(const FabricModel& model, const FabricState& s, std::mt19937* rng) {
+  std::normal_distribution<double> normal;
+  Eigen::VectorXd x(3 * model.num_particles);
+  for (int i = 0; i < x.size(); ++i) x[i] = normal(*rng);
+  for (int p = 0; p < model.num_particles; ++p) {
+    if (s.mode[static_cast<std::size_t>(p)] != ParticleMode::kFree) x.segment<3>(3 * p).setZero();
+  }
+  return x;
+}
+
+TEST(GaussSeidelPreconditionerTest, SweepsAndSplitProductMatchTheDenseFactors) {
+  const FabricModel model = DenimModel(8, 0.007);
+  FabricState s = BorderFixed(model);
+  const System a = Assemble(model, &s);
+  const Eigen::MatrixXd dense = Dense(model, s, a);
+  for (double omega : {1.0, 1.4}) {
+    GaussSeidelPreconditioner gs(model.product_rows);
+    if (omega == 1.0) gs.UsePortableKernel();  // the other kernel at the other omega
+    ASSERT_TRUE(gs.Update(model.product_rows, model.pattern, a.blocks, omega,
+                          [&](int r) { return s.mode[static_cast<std::size_t>(r)] == ParticleMode::kFree; }));
+    // D_w + L and D_w + U over the free rows; identity elsewhere keeps them invertible.
+    const Eigen::Index n3 = dense.rows();
+    Eigen::MatrixXd lower = Eigen::MatrixXd::Zero(n3, n3), upper = lower, diag_w = lower;
+    for (int r = 0; r < model.num_particles; ++r) {
+      const bool free = s.mode[static_cast<std::size_t>(r)] == ParticleMode::kFree;
+      diag_w.block<3, 3>(3 * r, 3 * r) =
+          free ? Eigen::Matrix3d(dense.block<3, 3>(3 * r, 3 * r) / omega) : Eigen::Matrix3d::Identity();
+      for (int c = 0; c < model.num_particles; ++c) {
+        if (c < r) lower.block<3, 3>(3 * r, 3 * c) = dense.block<3, 3>(3 * r, 3 * c);
+        if (c > r) upper.block<3, 3>(3 * r, 3 * c) = dense.block<3, 3>(3 * r, 3 * c);
+      }
+    }
+    std::mt19937 rng(5);
+    const Eigen::VectorXd x = RandomFree(model, s, &rng);
+    Eigen::VectorXd y(n3), t(n3), z(n3);
+    gs.ForwardSolve(model.product_rows, a.blocks, a.scalars, x, &y);
+    EXPECT_LT(((diag_w + lower) * y - x).norm(), 1e-10 * x.norm()) << omega;
+    gs.BackwardSolve(model.product_rows, a.blocks, a.scalars, x, &y);
+    EXPECT_LT(((diag_w + upper) * y - x).norm(), 1e-10 * x.norm()) << omega;
+
+    const Eigen::MatrixXd split = (diag_w + lower).lu().solve(dense) * (diag_w + upper).inverse();
+    const double xy = gs.MultiplySplit(model.product_rows, a.blocks, a.scalars, x, &t, &z, &y);
+    const Eigen::VectorXd expected = split * x;
+    EXPECT_LT((y - expected).norm(), 1e-9 * expected.norm()) << omega;
+    EXPECT_NEAR(xy, x.dot(expected), 1e-9 * std::abs(x.dot(expected)));
+    for (int p = 0; p < model.num_particles; ++p) {
+      if (s.mode[static_cast<std::size_t>(p)] != ParticleMode::kFree) {
+        EXPECT_EQ(y.segment<3>(3 * p).norm(), 0.0);
+      }
+    }
+  }
+}
+
+// The AVX2 and the portable sweeps give the same bits (where the CPU has AVX2).
+TEST(GaussSeidelPreconditionerTest, PortableKernelGivesTheSameBits) {
+  const FabricModel model = DenimModel(12, 0.011);
+  FabricState s = BorderFixed(model);
+  const System a = Assemble(model, &s);
+  const auto row_free = [&](int r) { return s.mode[static_cast<std::size_t>(r)] == ParticleMode::kFree; };
+  GaussSeidelPreconditioner fast(model.product_rows), portable(model.product_rows);
+  portable.UsePortableKernel();
+  if (!fast.uses_avx2()) GTEST_SKIP() << "no AVX2 on this CPU: only the portable kernel runs";
+  ASSERT_TRUE(fast.Update(model.product_rows, model.pattern, a.blocks, 1.3, row_free));
+  ASSERT_TRUE(portable.Update(model.product_rows, model.pattern, a.blocks, 1.3, row_free));
+  std::mt19937 rng(9);
+  const Eigen::VectorXd x = RandomFree(model, s, &rng);
+  const Eigen::Index n3 = x.size();
+  Eigen::VectorXd y1(n3), y2(n3), t1(n3), t2(n3), z1(n3), z2(n3);
+  fast.ForwardSolve(model.product_rows, a.blocks, a.scalars, x, &y1);
+  portable.ForwardSolve(model.product_rows, a.blocks, a.scalars, x, &y2);
+  EXPECT_EQ(y1, y2);
+  fast.BackwardSolve(model.product_rows, a.blocks, a.scalars, x, &y1);
+  portable.BackwardSolve(model.product_rows, a.blocks, a.scalars, x, &y2);
+  EXPECT_EQ(y1, y2);
+  const double xy1 = fast.MultiplySplit(model.product_rows, a.blocks, a.scalars, x, &t1, &z1, &y1);
+  const double xy2 = portable.MultiplySplit(model.product_rows, a.blocks, a.scalars, x, &t2, &z2, &y2);
+  EXPECT_EQ(y1, y2);
+  EXPECT_EQ(xy1, xy2);
+}
+
+TEST(GaussSeidelPreconditionerTest, SingularDiagonalBlockIsReported) {
+  const FabricModel model = DenimModel(5, 0.004);
+  FabricState s = BorderFixed(model);
+  System a = Assemble(model, &s);
+  const int centre = 12;
+  a.blocks[static_cast<std::size_t>(model.pattern.diag_slot[centre])].setZero();
+  GaussSeidelPreconditioner gs(model.product_rows);
+  EXPECT_FALSE(gs.Update(model.product_rows, model.pattern, a.blocks, 1.0, [](int) { return true; }));
+}
+
+// The implicit step with Gauss-Seidel gives block Jacobi's answer when both solve tightly,
+// with far fewer iterations on the stiff 1 mm patch (the haptic patch's case).
+TEST(GaussSeidelPreconditionerTest, StepMatchesBlockJacobiWithFewerIterations) {
+  const FabricModel model = DenimModel(20, 0.019);
+  FabricState a = BorderFixed(model);
+  Assemble(model, &a);  // deformed and moving
+  FabricState b = a;
+  StepOptions gs;
+  gs.dt_s = 1e-3;
+  gs.cg_tolerance = 1e-9;
+  gs.cg_max_iterations = 5000;
+  gs.cg_warm_start = false;
+  gs.preconditioner = Preconditioner::kGaussSeidel;
+  gs.ssor_omega = 1.4;
+  StepOptions jacobi = gs;
+  jacobi.preconditioner = Preconditioner::kBlockJacobi;
+  FabricStepper sa(model, gs), sb(model, jacobi);
+  int ia = 0, ib = 0;
+  for (int i = 0; i < 10; ++i) {
+    const StepResult ra = sa.Step(&a);
+    ia += ra.cg.iterations;
+    ib += sb.Step(&b).cg.iterations;
+    EXPECT_FALSE(ra.cg.preconditioner_fallback);
+  }
+  EXPECT_LT(ia * 2, ib) << ia << " vs " << ib;
+  EXPECT_LT((a.x_W_m - b.x_W_m).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_LT((a.v_W_m_per_s - b.v_W_m_per_s).cwiseAbs().maxCoeff(), 1e-8);
+  EXPECT_EQ(a.diagnostics.cg_not_converged, 0);
+  for (int p : model.mesh.BorderParticles()) EXPECT_EQ(a.v(p), Eigen::Vector3d::Zero());
+}
+
+TEST(GaussSeidelPreconditionerTest, OmegaOutsideZeroTwoIsRefused) {
+  StepOptions o;
+  o.preconditioner = Preconditioner::kGaussSeidel;
+  for (double omega : {0.0, 2.0, -1.0, std::numeric_limits<double>::quiet_NaN()}) {
+    o.ssor_omega = omega;
+    EXPECT_THROW(ValidateStepOptions(o), std::invalid_argument) << omega;
+  }
+}
+
+TEST(GaussSeidelPreconditionerTest, WarmedUpStepDoesNotAllocate) {
+  if (!haptex::testing::AllocationCountingSupported()) GTEST_SKIP() << "allocation counting off (ASan)";
+  const FabricModel model = DenimModel(12, 0.011);
+  FabricState s = BorderFixed(model);
+  StepOptions o;
+  o.dt_s = 1e-3;
+  o.preconditioner = Preconditioner::kGaussSeidel;
+  FabricStepper stepper(model, o);
+  s.v_W_m_per_s.setConstant(0.01);
+  stepper.Step(&s);
+  haptex::testing::AllocationCounter counter;
+  for (int i = 0; i < 10; ++i) stepper.Step(&s);
+  EXPECT_EQ(counter.count(), 0);
+}
+
+}  // namespace
+}  // namespace haptex::textile
+
