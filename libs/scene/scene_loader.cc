@@ -224,6 +224,8 @@ void CheckRatesAndModel(const v1::Scene& scene, const FieldLocator& where, Check
   c.ZeroOrRange(m, "global_dt_s", m.global_dt_s(), 1e-5, 0.1, "s", mo);
   c.ZeroOrRange(m, "cg_tolerance", m.cg_tolerance(), 1e-12, 0.5, "", mo);
   c.ZeroOrRange(m, "cg_max_iterations", m.cg_max_iterations(), 1, 100000, "", mo);
+  c.ZeroOrRange(m, "local_cg_tolerance", m.local_cg_tolerance(), 1e-12, 0.5, "", mo);
+  c.ZeroOrRange(m, "local_cg_max_iterations", m.local_cg_max_iterations(), 3, 100000, "", mo);
   c.ZeroOrRange(m, "substeps", m.substeps(), 1, 10000, "", mo);
   c.Range(m, "patch_radius_m", m.patch_radius_m(), 0.0, 0.1, "m", mo);
   c.Range(m, "patch_refinement", m.patch_refinement(), 0, 4, "", mo);

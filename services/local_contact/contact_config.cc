@@ -46,7 +46,10 @@ std::array<bool, 2> SceneFingers(const scene::LoadedScene& loaded) {
 
 textile::StepOptions LocalStepOptions(const scene::LoadedScene& loaded, double local_hz) {
   textile::StepOptions step = contact::HapticPatchStepOptions(1.0 / local_hz);
-  if (loaded.scene.model().local_integrator() == v1::ModelOptions::INTEGRATOR_SEMI_IMPLICIT) {
+  const v1::ModelOptions& m = loaded.scene.model();
+  if (m.local_cg_tolerance() > 0) step.cg_tolerance = m.local_cg_tolerance();
+  if (m.local_cg_max_iterations() > 0) step.cg_max_iterations = static_cast<int>(m.local_cg_max_iterations());
+  if (m.local_integrator() == v1::ModelOptions::INTEGRATOR_SEMI_IMPLICIT) {
     step.method = textile::Integrator::kSymplecticEuler;
     step.max_substeps = 2000;
   }

@@ -15,8 +15,9 @@ contact::ContactOptions ContactOptionsFromScene(const scene::LoadedScene& scene)
 /// Which fingers the scene simulates (index 0 thumb, 1 index).
 std::array<bool, 2> SceneFingers(const scene::LoadedScene& scene);
 
-/// The local integrator at `local_hz`: contact::HapticPatchStepOptions (or the scene's
-/// semi-implicit choice): the haptic budget rules.
+/// The local integrator at `local_hz`: contact::HapticPatchStepOptions with the scene's
+/// local_cg_tolerance and local_cg_max_iterations where set (or the scene's semi-implicit
+/// choice): the haptic budget rules.
 textile::StepOptions LocalStepOptions(const scene::LoadedScene& scene, double local_hz);
 
 }  // namespace haptex::local_contact

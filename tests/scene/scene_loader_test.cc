@@ -52,6 +52,24 @@ fabric { inline_fabric {
   EXPECT_EQ(loaded.fabric.name(), "mine");
 }
 
+// Fewer than 3 Gauss-Seidel iterations per haptic tick went unstable (docs/contact.md).
+TEST_F(SceneLoaderTest, LocalSolverDialsAreRangeChecked) {
+  const auto few = Refused("name: \"x\"\nfabric { database_name: \"test_cotton\" }\n"
+                           "model { local_cg_max_iterations: 2 }\n");
+  ASSERT_EQ(few.size(), 1u);
+  EXPECT_EQ(few[0].line, 3);
+  EXPECT_NE(few[0].message.find("local_cg_max_iterations must be in [3, 100000]"), std::string::npos)
+      << few[0].message;
+  EXPECT_TRUE(Mentions(Refused("name: \"x\"\nfabric { database_name: \"test_cotton\" }\n"
+                               "model { local_cg_tolerance: 0.9 }\n"),
+                       "local_cg_tolerance"));
+  const LoadedScene ok = ParseScene(
+      "name: \"x\"\nfabric { database_name: \"test_cotton\" }\n"
+      "model { local_cg_tolerance: 1e-3 local_cg_max_iterations: 20 }\n",
+      "t", db_);
+  EXPECT_EQ(ok.scene.model().local_cg_max_iterations(), 20u);
+}
+
 TEST_F(SceneLoaderTest, OutOfRangeValueIsLocatedAtItsField) {
   const auto issues = Refused("name: \"x\"\nfabric { database_name: \"test_cotton\" }\ncloth {\n    particles_u: 1\n}\n");
   ASSERT_EQ(issues.size(), 1u);
