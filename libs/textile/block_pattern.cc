@@ -5,9 +5,10 @@
 
 #include "libs/textile/check.h"
 
-#if defined(__GNUC__) && defined(__x86_64__)
+#include "libs/textile/cpu_features.h"
+
+#ifdef HAPTEX_TEXTILE_X86_KERNELS
 #include <immintrin.h>
-#define HAPTEX_TEXTILE_HAVE_AVX_KERNEL 1
 #endif
 
 namespace haptex::textile {
@@ -138,7 +139,7 @@ double RangeGeneric(const SplitRows& split, const Eigen::Matrix3d* blocks, const
   return xy;
 }
 
-#ifdef HAPTEX_TEXTILE_HAVE_AVX_KERNEL
+#ifdef HAPTEX_TEXTILE_X86_KERNELS
 // The same sums, one 4-wide multiply and add per block column: column 0 and 1 are loaded from
 // m and m + 3 (lanes 0..2 are rows 0..2), column 2 from m + 5 (lanes 1..3 are rows 0..2), so no
 // load leaves the block. No FMA: the products round as in RangeGeneric.
@@ -185,19 +186,14 @@ __attribute__((target("avx"))) double RangeAvx(const SplitRows& split,
   return xy;
 }
 
-bool CpuHasAvx() {
-  __builtin_cpu_init();
-  return __builtin_cpu_supports("avx");
-}
-const bool kCpuHasAvx = CpuHasAvx();
 #endif
 
 }  // namespace
 
 double MultiplySplitRowRange(const SplitRows& split, const Eigen::Matrix3d* blocks,
                              const double* scalars, const double* x, double* y, int r0, int r1) {
-#ifdef HAPTEX_TEXTILE_HAVE_AVX_KERNEL
-  if (kCpuHasAvx) return RangeAvx(split, blocks, scalars, x, y, r0, r1);
+#ifdef HAPTEX_TEXTILE_X86_KERNELS
+  if (CpuHasAvx()) return RangeAvx(split, blocks, scalars, x, y, r0, r1);
 #endif
   return RangeGeneric(split, blocks, scalars, x, y, r0, r1);
 }

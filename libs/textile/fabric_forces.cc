@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include "libs/textile/check.h"
+#include "libs/textile/cpu_features.h"
 #include "libs/textile/external_force.h"
 
 namespace haptex::textile {
@@ -22,9 +23,6 @@ namespace {
 // (and no 32-byte vector crosses a call in the generic build).
 #define HAPTEX_LANES_INLINE inline __attribute__((always_inline))
 
-#if defined(__GNUC__) && defined(__x86_64__)
-#define HAPTEX_TEXTILE_HAVE_AVX2_KERNEL 1
-#endif
 #ifdef __SSE2__
 #include <emmintrin.h>
 #endif
@@ -98,6 +96,20 @@ HAPTEX_LANES_INLINE void AddTo(V4 a, double* p) {
   std::memcpy(&b, p, sizeof b);
   b += a;
   std::memcpy(p, &b, sizeof b);
+}
+
+// out[corner k of lane j's triangle] += v[k][.][j], lane by lane in triangle order (the
+// triangles of a group share particles).
+HAPTEX_LANES_INLINE void ScatterToCorners(const V4 v[3][3], const TriangleElement* const el[kLanes],
+                                          int lanes, double* out) {
+  for (int j = 0; j < lanes; ++j) {
+    HAPTEX_UNROLL
+    for (int k = 0; k < 3; ++k) {
+      double* o = out + 3 * el[j]->p[static_cast<std::size_t>(k)];
+      HAPTEX_UNROLL
+      for (int i = 0; i < 3; ++i) o[i] += v[k][i][j];
+    }
+  }
 }
 
 // Adds block entries m (entry e of lanes 0..3) to the block at slot index kl of each lane's
@@ -347,14 +359,7 @@ HAPTEX_LANES_INLINE void TriangleKernel(const FabricModel& model, const double* 
       }
     }
 
-    for (int j = 0; j < lanes; ++j) {
-      HAPTEX_UNROLL
-      for (int k = 0; k < 3; ++k) {
-        double* fk = fp + 3 * el[j]->p[k];
-        HAPTEX_UNROLL
-        for (int i = 0; i < 3; ++i) fk[i] += f[k][i][j];
-      }
-    }
+    ScatterToCorners(f, el, lanes, fp);
     if (!jac) continue;
 
     // (df/dx) v per particle.
@@ -368,14 +373,7 @@ HAPTEX_LANES_INLINE void TriangleKernel(const FabricModel& model, const double* 
         dk[k][i] = shear_kx * g[k][i] + a[k] * warp.kx_ddot[i] + b[k] * weft.kx_ddot[i];
       }
     }
-    for (int j = 0; j < lanes; ++j) {
-      HAPTEX_UNROLL
-      for (int k = 0; k < 3; ++k) {
-        double* dj = dfv + 3 * el[j]->p[k];
-        HAPTEX_UNROLL
-        for (int i = 0; i < 3; ++i) dj[i] += dk[k][i][j];
-      }
-    }
+    ScatterToCorners(dk, el, lanes, dfv);
 
     // Blocks (k, l) = shear_sys g_k g_l^T + a_k a_l K_warp + b_k b_l K_weft + dq n n^T, with
     // K = beta dir dir^T + alpha I, entry (i, j) at i + 3 j (column-major). On a grid half the
@@ -430,7 +428,7 @@ void AddTriangleForcesGeneric(const FabricModel& model, const double* x, const d
   TriangleKernel(model, x, v, sink);
 }
 
-#ifdef HAPTEX_TEXTILE_HAVE_AVX2_KERNEL
+#ifdef HAPTEX_TEXTILE_X86_KERNELS
 // The same kernel on 256-bit registers. No FMA: the products round as in the generic build.
 __attribute__((target("avx2"))) void AddTriangleForcesAvx2(const FabricModel& model,
                                                            const double* x, const double* v,
@@ -438,17 +436,12 @@ __attribute__((target("avx2"))) void AddTriangleForcesAvx2(const FabricModel& mo
   TriangleKernel(model, x, v, sink);
 }
 
-bool CpuHasAvx2() {
-  __builtin_cpu_init();
-  return __builtin_cpu_supports("avx2");
-}
-const bool kCpuHasAvx2 = CpuHasAvx2();
 #endif
 
 void AddTriangleForces(const FabricModel& model, const Eigen::VectorXd& x,
                        const Eigen::VectorXd& v, ForceSink* sink) {
-#ifdef HAPTEX_TEXTILE_HAVE_AVX2_KERNEL
-  if (kCpuHasAvx2) return AddTriangleForcesAvx2(model, x.data(), v.data(), sink);
+#ifdef HAPTEX_TEXTILE_X86_KERNELS
+  if (internal::CpuHasAvx2()) return AddTriangleForcesAvx2(model, x.data(), v.data(), sink);
 #endif
   AddTriangleForcesGeneric(model, x.data(), v.data(), sink);
 }

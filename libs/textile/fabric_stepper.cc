@@ -19,7 +19,7 @@ const char* ToString(StepStatus status) {
 }
 
 FabricStepper::FabricStepper(const FabricModel& model, const StepOptions& options)
-    : model_(model), options_(options), ws_(model) {
+    : model_(model), options_(options), ws_(model, options.preconditioner) {
   ValidateStepOptions(options_);
   if (options_.method == Integrator::kSymplecticEuler) {
     substeps_ = SymplecticSubsteps(model_, options_);

@@ -2,8 +2,10 @@
 
 namespace haptex::textile {
 
-FabricWorkspace::FabricWorkspace(const FabricModel& model)
-    : multilevel(model), gauss_seidel(model.product_rows) {
+FabricWorkspace::FabricWorkspace(const FabricModel& model, Preconditioner preconditioner)
+    : multilevel(model),
+      gauss_seidel(preconditioner == Preconditioner::kGaussSeidel ? GaussSeidelPreconditioner(model.product_rows)
+                                                                 : GaussSeidelPreconditioner()) {
   const int n3 = 3 * model.num_particles;
   for (Eigen::VectorXd* v : {&force_N, &dfdx_v, &rhs, &dv, &dv0, &r, &c, &q, &s, &x_backup, &v_backup, &t, &z, &y_split}) {
     *v = Eigen::VectorXd::Zero(n3);

@@ -8,12 +8,13 @@
 #include "libs/textile/fabric_model.h"
 #include "libs/textile/gauss_seidel_preconditioner.h"
 #include "libs/textile/multilevel_preconditioner.h"
+#include "libs/textile/step_options.h"
 
 namespace haptex::textile {
 
 struct FabricWorkspace {
-  /// Allocates every buffer for `model`.
-  explicit FabricWorkspace(const FabricModel& model);
+  /// Allocates every buffer for `model` (Gauss-Seidel's only for that preconditioner).
+  FabricWorkspace(const FabricModel& model, Preconditioner preconditioner);
 
   Eigen::VectorXd force_N;        ///< 3n total force
   Eigen::VectorXd dfdx_v;         ///< 3n (df/dx) v, for the implicit right-hand side
@@ -32,7 +33,7 @@ struct FabricWorkspace {
   Eigen::VectorXd x_backup, v_backup;    ///< roll-back copy of the state
   Eigen::VectorXd stiffness_row;         ///< n, symplectic stability estimate at the state
   MultilevelPreconditioner multilevel;   ///< used when StepOptions::preconditioner says so
-  GaussSeidelPreconditioner gauss_seidel;  ///< likewise
+  GaussSeidelPreconditioner gauss_seidel;  ///< likewise (empty unless built for it)
 };
 
 }  // namespace haptex::textile

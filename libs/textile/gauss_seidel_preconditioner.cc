@@ -1,8 +1,9 @@
 #include "libs/textile/gauss_seidel_preconditioner.h"
 
 #include "libs/textile/check.h"
+#include "libs/textile/cpu_features.h"
 
-#if defined(__GNUC__) && defined(__x86_64__)
+#ifdef HAPTEX_TEXTILE_X86_KERNELS
 #include <immintrin.h>
 #endif
 
@@ -119,8 +120,7 @@ inline double RowGeneric(const GaussSeidelSweepArgs& a, int r, const double* x, 
   return 0.0;
 }
 
-#if defined(__GNUC__) && defined(__x86_64__)
-#define HAPTEX_TEXTILE_GS_AVX2 1
+#ifdef HAPTEX_TEXTILE_X86_KERNELS
 // The row in 4-wide registers: lanes 0..2 are components 0..2, lane 3 is never stored. No FMA
 // (target avx2 only): products round as in RowGeneric.
 template <SweepKind kKind>
@@ -188,16 +188,11 @@ __attribute__((target("avx2"))) double SweepAvx2(const GaussSeidelSweepArgs& a, 
   return xy;
 }
 
-bool CpuHasAvx2() {
-  __builtin_cpu_init();
-  return __builtin_cpu_supports("avx2");
-}
-const bool kCpuHasAvx2 = CpuHasAvx2();
 #endif
 
 template <SweepKind kKind>
 double Sweep(const GaussSeidelSweepArgs& a, const double* x, double* y, double* t, double* z) {
-#ifdef HAPTEX_TEXTILE_GS_AVX2
+#ifdef HAPTEX_TEXTILE_X86_KERNELS
   if (a.avx2) return SweepAvx2<kKind>(a, x, y, t, z);
 #endif
   double xy = 0.0;
@@ -208,9 +203,7 @@ double Sweep(const GaussSeidelSweepArgs& a, const double* x, double* y, double* 
 }  // namespace
 
 GaussSeidelPreconditioner::GaussSeidelPreconditioner(const SplitRows& split) {
-#ifdef HAPTEX_TEXTILE_GS_AVX2
-  avx2_ = kCpuHasAvx2;
-#endif
+  avx2_ = internal::CpuHasAvx2();
   const int rows = static_cast<int>(split.general_start.size()) - 1;
   general_diag_.assign(static_cast<std::size_t>(rows), 0);
   scalar_upper_.assign(static_cast<std::size_t>(rows), 0);

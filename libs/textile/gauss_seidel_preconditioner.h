@@ -84,6 +84,8 @@ class GaussSeidelPreconditioner {
   /// one doing the same operations in the same order: identical results. This picks the
   /// portable one anyway (tests compare the two).
   void UsePortableKernel() { avx2_ = false; }
+  /// Rows it was built for (0: default-constructed).
+  int rows() const { return static_cast<int>(general_diag_.size()); }
   bool uses_avx2() const { return avx2_; }
 
  private:

@@ -71,13 +71,40 @@ PcgStart StartPcg(const FabricModel& model, const FabricState& state, double del
   return delta0 > 0.0 ? PcgStart::kIterate : PcgStart::kBreakdown;
 }
 
-// CG's exit: iterations, the relative (preconditioned) residual, convergence.
-void FinishReport(int iterations, double delta, double delta0, double eps2, bool breakdown,
-                  CgReport* report) {
-  report->iterations = iterations;
+// The PCG iterations from the residual in ws->r: x += alpha c, with product(c, &q) = A c
+// returning c'Ac and precondition(r, &s) = P^-1 r returning r's (ws->c, ws->q, ws->s are its
+// vectors). Stops at the tolerance relative to delta0 or at the iteration cap; fills the report.
+// Returns true on a breakdown (a non-positive c'Ac or r'P^-1 r).
+template <typename ProductFn, typename PreconditionFn>
+bool Iterate(ProductFn product, PreconditionFn precondition, double delta0, const StepOptions& options,
+             Eigen::VectorXd* x, FabricWorkspace* ws, CgReport* report) {
+  double delta = precondition(ws->r, &ws->c);
+  const double eps2 = options.cg_tolerance * options.cg_tolerance;
+  bool breakdown = !(delta >= 0.0);
+  int it = 0;
+  while (!breakdown && delta > eps2 * delta0 && it < options.cg_max_iterations) {
+    const double cq = product(ws->c, &ws->q);
+    if (!(cq > 0.0)) {
+      breakdown = true;
+      break;
+    }
+    const double alpha = delta / cq;
+    *x += alpha * ws->c;
+    ws->r -= alpha * ws->q;
+    const double delta_old = delta;
+    delta = precondition(ws->r, &ws->s);
+    ++it;
+    if (!(delta >= 0.0)) {
+      breakdown = true;
+      break;
+    }
+    ws->c = ws->s + (delta / delta_old) * ws->c;
+  }
+  report->iterations = it;
   report->relative_residual = std::sqrt(std::max(delta, 0.0) / delta0);
   report->converged = !breakdown && delta <= eps2 * delta0;
   report->finite = std::isfinite(delta);
+  return breakdown;
 }
 
 // Filtered PCG from the guess in ws->dv (Baraff-Witkin's modified PCG). Returns true on a
@@ -105,40 +132,13 @@ bool RunPcg(const FabricModel& model, const FabricState& state, const StepOption
       ws->r.segment<3>(3 * p).setZero();
     }
   }
-  Precondition(model, state, o, ws, ws->r, &ws->c);
-  double delta = ws->r.dot(ws->c);
-  const double eps2 = options.cg_tolerance * options.cg_tolerance;
-  bool breakdown = !(delta >= 0.0);
-  int it = 0;
-  while (!breakdown && delta > eps2 * delta0 && it < options.cg_max_iterations) {
-    const double cq = FilteredMultiply(model, state, *ws, ws->c, &ws->q);
-    if (!(cq > 0.0)) {
-      breakdown = true;
-      break;
-    }
-    const double alpha = delta / cq;
-    {
-      double* dv = ws->dv.data();
-      double* r = ws->r.data();
-      const double* c = ws->c.data();
-      const double* q = ws->q.data();
-      for (Eigen::Index i = 0; i < ws->r.size(); ++i) {
-        dv[i] += alpha * c[i];
-        r[i] -= alpha * q[i];
-      }
-    }
-    Precondition(model, state, o, ws, ws->r, &ws->s);
-    const double delta_old = delta;
-    delta = ws->r.dot(ws->s);
-    ++it;
-    if (!(delta >= 0.0)) {
-      breakdown = true;
-      break;
-    }
-    ws->c = ws->s + (delta / delta_old) * ws->c;
-  }
-  FinishReport(it, delta, delta0, eps2, breakdown, report);
-  return breakdown;
+  return Iterate(
+      [&](const Eigen::VectorXd& c, Eigen::VectorXd* q) { return FilteredMultiply(model, state, *ws, c, q); },
+      [&](const Eigen::VectorXd& r, Eigen::VectorXd* z) {
+        Precondition(model, state, o, ws, r, z);
+        return r.dot(*z);
+      },
+      delta0, options, &ws->dv, ws, report);
 }
 
 // PCG on Gauss-Seidel's split system (gauss_seidel_preconditioner.h) for the correction to the
@@ -171,30 +171,12 @@ bool RunGaussSeidelPcg(const FabricModel& model, const FabricState& state,
   if (start != PcgStart::kIterate) return start == PcgStart::kBreakdown;
   gs.ForwardSolve(split, a, scalars, ws->q, &ws->r);  // r~ = (D_w + L)^-1 r0
   ws->y_split.setZero();
-  double delta = gs.MultiplyDiagonal(ws->r, &ws->s);
-  ws->c = ws->s;
-  const double eps2 = options.cg_tolerance * options.cg_tolerance;
-  bool breakdown = !(delta >= 0.0);
-  int it = 0;
-  while (!breakdown && delta > eps2 * delta0 && it < options.cg_max_iterations) {
-    const double cq = gs.MultiplySplit(split, a, scalars, ws->c, &ws->t, &ws->z, &ws->q);
-    if (!(cq > 0.0)) {
-      breakdown = true;
-      break;
-    }
-    const double alpha = delta / cq;
-    ws->y_split += alpha * ws->c;
-    ws->r -= alpha * ws->q;
-    const double delta_old = delta;
-    delta = gs.MultiplyDiagonal(ws->r, &ws->s);
-    ++it;
-    if (!(delta >= 0.0)) {
-      breakdown = true;
-      break;
-    }
-    ws->c = ws->s + (delta / delta_old) * ws->c;
-  }
-  FinishReport(it, delta, delta0, eps2, breakdown, report);
+  const bool breakdown = Iterate(
+      [&](const Eigen::VectorXd& c, Eigen::VectorXd* q) {
+        return gs.MultiplySplit(split, a, scalars, c, &ws->t, &ws->z, q);
+      },
+      [&](const Eigen::VectorXd& r, Eigen::VectorXd* z) { return gs.MultiplyDiagonal(r, z); },
+      delta0, options, &ws->y_split, ws, report);
   if (breakdown) return true;
   gs.BackwardSolve(split, a, scalars, ws->y_split, &ws->t);  // y = (D_w + U)^-1 y~
   ws->dv += ws->t;
@@ -259,6 +241,7 @@ CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options,
   if (options.preconditioner == Preconditioner::kMultilevel) {
     ws->multilevel.Update(model, *state, ws->system);
   } else if (options.preconditioner == Preconditioner::kGaussSeidel) {
+    HAPTEX_TEXTILE_DEMAND(ws->gauss_seidel.rows() == n);  // a workspace built for it
     gauss_seidel_ok = ws->gauss_seidel.Update(model.product_rows, model.pattern, ws->system, options.ssor_omega,
                                               [mode](int r) { return mode[r] == ParticleMode::kFree; });
   } else {

@@ -1,0 +1,16 @@
+#pragma once
+// What the CPU running us can do, checked once at run time: the textile kernels pick a
+// vectorised variant where it can (the project builds without -march). Each variant does the
+// same operations in the same order as the portable one, so results do not depend on the CPU.
+
+// The AVX/AVX2 kernels exist only where GCC-style target attributes and x86-64 intrinsics do.
+#if defined(__GNUC__) && defined(__x86_64__)
+#define HAPTEX_TEXTILE_X86_KERNELS 1
+#endif
+
+namespace haptex::textile::internal {
+
+bool CpuHasAvx();   ///< false where HAPTEX_TEXTILE_X86_KERNELS is not defined
+bool CpuHasAvx2();  ///< likewise
+
+}  // namespace haptex::textile::internal
