@@ -10,7 +10,7 @@ textile::StepOptions HapticPatchStepOptions(double dt_s) {
   step.cg_max_iterations = 6;
   step.cg_warm_start = true;
   step.preconditioner = textile::Preconditioner::kGaussSeidel;
-  step.ssor_omega = 1.4;
+  step.ssor_omega = 1.6;
   return step;
 }
 

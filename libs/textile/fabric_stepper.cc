@@ -75,9 +75,8 @@ StepResult FabricStepper::Step(FabricState* state) {
   const double cap = options_.max_speed_m_per_s;
   for (int p = 0; p < model_.num_particles; ++p) {
     auto v = state->v_W_m_per_s.segment<3>(3 * p);
-    const double speed = v.norm();
-    if (speed > cap) {
-      v *= cap / speed;
+    if (v.squaredNorm() > cap * cap) {  // the square root only where it caps
+      v *= cap / v.norm();
       ++result.capped_particles;
     }
   }

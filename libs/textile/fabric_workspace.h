@@ -8,6 +8,7 @@
 #include "libs/textile/fabric_model.h"
 #include "libs/textile/gauss_seidel_preconditioner.h"
 #include "libs/textile/multilevel_preconditioner.h"
+#include "libs/textile/padded_vector.h"
 #include "libs/textile/step_options.h"
 
 namespace haptex::textile {
@@ -26,14 +27,24 @@ struct FabricWorkspace {
   /// Values of the scalar blocks of `system_base` (model.product_rows order): the product reads
   /// them instead of the 3x3 blocks (no step changes them).
   std::vector<double> system_scalars;
+  /// When every general block of `system_base` is a scalar times the identity (so far always:
+  /// mass, bending and linear drag act per axis), those scalars by slot: a step resets the
+  /// general blocks of `system` from them and leaves its scalar blocks, which no step changes,
+  /// as they are. Empty otherwise: a step copies `system_base` whole.
+  std::vector<double> system_base_general_scalars;
   double system_base_dt_s = 0.0;
   const FabricModel* system_base_model = nullptr;
   Eigen::VectorXd rhs, dv, dv0, r, c, q, s;  ///< 3n CG vectors (dv0: initial guess)
-  Eigen::VectorXd t, z, y_split;         ///< 3n, Gauss-Seidel's sweeps and its split unknown
   Eigen::VectorXd x_backup, v_backup;    ///< roll-back copy of the state
   Eigen::VectorXd stiffness_row;         ///< n, symplectic stability estimate at the state
   MultilevelPreconditioner multilevel;   ///< used when StepOptions::preconditioner says so
   GaussSeidelPreconditioner gauss_seidel;  ///< likewise (empty unless built for it)
+  /// Gauss-Seidel's CG vectors on its split system, padded (0 rows unless built for it): the
+  /// residual, direction, product, preconditioned residual, the sweeps' scratch t and z, and
+  /// the correction y (kept unsplit).
+  struct SplitVectors {
+    PaddedVector r, c, q, s, t, z, y;
+  } split;
 };
 
 }  // namespace haptex::textile

@@ -1,5 +1,8 @@
 #include "libs/textile/gauss_seidel_preconditioner.h"
 
+#include <cmath>
+#include <cstring>
+
 #include "libs/textile/check.h"
 #include "libs/textile/cpu_features.h"
 
@@ -28,114 +31,88 @@ constexpr bool IsForward(SweepKind k) {
   return k == SweepKind::kForward || k == SweepKind::kEisenstatForward;
 }
 
-// Where row r's sums run: the general and scalar blocks on the sweep's side of the diagonal,
-// except the block coupling to the row solved just before (r - 1 forward, r + 1 backward). That
-// one is applied last, premultiplied by D_w^-1, so the serial dependency from row to row is one
-// 3x3 product.
-struct RowRange {
-  const int* g_col;  // general and scalar blocks' columns
-  const int* s_col;
-  int g0, g1, s0, s1;
-  bool adjacent;
-  const Eigen::Matrix3d* blocks;  // offset so that general index k is blocks[k]
-  const PaddedBlock* adjacent_scaled;
-};
-
 // The vector a sweep solves into, whose earlier rows its sums read: y, t, or w kept in z.
 template <SweepKind kKind>
 inline double* Solved(double* y, double* t, double* z) {
   return kKind == SweepKind::kEisenstatForward ? z : kKind == SweepKind::kEisenstatBackward ? t : y;
 }
 
-template <SweepKind kKind>
-inline RowRange RangeOf(const GaussSeidelSweepArgs& a, int r) {
-  constexpr bool kForward = IsForward(kKind);
-  const SplitRows& s = *a.split;
-  const auto row = static_cast<std::size_t>(r);
-  RowRange q;
-  q.g_col = s.general_col.data();
-  q.s_col = s.scalar_col.data();
-  q.adjacent = (kForward ? a.adjacent_lower : a.adjacent_upper)[row] != 0;
-  q.g0 = kForward ? s.general_start[row] : a.general_diag[row] + 1 + (q.adjacent ? 1 : 0);
-  q.g1 = kForward ? a.general_diag[row] - (q.adjacent ? 1 : 0) : s.general_start[row + 1];
-  q.s0 = kForward ? s.scalar_start[row] : a.scalar_upper[row];
-  q.s1 = kForward ? a.scalar_upper[row] : s.scalar_start[row + 1];
-  q.blocks = a.blocks + s.general_first_slot[row] - s.general_start[row];
-  q.adjacent_scaled = (kForward ? a.adjacent_lower_scaled : a.adjacent_upper_scaled) + row;
-  return q;
-}
-
-// One row of a sweep, portable. Per component i, in this order (the AVX2 row does the same
-// operations, lane i for component i, so both give identical results):
+// Rows are 4 apart (padded_vector.h). One row of a sweep, portable. Per component i, in this
+// order (the AVX2 row does the same operations, lane i for component i, so both give identical
+// results):
 //   c_j = sum over the general blocks of m(i, j) y_j (j = 0, 1, 2, each its own sum)
 //   acc = x - ((c_0 + c_1) + c_2) - sum over the scalar blocks of v y
 //   o   = ((Dinv(i,0) acc_0 + Dinv(i,1) acc_1) + Dinv(i,2) acc_2)
 //         - ((G(i,0) p_0 + G(i,1) p_1) + G(i,2) p_2)      (p: the row solved just before)
+// and in the Eisenstat forward half the row's x . y as (x_0 y_0 + x_1 y_1) + x_2 y_2.
 template <SweepKind kKind>
 inline double RowGeneric(const GaussSeidelSweepArgs& a, int r, const double* x, double* y,
                          double* t, double* z) {
   constexpr bool kForward = IsForward(kKind);
   double* solved = Solved<kKind>(y, t, z);
   const double* in = kKind == SweepKind::kEisenstatForward ? z : x;
-  const RowRange q = RangeOf<kKind>(a, r);
+  const internal::SweepRow& q = a.rows_info[r];
   double c[3][3] = {};
   for (int k = q.g0; k < q.g1; ++k) {
-    const double* m = q.blocks[k].data();
-    const double* yc = solved + 3 * q.g_col[k];
+    const double* m = a.blocks[k + q.slot_offset].data();
+    const double* yc = solved + 4 * a.general_col[k];
     for (int j = 0; j < 3; ++j) {
       for (int i = 0; i < 3; ++i) c[j][i] += m[3 * j + i] * yc[j];
     }
   }
   double sc[3] = {};
   for (int k = q.s0; k < q.s1; ++k) {
-    const double* yc = solved + 3 * q.s_col[k];
+    const double* yc = solved + 4 * a.scalar_col[k];
     for (int i = 0; i < 3; ++i) sc[i] += a.scalars[k] * yc[i];
   }
   double acc[3];
-  for (int i = 0; i < 3; ++i) acc[i] = (in[3 * r + i] - ((c[0][i] + c[1][i]) + c[2][i])) - sc[i];
+  for (int i = 0; i < 3; ++i) acc[i] = (in[4 * r + i] - ((c[0][i] + c[1][i]) + c[2][i])) - sc[i];
   const PaddedBlock& inv = a.diag_inv[r];
   double o[3];
   for (int i = 0; i < 3; ++i) {
     o[i] = (inv.col[0][i] * acc[0] + inv.col[1][i] * acc[1]) + inv.col[2][i] * acc[2];
   }
   if (q.adjacent) {
-    const double* p = solved + 3 * (kForward ? r - 1 : r + 1);
-    const PaddedBlock& g = *q.adjacent_scaled;
+    const double* p = solved + 4 * (kForward ? r - 1 : r + 1);
+    const PaddedBlock& g = a.adjacent_scaled[r];
     for (int i = 0; i < 3; ++i) o[i] -= (g.col[0][i] * p[0] + g.col[1][i] * p[1]) + g.col[2][i] * p[2];
   }
-  for (int i = 0; i < 3; ++i) solved[3 * r + i] = o[i];
+  for (int i = 0; i < 3; ++i) solved[4 * r + i] = o[i];
   if constexpr (kKind == SweepKind::kEisenstatBackward) {
     const PaddedBlock& d = a.diag[r];
     for (int i = 0; i < 3; ++i) {
-      z[3 * r + i] = x[3 * r + i] - a.diag_excess * ((d.col[0][i] * o[0] + d.col[1][i] * o[1]) + d.col[2][i] * o[2]);
+      z[4 * r + i] = x[4 * r + i] - a.diag_excess * ((d.col[0][i] * o[0] + d.col[1][i] * o[1]) + d.col[2][i] * o[2]);
     }
   } else if constexpr (kKind == SweepKind::kEisenstatForward) {
     double yr[3];
     for (int i = 0; i < 3; ++i) {
-      yr[i] = o[i] + t[3 * r + i];
-      y[3 * r + i] = yr[i];
+      yr[i] = o[i] + t[4 * r + i];
+      y[4 * r + i] = yr[i];
     }
-    return (x[3 * r] * yr[0] + x[3 * r + 1] * yr[1]) + x[3 * r + 2] * yr[2];
+    return (x[4 * r] * yr[0] + x[4 * r + 1] * yr[1]) + x[4 * r + 2] * yr[2];
   }
   return 0.0;
 }
 
 #ifdef HAPTEX_TEXTILE_X86_KERNELS
-// The row in 4-wide registers: lanes 0..2 are components 0..2, lane 3 is never stored. No FMA
-// (target avx2 only): products round as in RowGeneric.
+// The row in 4-wide registers: lanes 0..2 are components 0..2. Lane 3 of the sums holds
+// garbage (a general block's column loads reach into its next column), which only lane 3 of
+// D_w^-1 (zero) multiplies: the row's pad is stored as 0. No FMA (target avx2 only): products
+// round as in RowGeneric. `prev` is the row solved just before, kept in a register; returns
+// this row's.
 template <SweepKind kKind>
-__attribute__((target("avx2"))) inline double RowAvx2(const GaussSeidelSweepArgs& a, int r,
-                                                      const double* x, double* y, double* t,
-                                                      double* z) {
-  constexpr bool kForward = IsForward(kKind);
+__attribute__((target("avx2"), always_inline)) inline __m256d RowAvx2(const GaussSeidelSweepArgs& a, int r,
+                                                       const double* x, double* y, double* t,
+                                                       double* z, __m256d prev, double* xy) {
   double* solved = Solved<kKind>(y, t, z);
   const double* in = kKind == SweepKind::kEisenstatForward ? z : x;
-  const RowRange q = RangeOf<kKind>(a, r);
+  const internal::SweepRow& q = a.rows_info[r];
   const __m256i three = _mm256_set_epi64x(0, -1, -1, -1);
   __m256d c0 = _mm256_setzero_pd(), c1 = _mm256_setzero_pd(), c2 = _mm256_setzero_pd();
+  const Eigen::Matrix3d* blocks = a.blocks + q.slot_offset;
   for (int k = q.g0; k < q.g1; ++k) {
-    const double* m = q.blocks[k].data();
-    const double* yc = solved + 3 * q.g_col[k];
+    const double* m = blocks[k].data();
+    const double* yc = solved + 4 * a.general_col[k];
     c0 = _mm256_add_pd(c0, _mm256_mul_pd(_mm256_loadu_pd(m), _mm256_broadcast_sd(yc)));
     c1 = _mm256_add_pd(c1, _mm256_mul_pd(_mm256_loadu_pd(m + 3), _mm256_broadcast_sd(yc + 1)));
     c2 = _mm256_add_pd(c2, _mm256_mul_pd(_mm256_maskload_pd(m + 6, three), _mm256_broadcast_sd(yc + 2)));
@@ -143,51 +120,71 @@ __attribute__((target("avx2"))) inline double RowAvx2(const GaussSeidelSweepArgs
   __m256d sc = _mm256_setzero_pd();
   for (int k = q.s0; k < q.s1; ++k) {
     sc = _mm256_add_pd(sc, _mm256_mul_pd(_mm256_broadcast_sd(a.scalars + k),
-                                         _mm256_maskload_pd(solved + 3 * q.s_col[k], three)));
+                                         _mm256_load_pd(solved + 4 * a.scalar_col[k])));
   }
-  const __m256d acc = _mm256_sub_pd(
-      _mm256_sub_pd(_mm256_maskload_pd(in + 3 * r, three), _mm256_add_pd(_mm256_add_pd(c0, c1), c2)), sc);
+  const __m256d acc =
+      _mm256_sub_pd(_mm256_sub_pd(_mm256_load_pd(in + 4 * r), _mm256_add_pd(_mm256_add_pd(c0, c1), c2)), sc);
   const PaddedBlock& inv = a.diag_inv[r];
   __m256d o = _mm256_add_pd(
       _mm256_add_pd(_mm256_mul_pd(_mm256_load_pd(inv.col[0]), _mm256_permute4x64_pd(acc, 0x00)),
                     _mm256_mul_pd(_mm256_load_pd(inv.col[1]), _mm256_permute4x64_pd(acc, 0x55))),
       _mm256_mul_pd(_mm256_load_pd(inv.col[2]), _mm256_permute4x64_pd(acc, 0xAA)));
   if (q.adjacent) {
-    const double* p = solved + 3 * (kForward ? r - 1 : r + 1);
-    const PaddedBlock& g = *q.adjacent_scaled;
+    const PaddedBlock& g = a.adjacent_scaled[r];
     o = _mm256_sub_pd(
-        o, _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(_mm256_load_pd(g.col[0]), _mm256_broadcast_sd(p)),
-                                       _mm256_mul_pd(_mm256_load_pd(g.col[1]), _mm256_broadcast_sd(p + 1))),
-                         _mm256_mul_pd(_mm256_load_pd(g.col[2]), _mm256_broadcast_sd(p + 2))));
+        o, _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(_mm256_load_pd(g.col[0]), _mm256_permute4x64_pd(prev, 0x00)),
+                                       _mm256_mul_pd(_mm256_load_pd(g.col[1]), _mm256_permute4x64_pd(prev, 0x55))),
+                         _mm256_mul_pd(_mm256_load_pd(g.col[2]), _mm256_permute4x64_pd(prev, 0xAA))));
   }
-  _mm256_maskstore_pd(solved + 3 * r, three, o);
+  _mm256_store_pd(solved + 4 * r, o);
   if constexpr (kKind == SweepKind::kEisenstatBackward) {
     const PaddedBlock& d = a.diag[r];
     const __m256d dt = _mm256_add_pd(
         _mm256_add_pd(_mm256_mul_pd(_mm256_load_pd(d.col[0]), _mm256_permute4x64_pd(o, 0x00)),
                       _mm256_mul_pd(_mm256_load_pd(d.col[1]), _mm256_permute4x64_pd(o, 0x55))),
         _mm256_mul_pd(_mm256_load_pd(d.col[2]), _mm256_permute4x64_pd(o, 0xAA)));
-    _mm256_maskstore_pd(z + 3 * r, three,
-                        _mm256_sub_pd(_mm256_maskload_pd(x + 3 * r, three),
-                                      _mm256_mul_pd(_mm256_set1_pd(a.diag_excess), dt)));
+    _mm256_store_pd(z + 4 * r, _mm256_sub_pd(_mm256_load_pd(x + 4 * r), _mm256_mul_pd(_mm256_set1_pd(a.diag_excess), dt)));
   } else if constexpr (kKind == SweepKind::kEisenstatForward) {
-    const __m256d yr = _mm256_add_pd(o, _mm256_maskload_pd(t + 3 * r, three));
-    _mm256_maskstore_pd(y + 3 * r, three, yr);
-    alignas(32) double xy[4];
-    _mm256_store_pd(xy, _mm256_mul_pd(_mm256_maskload_pd(x + 3 * r, three), yr));
-    return (xy[0] + xy[1]) + xy[2];
+    const __m256d yr = _mm256_add_pd(o, _mm256_load_pd(t + 4 * r));
+    _mm256_store_pd(y + 4 * r, yr);
+    alignas(32) double p[4];
+    _mm256_store_pd(p, _mm256_mul_pd(_mm256_load_pd(x + 4 * r), yr));
+    *xy += (p[0] + p[1]) + p[2];
   }
-  return 0.0;
+  return o;
 }
 
 template <SweepKind kKind>
 __attribute__((target("avx2"))) double SweepAvx2(const GaussSeidelSweepArgs& a, const double* x,
                                                  double* y, double* t, double* z) {
   double xy = 0.0;
-  for (int i = 0; i < a.rows; ++i) xy += RowAvx2<kKind>(a, IsForward(kKind) ? i : a.rows - 1 - i, x, y, t, z);
+  __m256d prev = _mm256_setzero_pd();
+  if constexpr (IsForward(kKind)) {
+    for (int r = 0; r < a.rows; ++r) prev = RowAvx2<kKind>(a, r, x, y, t, z, prev, &xy);
+  } else {
+    for (int r = a.rows - 1; r >= 0; --r) prev = RowAvx2<kKind>(a, r, x, y, t, z, prev, &xy);
+  }
   return xy;
 }
 
+// y = D_w x per row and the sum of the rows' x . y, each (x_0 y_0 + x_1 y_1) + x_2 y_2.
+__attribute__((target("avx2"))) double MultiplyDiagonalAvx2(const PaddedBlock* diag, int rows,
+                                                            const double* x, double* y) {
+  double xy = 0.0;
+  for (int r = 0; r < rows; ++r) {
+    const PaddedBlock& d = diag[r];
+    const __m256d xr = _mm256_load_pd(x + 4 * r);
+    const __m256d yr = _mm256_add_pd(
+        _mm256_add_pd(_mm256_mul_pd(_mm256_load_pd(d.col[0]), _mm256_permute4x64_pd(xr, 0x00)),
+                      _mm256_mul_pd(_mm256_load_pd(d.col[1]), _mm256_permute4x64_pd(xr, 0x55))),
+        _mm256_mul_pd(_mm256_load_pd(d.col[2]), _mm256_permute4x64_pd(xr, 0xAA)));
+    _mm256_store_pd(y + 4 * r, yr);
+    alignas(32) double p[4];
+    _mm256_store_pd(p, _mm256_mul_pd(xr, yr));
+    xy += (p[0] + p[1]) + p[2];
+  }
+  return xy;
+}
 #endif
 
 template <SweepKind kKind>
@@ -200,15 +197,100 @@ double Sweep(const GaussSeidelSweepArgs& a, const double* x, double* y, double* 
   return xy;
 }
 
+// A row's blocks (SetRowBlocks) on GCC vector extensions: the generic build does each 4-wide
+// operation as SSE2 pairs, the avx2 build as one instruction; the same IEEE operations in the
+// same order, so identical results.
+#pragma GCC diagnostic ignored "-Wpsabi"  // 32-byte vectors only inside always-inlined code
+using V4 = double __attribute__((vector_size(32)));
+
+inline __attribute__((always_inline)) V4 LoadColumn(const PaddedBlock& b, int j) {
+  V4 v;
+  std::memcpy(&v, b.col[j], sizeof v);
+  return v;
+}
+inline __attribute__((always_inline)) void StoreColumn(V4 v, PaddedBlock* b, int j) {
+  std::memcpy(b->col[j], &v, sizeof v);
+}
+
+inline __attribute__((always_inline)) V4 Cross(V4 u, V4 v) {
+  return V4{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0], 0.0};
+}
+
+// out = d_inv m (lane 3 of each column: 0, from d_inv's).
+inline __attribute__((always_inline)) void Premultiply(const PaddedBlock& d_inv, const Eigen::Matrix3d& m,
+                                                       PaddedBlock* out) {
+  const V4 c0 = LoadColumn(d_inv, 0), c1 = LoadColumn(d_inv, 1), c2 = LoadColumn(d_inv, 2);
+  for (int j = 0; j < 3; ++j) StoreColumn((c0 * m(0, j) + c1 * m(1, j)) + c2 * m(2, j), out, j);
+}
+
+inline __attribute__((always_inline)) bool RowBlocksKernel(const Eigen::Matrix3d& a, double omega,
+                                                           const Eigen::Matrix3d* lower_block,
+                                                           const Eigen::Matrix3d* upper_block, PaddedBlock* d,
+                                                           PaddedBlock* d_inv, PaddedBlock* lower,
+                                                           PaddedBlock* upper) {
+  // D_w = a / omega and D_w^-1 = omega adj(a) / det(a): the adjugate's columns are cross
+  // products of a's rows.
+  const double inv_omega = 1.0 / omega;
+  const V4 r0 = {a(0, 0), a(0, 1), a(0, 2), 0.0}, r1 = {a(1, 0), a(1, 1), a(1, 2), 0.0},
+           r2 = {a(2, 0), a(2, 1), a(2, 2), 0.0};
+  const V4 adj0 = Cross(r1, r2), adj1 = Cross(r2, r0), adj2 = Cross(r0, r1);  // adj(a) columns
+  const double det = (r0[0] * adj0[0] + r0[1] * adj0[1]) + r0[2] * adj0[2];
+  const double s = omega / det;
+  const V4 inv0 = adj0 * s, inv1 = adj1 * s, inv2 = adj2 * s;
+  // Row i of the inverse is adj column i scaled; stored by columns.
+  const V4 col0 = {inv0[0], inv1[0], inv2[0], 0.0}, col1 = {inv0[1], inv1[1], inv2[1], 0.0},
+           col2 = {inv0[2], inv1[2], inv2[2], 0.0};
+  // An infinite or NaN entry makes the sum of all nine non-finite.
+  const V4 sum = (col0 + col1) + col2;
+  if (!(det != 0.0) || !std::isfinite(s) || !std::isfinite((sum[0] + sum[1]) + sum[2])) return false;
+  for (int j = 0; j < 3; ++j) {
+    StoreColumn(V4{a(0, j), a(1, j), a(2, j), 0.0} * inv_omega, d, j);
+  }
+  StoreColumn(col0, d_inv, 0);
+  StoreColumn(col1, d_inv, 1);
+  StoreColumn(col2, d_inv, 2);
+  if (lower_block != nullptr) Premultiply(*d_inv, *lower_block, lower);
+  if (upper_block != nullptr) Premultiply(*d_inv, *upper_block, upper);
+  return true;
+}
+
+bool RowBlocksGeneric(const Eigen::Matrix3d& a, double omega, const Eigen::Matrix3d* lower_block,
+                      const Eigen::Matrix3d* upper_block, PaddedBlock* d, PaddedBlock* d_inv,
+                      PaddedBlock* lower, PaddedBlock* upper) {
+  return RowBlocksKernel(a, omega, lower_block, upper_block, d, d_inv, lower, upper);
+}
+
+#ifdef HAPTEX_TEXTILE_X86_KERNELS
+__attribute__((target("avx2"))) bool RowBlocksAvx2(const Eigen::Matrix3d& a, double omega,
+                                                   const Eigen::Matrix3d* lower_block,
+                                                   const Eigen::Matrix3d* upper_block, PaddedBlock* d,
+                                                   PaddedBlock* d_inv, PaddedBlock* lower, PaddedBlock* upper) {
+  return RowBlocksKernel(a, omega, lower_block, upper_block, d, d_inv, lower, upper);
+}
+#endif
+
 }  // namespace
 
-GaussSeidelPreconditioner::GaussSeidelPreconditioner(const SplitRows& split) {
+namespace internal {
+bool SetRowBlocks(const Eigen::Matrix3d& a, double omega, const Eigen::Matrix3d* lower_block,
+                  const Eigen::Matrix3d* upper_block, bool avx2, PaddedBlock* d, PaddedBlock* d_inv,
+                  PaddedBlock* lower, PaddedBlock* upper) {
+#ifdef HAPTEX_TEXTILE_X86_KERNELS
+  if (avx2) return RowBlocksAvx2(a, omega, lower_block, upper_block, d, d_inv, lower, upper);
+#endif
+  (void)avx2;
+  return RowBlocksGeneric(a, omega, lower_block, upper_block, d, d_inv, lower, upper);
+}
+}  // namespace internal
+
+GaussSeidelPreconditioner::GaussSeidelPreconditioner(const SplitRows& split) : split_(&split) {
   avx2_ = internal::CpuHasAvx2();
   const int rows = static_cast<int>(split.general_start.size()) - 1;
   general_diag_.assign(static_cast<std::size_t>(rows), 0);
-  scalar_upper_.assign(static_cast<std::size_t>(rows), 0);
   adjacent_lower_.assign(static_cast<std::size_t>(rows), 0);
   adjacent_upper_.assign(static_cast<std::size_t>(rows), 0);
+  forward_rows_.resize(static_cast<std::size_t>(rows));
+  backward_rows_.resize(static_cast<std::size_t>(rows));
   for (int r = 0; r < rows; ++r) {
     const auto row = static_cast<std::size_t>(r);
     int diag = -1;
@@ -235,7 +317,12 @@ GaussSeidelPreconditioner::GaussSeidelPreconditioner(const SplitRows& split) {
       }
       if (split.scalar_col[static_cast<std::size_t>(k)] < r) upper = k + 1;
     }
-    scalar_upper_[row] = upper;
+    const int slot_offset = split.general_first_slot[row] - split.general_start[row];
+    const int lower_adjacent = adjacent_lower_[row], upper_adjacent = adjacent_upper_[row];
+    forward_rows_[row] = {split.general_start[row], diag - lower_adjacent, split.scalar_start[row], upper,
+                          slot_offset, lower_adjacent};
+    backward_rows_[row] = {diag + 1 + upper_adjacent, split.general_start[row + 1], upper,
+                           split.scalar_start[row + 1], slot_offset, upper_adjacent};
   }
   diag_.assign(static_cast<std::size_t>(rows), internal::PaddedBlock{});
   diag_inv_ = diag_;
@@ -243,47 +330,69 @@ GaussSeidelPreconditioner::GaussSeidelPreconditioner(const SplitRows& split) {
   adjacent_upper_scaled_ = diag_;
 }
 
-internal::GaussSeidelSweepArgs GaussSeidelPreconditioner::Args(const SplitRows& split, const std::vector<Eigen::Matrix3d>& blocks,
-                                          const std::vector<double>& scalars) const {
-  return {&split, general_diag_.data(), scalar_upper_.data(), adjacent_lower_.data(),
-          adjacent_upper_.data(), diag_.data(), diag_inv_.data(), adjacent_lower_scaled_.data(),
-          adjacent_upper_scaled_.data(), blocks.data(), scalars.data(),
-          static_cast<int>(general_diag_.size()), diag_excess_, avx2_};
+internal::GaussSeidelSweepArgs GaussSeidelPreconditioner::Args(bool forward, const std::vector<Eigen::Matrix3d>& blocks,
+                                                               const std::vector<double>& scalars) const {
+  return {forward ? forward_rows_.data() : backward_rows_.data(),
+          split_->general_col.data(),
+          split_->scalar_col.data(),
+          diag_.data(),
+          diag_inv_.data(),
+          forward ? adjacent_lower_scaled_.data() : adjacent_upper_scaled_.data(),
+          blocks.data(),
+          scalars.data(),
+          rows(),
+          diag_excess_,
+          avx2_};
 }
 
-void GaussSeidelPreconditioner::ForwardSolve(const SplitRows& split, const std::vector<Eigen::Matrix3d>& blocks,
-                                             const std::vector<double>& scalars,
-                                             const Eigen::VectorXd& x, Eigen::VectorXd* y) const {
-  Sweep<SweepKind::kForward>(Args(split, blocks, scalars), x.data(), y->data(), nullptr, nullptr);
+namespace {
+void DemandRows(const PaddedVector& v, int rows) { HAPTEX_TEXTILE_DEMAND(v.rows() == rows); }
+}  // namespace
+
+void GaussSeidelPreconditioner::ForwardSolve(const std::vector<Eigen::Matrix3d>& blocks,
+                                             const std::vector<double>& scalars, const PaddedVector& x,
+                                             PaddedVector* y) const {
+  DemandRows(x, rows());
+  DemandRows(*y, rows());
+  Sweep<SweepKind::kForward>(Args(true, blocks, scalars), x.data(), y->data(), nullptr, nullptr);
 }
 
-void GaussSeidelPreconditioner::BackwardSolve(const SplitRows& split, const std::vector<Eigen::Matrix3d>& blocks,
-                                              const std::vector<double>& scalars,
-                                              const Eigen::VectorXd& x, Eigen::VectorXd* y) const {
-  Sweep<SweepKind::kBackward>(Args(split, blocks, scalars), x.data(), y->data(), nullptr, nullptr);
+void GaussSeidelPreconditioner::BackwardSolve(const std::vector<Eigen::Matrix3d>& blocks,
+                                              const std::vector<double>& scalars, const PaddedVector& x,
+                                              PaddedVector* y) const {
+  DemandRows(x, rows());
+  DemandRows(*y, rows());
+  Sweep<SweepKind::kBackward>(Args(false, blocks, scalars), x.data(), y->data(), nullptr, nullptr);
 }
 
-double GaussSeidelPreconditioner::MultiplySplit(const SplitRows& split, const std::vector<Eigen::Matrix3d>& blocks,
-                                                const std::vector<double>& scalars,
-                                                const Eigen::VectorXd& x, Eigen::VectorXd* t,
-                                                Eigen::VectorXd* z, Eigen::VectorXd* y) const {
-  const internal::GaussSeidelSweepArgs args = Args(split, blocks, scalars);
-  Sweep<SweepKind::kEisenstatBackward>(args, x.data(), nullptr, t->data(), z->data());
-  return Sweep<SweepKind::kEisenstatForward>(args, x.data(), y->data(), t->data(), z->data());
+double GaussSeidelPreconditioner::MultiplySplit(const std::vector<Eigen::Matrix3d>& blocks,
+                                                const std::vector<double>& scalars, const PaddedVector& x,
+                                                PaddedVector* t, PaddedVector* z, PaddedVector* y) const {
+  for (const PaddedVector* v : {&x, static_cast<const PaddedVector*>(t), static_cast<const PaddedVector*>(z),
+                                static_cast<const PaddedVector*>(y)}) {
+    DemandRows(*v, rows());
+  }
+  Sweep<SweepKind::kEisenstatBackward>(Args(false, blocks, scalars), x.data(), nullptr, t->data(), z->data());
+  return Sweep<SweepKind::kEisenstatForward>(Args(true, blocks, scalars), x.data(), y->data(), t->data(),
+                                             z->data());
 }
 
-double GaussSeidelPreconditioner::MultiplyDiagonal(const Eigen::VectorXd& x, Eigen::VectorXd* y) const {
-  const int rows = static_cast<int>(general_diag_.size());
+double GaussSeidelPreconditioner::MultiplyDiagonal(const PaddedVector& x, PaddedVector* y) const {
+  DemandRows(x, rows());
+  DemandRows(*y, rows());
+  const int rows = this->rows();
   const double* xp = x.data();
   double* yp = y->data();
+#ifdef HAPTEX_TEXTILE_X86_KERNELS
+  if (avx2_) return MultiplyDiagonalAvx2(diag_.data(), rows, xp, yp);
+#endif
   double xy = 0.0;
   for (int r = 0; r < rows; ++r) {
     const internal::PaddedBlock& d = diag_[static_cast<std::size_t>(r)];
-    const double* xr = xp + 3 * r;
-    for (int i = 0; i < 3; ++i) {
-      yp[3 * r + i] = (d.col[0][i] * xr[0] + d.col[1][i] * xr[1]) + d.col[2][i] * xr[2];
-      xy += xr[i] * yp[3 * r + i];
-    }
+    const double* xr = xp + 4 * r;
+    double* yr = yp + 4 * r;
+    for (int i = 0; i < 3; ++i) yr[i] = (d.col[0][i] * xr[0] + d.col[1][i] * xr[1]) + d.col[2][i] * xr[2];
+    xy += (xr[0] * yr[0] + xr[1] * yr[1]) + xr[2] * yr[2];
   }
   return xy;
 }

@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 
 #include "libs/textile/block_pattern.h"
+#include "libs/textile/padded_vector.h"
 
 namespace haptex::textile {
 
@@ -34,17 +35,23 @@ struct PaddedBlock {
   }
 };
 
+/// Where one row of a sweep sums (fixed per model, one record per row and direction): general
+/// blocks [g0, g1) and scalar blocks [s0, s1) on the sweep's side of the diagonal, except the
+/// block coupling to the row solved just before (r - 1 forward, r + 1 backward) when `adjacent`:
+/// that one is applied last, premultiplied by D_w^-1, so the dependency from row to row is one
+/// 3x3 product. General index k is slot k + slot_offset.
+struct SweepRow {
+  int g0, g1, s0, s1, slot_offset, adjacent;
+};
+
 /// What one triangular sweep reads (gauss_seidel_preconditioner.cc).
 struct GaussSeidelSweepArgs {
-  const SplitRows* split;
-  const int* general_diag;
-  const int* scalar_upper;
-  const unsigned char* adjacent_lower;
-  const unsigned char* adjacent_upper;
+  const SweepRow* rows_info;  ///< per row, for this sweep's direction
+  const int* general_col;
+  const int* scalar_col;
   const PaddedBlock* diag;
   const PaddedBlock* diag_inv;
-  const PaddedBlock* adjacent_lower_scaled;
-  const PaddedBlock* adjacent_upper_scaled;
+  const PaddedBlock* adjacent_scaled;  ///< this direction's
   const Eigen::Matrix3d* blocks;
   const double* scalars;
   int rows;
@@ -57,8 +64,9 @@ class GaussSeidelPreconditioner {
  public:
   GaussSeidelPreconditioner() = default;
   /// Records where each row's blocks switch from below to above the diagonal in `split`
-  /// (each row's general and scalar columns sorted). Allocates; call once per model. The other
-  /// calls take the same `split` (and blocks in its pattern's slot order, scalars in its order).
+  /// (each row's general and scalar columns sorted), and keeps a reference to it: `split` must
+  /// outlive this (the model's). Allocates; call once per model. Blocks passed later are in
+  /// its pattern's slot order, scalars in its order.
   explicit GaussSeidelPreconditioner(const SplitRows& split);
 
   /// Inverts the (scaled) diagonal blocks of `blocks` for relaxation factor omega in (0, 2).
@@ -67,18 +75,20 @@ class GaussSeidelPreconditioner {
   bool Update(const SplitRows& split, const BlockPattern& pattern,
               const std::vector<Eigen::Matrix3d>& blocks, double omega, RowFree row_free);
 
+  // The vectors below are padded (padded_vector.h), rows() rows each, and distinct.
+
   /// y = (D_w + L)^-1 x over the free rows (0 elsewhere; x must be 0 there). Never allocates.
-  void ForwardSolve(const SplitRows& split, const std::vector<Eigen::Matrix3d>& blocks, const std::vector<double>& scalars,
-                    const Eigen::VectorXd& x, Eigen::VectorXd* y) const;
+  void ForwardSolve(const std::vector<Eigen::Matrix3d>& blocks, const std::vector<double>& scalars,
+                    const PaddedVector& x, PaddedVector* y) const;
   /// y = (D_w + U)^-1 x over the free rows (0 elsewhere; x must be 0 there). Never allocates.
-  void BackwardSolve(const SplitRows& split, const std::vector<Eigen::Matrix3d>& blocks, const std::vector<double>& scalars,
-                     const Eigen::VectorXd& x, Eigen::VectorXd* y) const;
-  /// y = A~ x with A~ = (D_w + L)^-1 A (D_w + U)^-1; `t` and `z` are scratch. Returns x . y.
-  double MultiplySplit(const SplitRows& split, const std::vector<Eigen::Matrix3d>& blocks, const std::vector<double>& scalars,
-                       const Eigen::VectorXd& x, Eigen::VectorXd* t, Eigen::VectorXd* z,
-                       Eigen::VectorXd* y) const;
+  void BackwardSolve(const std::vector<Eigen::Matrix3d>& blocks, const std::vector<double>& scalars,
+                     const PaddedVector& x, PaddedVector* y) const;
+  /// y = A~ x with A~ = (D_w + L)^-1 A (D_w + U)^-1; returns x . y. Leaves t = (D_w + U)^-1 x
+  /// (CG keeps its unknown unsplit with it); `z` is scratch. Never allocates.
+  double MultiplySplit(const std::vector<Eigen::Matrix3d>& blocks, const std::vector<double>& scalars,
+                       const PaddedVector& x, PaddedVector* t, PaddedVector* z, PaddedVector* y) const;
   /// y = D_w x over the free rows (CG's preconditioner on A~); returns x . y. Never allocates.
-  double MultiplyDiagonal(const Eigen::VectorXd& x, Eigen::VectorXd* y) const;
+  double MultiplyDiagonal(const PaddedVector& x, PaddedVector* y) const;
 
   /// The sweeps use an AVX2 kernel where the CPU has it (checked at run time), else a portable
   /// one doing the same operations in the same order: identical results. This picks the
@@ -89,10 +99,11 @@ class GaussSeidelPreconditioner {
   bool uses_avx2() const { return avx2_; }
 
  private:
+  const SplitRows* split_ = nullptr;
   std::vector<int> general_diag_;  ///< per row: index (into general_col) of its diagonal block
-  std::vector<int> scalar_upper_;  ///< per row: first scalar index above the diagonal
-  internal::GaussSeidelSweepArgs Args(const SplitRows& split, const std::vector<Eigen::Matrix3d>& blocks,
-                        const std::vector<double>& scalars) const;
+  std::vector<internal::SweepRow> forward_rows_, backward_rows_;
+  internal::GaussSeidelSweepArgs Args(bool forward, const std::vector<Eigen::Matrix3d>& blocks,
+                                      const std::vector<double>& scalars) const;
 
   /// Per row: 1 if it couples to row r - 1 (r + 1) through a general block.
   std::vector<unsigned char> adjacent_lower_, adjacent_upper_;
@@ -121,6 +132,16 @@ bool GaussSeidelPreconditioner::Update(const SplitRows& split, const BlockPatter
   return ok;
 }
 
+namespace internal {
+/// One row's blocks for a free row with diagonal block a (gauss_seidel_preconditioner.cc):
+/// d = a / omega, d_inv = its inverse, and d_inv b for the adjacent blocks b that are not null
+/// (into lower, upper; left as they are for null b). Returns false if a is singular or the
+/// results are not finite. `avx2` picks the 4-wide build: identical results.
+bool SetRowBlocks(const Eigen::Matrix3d& a, double omega, const Eigen::Matrix3d* lower_block,
+                  const Eigen::Matrix3d* upper_block, bool avx2, PaddedBlock* d, PaddedBlock* d_inv,
+                  PaddedBlock* lower, PaddedBlock* upper);
+}  // namespace internal
+
 template <typename RowFree>
 bool GaussSeidelPreconditioner::UpdateRow(const SplitRows& split, const BlockPattern& pattern,
                                           const std::vector<Eigen::Matrix3d>& blocks, int r,
@@ -135,29 +156,20 @@ bool GaussSeidelPreconditioner::UpdateRow(const SplitRows& split, const BlockPat
     diag_inv_[row].SetZero();
     return true;
   }
-  const Eigen::Matrix3d d = blocks[static_cast<std::size_t>(pattern.diag_slot[row])] / omega_;
-  Eigen::Matrix3d d_inv;
-  bool invertible = false;
-  double det = 0.0;
-  d.computeInverseAndDetWithCheck(d_inv, det, invertible, 0.0);
-  if (!invertible || !d_inv.allFinite()) {
-    diag_[row].SetZero();
-    diag_inv_[row].SetZero();
-    adjacent_lower_scaled_[row].SetZero();
-    adjacent_upper_scaled_[row].SetZero();
-    return false;
-  }
-  diag_[row].Set(d);
-  diag_inv_[row].Set(d_inv);
   // Slot of general index k: general_first_slot[r] + (k - general_start[r]).
-  const int first = split.general_first_slot[row] - split.general_start[row];
-  if (lower) {
-    adjacent_lower_scaled_[row].Set(d_inv * blocks[static_cast<std::size_t>(first + general_diag_[row] - 1)]);
+  const std::size_t diag = static_cast<std::size_t>(split.general_first_slot[row] - split.general_start[row] +
+                                                    general_diag_[row]);
+  if (internal::SetRowBlocks(blocks[static_cast<std::size_t>(pattern.diag_slot[row])], omega_,
+                             lower ? &blocks[diag - 1] : nullptr, upper ? &blocks[diag + 1] : nullptr, avx2_,
+                             &diag_[row], &diag_inv_[row], &adjacent_lower_scaled_[row],
+                             &adjacent_upper_scaled_[row])) {
+    return true;
   }
-  if (upper) {
-    adjacent_upper_scaled_[row].Set(d_inv * blocks[static_cast<std::size_t>(first + general_diag_[row] + 1)]);
-  }
-  return true;
+  diag_[row].SetZero();
+  diag_inv_[row].SetZero();
+  adjacent_lower_scaled_[row].SetZero();
+  adjacent_upper_scaled_[row].SetZero();
+  return false;
 }
 
 }  // namespace haptex::textile

@@ -42,6 +42,33 @@ void Precondition(const FabricModel& model, const FabricState& state, const Step
   }
 }
 
+// f(slot) for each general block of row r (contiguous slots).
+template <typename Fn>
+void ForEachGeneralSlot(const SplitRows& split, int r, Fn f) {
+  const auto row = static_cast<std::size_t>(r);
+  const int first = split.general_first_slot[row];
+  const int count = split.general_start[row + 1] - split.general_start[row];
+  for (int k = 0; k < count; ++k) f(static_cast<std::size_t>(first + k));
+}
+
+// system = system_base before the state-dependent blocks are added: only the general blocks,
+// from their scalars, where the workspace has them (the scalar blocks never change).
+void ResetSystem(const SplitRows& split, int n, FabricWorkspace* ws) {
+  if (ws->system_base_general_scalars.empty()) {
+    ws->system = ws->system_base;
+    return;
+  }
+  const double* scalars = ws->system_base_general_scalars.data();
+  Eigen::Matrix3d* system = ws->system.data();
+  for (int r = 0; r < n; ++r) {
+    ForEachGeneralSlot(split, r, [&](std::size_t slot) {
+      double* b = system[slot].data();
+      const double d = scalars[slot];
+      b[0] = d, b[1] = 0.0, b[2] = 0.0, b[3] = 0.0, b[4] = d, b[5] = 0.0, b[6] = 0.0, b[7] = 0.0, b[8] = d;
+    });
+  }
+}
+
 // Block-Jacobi preconditioner: the inverted diagonal blocks of the system.
 void UpdateBlockJacobi(const FabricModel& model, FabricWorkspace* ws) {
   for (int p = 0; p < model.num_particles; ++p) {
@@ -71,34 +98,47 @@ PcgStart StartPcg(const FabricModel& model, const FabricState& state, double del
   return delta0 > 0.0 ? PcgStart::kIterate : PcgStart::kBreakdown;
 }
 
-// The PCG iterations from the residual in ws->r: x += alpha c, with product(c, &q) = A c
-// returning c'Ac and precondition(r, &s) = P^-1 r returning r's (ws->c, ws->q, ws->s are its
-// vectors). Stops at the tolerance relative to delta0 or at the iteration cap; fills the report.
-// Returns true on a breakdown (a non-positive c'Ac or r'P^-1 r).
-template <typename ProductFn, typename PreconditionFn>
-bool Iterate(ProductFn product, PreconditionFn precondition, double delta0, const StepOptions& options,
-             Eigen::VectorXd* x, FabricWorkspace* ws, CgReport* report) {
-  double delta = precondition(ws->r, &ws->c);
+// An Eigen view of a CG vector: itself, or a padded vector's entries (pads stay 0).
+Eigen::VectorXd& View(Eigen::VectorXd& v) { return v; }
+Eigen::Map<Eigen::VectorXd, Eigen::Aligned32> View(PaddedVector& v) { return v.vec(); }
+
+// CG's vectors: the residual, direction, product and preconditioned residual.
+template <typename Vector>
+struct CgVectors {
+  Vector* r;
+  Vector* c;
+  Vector* q;
+  Vector* s;
+};
+
+// The PCG iterations from the residual in v.r, with product(c, &q) = A c returning c'Ac,
+// precondition(r, &s) = P^-1 r returning r's, and advance(alpha) moving the unknown by alpha
+// along the direction (x += alpha c). Stops at the tolerance relative to delta0 or at the
+// iteration cap; fills the report. Returns true on a breakdown (a non-positive c'Ac or r'P^-1 r).
+template <typename Vector, typename ProductFn, typename PreconditionFn, typename AdvanceFn>
+bool Iterate(ProductFn product, PreconditionFn precondition, AdvanceFn advance, double delta0,
+             const StepOptions& options, const CgVectors<Vector>& v, CgReport* report) {
+  double delta = precondition(*v.r, v.c);
   const double eps2 = options.cg_tolerance * options.cg_tolerance;
   bool breakdown = !(delta >= 0.0);
   int it = 0;
   while (!breakdown && delta > eps2 * delta0 && it < options.cg_max_iterations) {
-    const double cq = product(ws->c, &ws->q);
+    const double cq = product(*v.c, v.q);
     if (!(cq > 0.0)) {
       breakdown = true;
       break;
     }
     const double alpha = delta / cq;
-    *x += alpha * ws->c;
-    ws->r -= alpha * ws->q;
+    advance(alpha);
+    View(*v.r) -= alpha * View(*v.q);
     const double delta_old = delta;
-    delta = precondition(ws->r, &ws->s);
+    delta = precondition(*v.r, v.s);
     ++it;
     if (!(delta >= 0.0)) {
       breakdown = true;
       break;
     }
-    ws->c = ws->s + (delta / delta_old) * ws->c;
+    View(*v.c) = View(*v.s) + (delta / delta_old) * View(*v.c);
   }
   report->iterations = it;
   report->relative_residual = std::sqrt(std::max(delta, 0.0) / delta0);
@@ -138,48 +178,50 @@ bool RunPcg(const FabricModel& model, const FabricState& state, const StepOption
         Precondition(model, state, o, ws, r, z);
         return r.dot(*z);
       },
-      delta0, options, &ws->dv, ws, report);
+      [&](double alpha) { ws->dv += alpha * ws->c; }, delta0, options,
+      CgVectors<Eigen::VectorXd>{&ws->r, &ws->c, &ws->q, &ws->s}, report);
 }
 
 // PCG on Gauss-Seidel's split system (gauss_seidel_preconditioner.h) for the correction to the
 // guess in ws->dv: A y = r0 = filter(rhs - A dv), y~ = (D_w + U) y from 0, then dv += y. The
 // tolerance is on r' M^-1 r relative to rhs' M^-1 rhs (M: the SSOR preconditioner), as RunPcg
-// measures in its preconditioner's norm. Returns true on a breakdown (dv left at the guess).
+// measures in its preconditioner's norm. The split system's vectors are padded (ws->split).
+// Returns true on a breakdown (dv left at the guess).
 bool RunGaussSeidelPcg(const FabricModel& model, const FabricState& state,
                        const StepOptions& options, FabricWorkspace* ws, CgReport* report) {
   const int n = model.num_particles;
-  const SplitRows& split = model.product_rows;
   const GaussSeidelPreconditioner& gs = ws->gauss_seidel;
   const std::vector<Eigen::Matrix3d>& a = ws->system;
   const std::vector<double>& scalars = ws->system_scalars;
-  // s = filter(rhs); q = filter(rhs - A dv).
+  FabricWorkspace::SplitVectors& v = ws->split;
+  // s = filter(rhs); q = filter(rhs - A dv), padded.
   FilteredMultiply(model, state, *ws, ws->dv, &ws->q);
   double rhs_norm2 = 0.0;
   for (int p = 0; p < n; ++p) {
     if (IsFree(state, p)) {
-      ws->s.segment<3>(3 * p) = ws->rhs.segment<3>(3 * p);
-      ws->q.segment<3>(3 * p) = ws->rhs.segment<3>(3 * p) - ws->q.segment<3>(3 * p);
+      v.s.SetRow(p, ws->rhs.segment<3>(3 * p));
+      v.q.SetRow(p, ws->rhs.segment<3>(3 * p) - ws->q.segment<3>(3 * p));
       rhs_norm2 += ws->rhs.segment<3>(3 * p).squaredNorm();
     } else {
-      ws->s.segment<3>(3 * p).setZero();
-      ws->q.segment<3>(3 * p).setZero();
+      v.s.SetRow(p, Eigen::Vector3d::Zero());
+      v.q.SetRow(p, Eigen::Vector3d::Zero());
     }
   }
-  gs.ForwardSolve(split, a, scalars, ws->s, &ws->z);
-  const double delta0 = gs.MultiplyDiagonal(ws->z, &ws->t);
-  const PcgStart start = StartPcg(model, state, delta0, rhs_norm2, ws->q.allFinite(), ws, report);
+  gs.ForwardSolve(a, scalars, v.s, &v.z);
+  const double delta0 = gs.MultiplyDiagonal(v.z, &v.t);
+  const PcgStart start = StartPcg(model, state, delta0, rhs_norm2, v.q.vec().allFinite(), ws, report);
   if (start != PcgStart::kIterate) return start == PcgStart::kBreakdown;
-  gs.ForwardSolve(split, a, scalars, ws->q, &ws->r);  // r~ = (D_w + L)^-1 r0
-  ws->y_split.setZero();
+  gs.ForwardSolve(a, scalars, v.q, &v.r);  // r~ = (D_w + L)^-1 r0
+  // CG runs on y~ = (D_w + U) y from 0, but y itself is kept: y = sum alpha_k (D_w + U)^-1 c_k,
+  // and the product leaves (D_w + U)^-1 c_k in t. That saves the backward sweep y~ -> y.
+  v.y.SetZero();
   const bool breakdown = Iterate(
-      [&](const Eigen::VectorXd& c, Eigen::VectorXd* q) {
-        return gs.MultiplySplit(split, a, scalars, c, &ws->t, &ws->z, q);
-      },
-      [&](const Eigen::VectorXd& r, Eigen::VectorXd* z) { return gs.MultiplyDiagonal(r, z); },
-      delta0, options, &ws->y_split, ws, report);
+      [&](const PaddedVector& c, PaddedVector* q) { return gs.MultiplySplit(a, scalars, c, &v.t, &v.z, q); },
+      [&](const PaddedVector& r, PaddedVector* z) { return gs.MultiplyDiagonal(r, z); },
+      [&](double alpha) { v.y.vec() += alpha * v.t.vec(); }, delta0, options,
+      CgVectors<PaddedVector>{&v.r, &v.c, &v.q, &v.s}, report);
   if (breakdown) return true;
-  gs.BackwardSolve(split, a, scalars, ws->y_split, &ws->t);  // y = (D_w + U)^-1 y~
-  ws->dv += ws->t;
+  v.y.AddRowsTo(&ws->dv);
   return false;
 }
 
@@ -216,10 +258,21 @@ CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options,
     }
     ws->system_base_model = &model;
     ws->system_base_dt_s = h;
+    ws->system = ws->system_base;
+    ws->system_base_general_scalars.assign(ws->system_base.size(), 0.0);
+    bool all_scalar = true;
+    for (int r = 0; r < n; ++r) {
+      ForEachGeneralSlot(split, r, [&](std::size_t slot) {
+        const Eigen::Matrix3d& b = ws->system_base[slot];
+        all_scalar = all_scalar && b == b(0, 0) * Eigen::Matrix3d::Identity();
+        ws->system_base_general_scalars[slot] = b(0, 0);
+      });
+    }
+    if (!all_scalar) ws->system_base_general_scalars.clear();  // steps copy whole blocks
   }
+  ResetSystem(model.product_rows, n, ws);
   ws->force_N.setZero();
   ws->dfdx_v.setZero();
-  ws->system = ws->system_base;
   sink.constant_jacobians_added = true;
   AccumulateForces(model, *state, &sink);
   AddAnchorSpringForces(model, *state, &sink);

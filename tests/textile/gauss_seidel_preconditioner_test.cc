@@ -7,6 +7,8 @@
 
 #include "libs/textile/fabric_forces.h"
 #include "libs/textile/fabric_stepper.h"
+#include "libs/textile/fabric_workspace.h"
+#include "libs/textile/implicit_euler.h"
 #include "libs/textile/kes_material.h"
 #include "tests/support/allocation_counter.h"
 #include "tests/textile/fabric_textproto.h"
@@ -88,6 +90,12 @@ Eigen::VectorXd RandomFree(const FabricModel& model, const FabricState& s, std::
   return x;
 }
 
+PaddedVector Padded(const Eigen::VectorXd& x) {
+  PaddedVector p(static_cast<int>(x.size() / 3));
+  p.SetRows(x);
+  return p;
+}
+
 TEST(GaussSeidelPreconditionerTest, SweepsAndSplitProductMatchTheDenseFactors) {
   const FabricModel model = DenimModel(8, 0.007);
   FabricState s = BorderFixed(model);
@@ -112,21 +120,24 @@ TEST(GaussSeidelPreconditionerTest, SweepsAndSplitProductMatchTheDenseFactors) {
     }
     std::mt19937 rng(5);
     const Eigen::VectorXd x = RandomFree(model, s, &rng);
-    Eigen::VectorXd y(n3), t(n3), z(n3);
-    gs.ForwardSolve(model.product_rows, a.blocks, a.scalars, x, &y);
-    EXPECT_LT(((diag_w + lower) * y - x).norm(), 1e-10 * x.norm()) << omega;
-    gs.BackwardSolve(model.product_rows, a.blocks, a.scalars, x, &y);
-    EXPECT_LT(((diag_w + upper) * y - x).norm(), 1e-10 * x.norm()) << omega;
+    const PaddedVector px = Padded(x);
+    PaddedVector y(model.num_particles), t(model.num_particles), z(model.num_particles);
+    gs.ForwardSolve(a.blocks, a.scalars, px, &y);
+    EXPECT_LT(((diag_w + lower) * y.Rows() - x).norm(), 1e-10 * x.norm()) << omega;
+    gs.BackwardSolve(a.blocks, a.scalars, px, &y);
+    EXPECT_LT(((diag_w + upper) * y.Rows() - x).norm(), 1e-10 * x.norm()) << omega;
 
     const Eigen::MatrixXd split = (diag_w + lower).lu().solve(dense) * (diag_w + upper).inverse();
-    const double xy = gs.MultiplySplit(model.product_rows, a.blocks, a.scalars, x, &t, &z, &y);
+    const double xy = gs.MultiplySplit(a.blocks, a.scalars, px, &t, &z, &y);
+    EXPECT_LT(((diag_w + upper) * t.Rows() - x).norm(), 1e-10 * x.norm()) << omega;  // t = (D_w + U)^-1 x
     const Eigen::VectorXd expected = split * x;
-    EXPECT_LT((y - expected).norm(), 1e-9 * expected.norm()) << omega;
+    EXPECT_LT((y.Rows() - expected).norm(), 1e-9 * expected.norm()) << omega;
     EXPECT_NEAR(xy, x.dot(expected), 1e-9 * std::abs(x.dot(expected)));
     for (int p = 0; p < model.num_particles; ++p) {
       if (s.mode[static_cast<std::size_t>(p)] != ParticleMode::kFree) {
-        EXPECT_EQ(y.segment<3>(3 * p).norm(), 0.0);
+        EXPECT_EQ(y.row(p).norm(), 0.0);
       }
+      EXPECT_EQ(y.data()[4 * p + 3], 0.0) << "pad of row " << p;  // pads stay zero
     }
   }
 }
@@ -143,19 +154,23 @@ TEST(GaussSeidelPreconditionerTest, PortableKernelGivesTheSameBits) {
   ASSERT_TRUE(fast.Update(model.product_rows, model.pattern, a.blocks, 1.3, row_free));
   ASSERT_TRUE(portable.Update(model.product_rows, model.pattern, a.blocks, 1.3, row_free));
   std::mt19937 rng(9);
-  const Eigen::VectorXd x = RandomFree(model, s, &rng);
-  const Eigen::Index n3 = x.size();
-  Eigen::VectorXd y1(n3), y2(n3), t1(n3), t2(n3), z1(n3), z2(n3);
-  fast.ForwardSolve(model.product_rows, a.blocks, a.scalars, x, &y1);
-  portable.ForwardSolve(model.product_rows, a.blocks, a.scalars, x, &y2);
-  EXPECT_EQ(y1, y2);
-  fast.BackwardSolve(model.product_rows, a.blocks, a.scalars, x, &y1);
-  portable.BackwardSolve(model.product_rows, a.blocks, a.scalars, x, &y2);
-  EXPECT_EQ(y1, y2);
-  const double xy1 = fast.MultiplySplit(model.product_rows, a.blocks, a.scalars, x, &t1, &z1, &y1);
-  const double xy2 = portable.MultiplySplit(model.product_rows, a.blocks, a.scalars, x, &t2, &z2, &y2);
-  EXPECT_EQ(y1, y2);
+  const PaddedVector x = Padded(RandomFree(model, s, &rng));
+  const int n = model.num_particles;
+  PaddedVector y1(n), y2(n), t1(n), t2(n), z1(n), z2(n);
+  fast.ForwardSolve(a.blocks, a.scalars, x, &y1);
+  portable.ForwardSolve(a.blocks, a.scalars, x, &y2);
+  EXPECT_EQ(y1.Rows(), y2.Rows());
+  fast.BackwardSolve(a.blocks, a.scalars, x, &y1);
+  portable.BackwardSolve(a.blocks, a.scalars, x, &y2);
+  EXPECT_EQ(y1.Rows(), y2.Rows());
+  const double xy1 = fast.MultiplySplit(a.blocks, a.scalars, x, &t1, &z1, &y1);
+  const double xy2 = portable.MultiplySplit(a.blocks, a.scalars, x, &t2, &z2, &y2);
+  EXPECT_EQ(y1.Rows(), y2.Rows());
+  EXPECT_EQ(t1.Rows(), t2.Rows());
   EXPECT_EQ(xy1, xy2);
+  const double d1 = fast.MultiplyDiagonal(y1, &z1), d2 = portable.MultiplyDiagonal(y2, &z2);
+  EXPECT_EQ(z1.Rows(), z2.Rows());
+  EXPECT_EQ(d1, d2);
 }
 
 TEST(GaussSeidelPreconditionerTest, SingularDiagonalBlockIsReported) {
@@ -197,6 +212,55 @@ TEST(GaussSeidelPreconditionerTest, StepMatchesBlockJacobiWithFewerIterations) {
   EXPECT_LT((a.v_W_m_per_s - b.v_W_m_per_s).cwiseAbs().maxCoeff(), 1e-8);
   EXPECT_EQ(a.diagnostics.cg_not_converged, 0);
   for (int p : model.mesh.BorderParticles()) EXPECT_EQ(a.v(p), Eigen::Vector3d::Zero());
+}
+
+// A non-finite state makes a non-finite solve (the stepper rolls it back); the next step must
+// solve normally again: nothing non-finite may stay behind in the solver's vectors (their pads).
+TEST(GaussSeidelPreconditionerTest, StepAfterANonFiniteStepSolvesNormally) {
+  const FabricModel model = DenimModel(12, 0.011);
+  FabricState s = BorderFixed(model);
+  StepOptions o;
+  o.dt_s = 1e-3;
+  o.preconditioner = Preconditioner::kGaussSeidel;
+  o.ssor_omega = 1.6;
+  FabricStepper stepper(model, o);
+  s.v_W_m_per_s.setConstant(0.01);
+  ASSERT_EQ(stepper.Step(&s).status, StepStatus::kOk);
+  s.v_W_m_per_s[3 * 60 + 2] = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(stepper.Step(&s).status, StepStatus::kNanRecovered);
+  for (int i = 0; i < 3; ++i) {
+    const StepResult r = stepper.Step(&s);
+    EXPECT_TRUE(r.cg.finite) << i;
+    EXPECT_TRUE(r.cg.converged) << i;
+    EXPECT_FALSE(r.cg.preconditioner_fallback) << i;
+    EXPECT_EQ(r.status, StepStatus::kOk) << i;
+  }
+  EXPECT_TRUE(s.x_W_m.allFinite());
+}
+
+// A step reads nothing stale from the split system's vectors: with every entry of them (pads
+// included) poisoned beforehand it gives the same bits as with fresh ones.
+TEST(GaussSeidelPreconditionerTest, StepDoesNotReadStaleSplitVectors) {
+  const FabricModel model = DenimModel(12, 0.011);
+  FabricState a = BorderFixed(model);
+  Assemble(model, &a);  // deformed and moving
+  FabricState b = a;
+  StepOptions o;
+  o.dt_s = 1e-3;
+  o.preconditioner = Preconditioner::kGaussSeidel;
+  o.cg_max_iterations = 6;
+  FabricWorkspace fresh(model, o.preconditioner), poisoned(model, o.preconditioner);
+  FabricWorkspace::SplitVectors& v = poisoned.split;
+  for (PaddedVector* p : {&v.r, &v.c, &v.q, &v.s, &v.t, &v.z, &v.y}) {
+    p->vec().setConstant(std::numeric_limits<double>::quiet_NaN());
+  }
+  const CgReport ra = ImplicitEulerStep(model, o, &a, &fresh);
+  const CgReport rb = ImplicitEulerStep(model, o, &b, &poisoned);
+  EXPECT_TRUE(rb.finite);
+  EXPECT_FALSE(rb.preconditioner_fallback);
+  EXPECT_EQ(ra.iterations, rb.iterations);
+  EXPECT_EQ(a.x_W_m, b.x_W_m);
+  EXPECT_EQ(a.v_W_m_per_s, b.v_W_m_per_s);
 }
 
 TEST(GaussSeidelPreconditionerTest, OmegaOutsideZeroTwoIsRefused) {
