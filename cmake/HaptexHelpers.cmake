@@ -39,9 +39,15 @@ function(haptex_cc_test)
   if(NOT ARG_LABELS)
     set(ARG_LABELS unit)
   endif()
+  # System tests start real-time services (2-6 processes each) and assert their timing: one at a
+  # time, beside the unit tests. Two at once on a 2-core host stalled loops past their watchdogs.
+  set(lock "")
+  if("system" IN_LIST ARG_LABELS)
+    set(lock RESOURCE_LOCK haptex_realtime_processes)
+  endif()
   gtest_discover_tests(${ARG_NAME}
     DISCOVERY_TIMEOUT 60
-    PROPERTIES TIMEOUT ${ARG_TIMEOUT} LABELS "${ARG_LABELS}")
+    PROPERTIES TIMEOUT ${ARG_TIMEOUT} LABELS "${ARG_LABELS}" ${lock})
 endfunction()
 
 # haptex_benchmark(NAME name SRCS ... DEPS ...): a Google Benchmark executable (not a test).
