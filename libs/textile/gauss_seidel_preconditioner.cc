@@ -233,13 +233,11 @@ inline __attribute__((always_inline)) bool RowBlocksKernel(const Eigen::Matrix3d
   const double inv_omega = 1.0 / omega;
   const V4 r0 = {a(0, 0), a(0, 1), a(0, 2), 0.0}, r1 = {a(1, 0), a(1, 1), a(1, 2), 0.0},
            r2 = {a(2, 0), a(2, 1), a(2, 2), 0.0};
-  const V4 adj0 = Cross(r1, r2), adj1 = Cross(r2, r0), adj2 = Cross(r0, r1);  // adj(a) columns
+  // Cross products of a's rows are the columns of adj(a): (r1 x r2) . r0 = det, (r1 x r2) . r1 = 0.
+  const V4 adj0 = Cross(r1, r2), adj1 = Cross(r2, r0), adj2 = Cross(r0, r1);
   const double det = (r0[0] * adj0[0] + r0[1] * adj0[1]) + r0[2] * adj0[2];
   const double s = omega / det;
-  const V4 inv0 = adj0 * s, inv1 = adj1 * s, inv2 = adj2 * s;
-  // Row i of the inverse is adj column i scaled; stored by columns.
-  const V4 col0 = {inv0[0], inv1[0], inv2[0], 0.0}, col1 = {inv0[1], inv1[1], inv2[1], 0.0},
-           col2 = {inv0[2], inv1[2], inv2[2], 0.0};
+  const V4 col0 = adj0 * s, col1 = adj1 * s, col2 = adj2 * s;  // columns of D_w^-1
   // An infinite or NaN entry makes the sum of all nine non-finite.
   const V4 sum = (col0 + col1) + col2;
   if (!(det != 0.0) || !std::isfinite(s) || !std::isfinite((sum[0] + sum[1]) + sum[2])) return false;

@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 
 #include "libs/textile/block_pattern.h"
+#include "libs/textile/check.h"
 #include "libs/textile/padded_vector.h"
 
 namespace haptex::textile {
@@ -125,6 +126,7 @@ template <typename RowFree>
 bool GaussSeidelPreconditioner::Update(const SplitRows& split, const BlockPattern& pattern,
                                        const std::vector<Eigen::Matrix3d>& blocks, double omega,
                                        RowFree row_free) {
+  HAPTEX_TEXTILE_DEMAND(&split == split_);  // the sweeps read the split they were built for
   omega_ = omega;
   diag_excess_ = 2.0 - omega;
   bool ok = true;

@@ -1,6 +1,6 @@
 #pragma once
-// A vector of 3-component rows stored 4 apart: row r at [4 r, 4 r + 3), with entry 4 r + 3 kept
-// 0, and the storage 32-byte aligned. Each row is one aligned 4-wide load or store, and a row
+// A vector of 3-component rows stored 4 apart: row r at [4 r, 4 r + 3), with entry 4 r + 3 a
+// pad (0 while the rows are finite), and the storage 32-byte aligned. Each row is one aligned 4-wide load or store, and a row
 // just written can be read back through store forwarding (a 3-wide masked store cannot be):
 // Gauss-Seidel's sweeps run on these.
 
@@ -19,8 +19,9 @@ class PaddedVector {
   double* data() { return rows_.empty() ? nullptr : rows_.front().v; }
   const double* data() const { return rows_.empty() ? nullptr : rows_.front().v; }
 
-  /// All 4 rows() entries, pads included: they stay 0 (up to sign) while the rows are finite,
-  /// so sums, dot products and norms over this are the rows'.
+  /// All 4 rows() entries, pads included. No kernel reads a pad into a row. Pads hold 0 (up to
+  /// sign) while the rows are finite, so sums, dot products and norms over this are the rows';
+  /// after a non-finite value a pad may stay non-finite until SetRows/SetRow/SetZero.
   Eigen::Map<Eigen::VectorXd, Eigen::Aligned32> vec() { return {data(), 4 * rows()}; }
   Eigen::Map<const Eigen::VectorXd, Eigen::Aligned32> vec() const { return {data(), 4 * rows()}; }
 

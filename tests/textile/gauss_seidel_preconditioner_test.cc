@@ -5,6 +5,7 @@
 #include <Eigen/LU>
 #include <gtest/gtest.h>
 
+#include "libs/textile/cpu_features.h"
 #include "libs/textile/fabric_forces.h"
 #include "libs/textile/fabric_stepper.h"
 #include "libs/textile/fabric_workspace.h"
@@ -137,7 +138,9 @@ TEST(GaussSeidelPreconditionerTest, SweepsAndSplitProductMatchTheDenseFactors) {
       if (s.mode[static_cast<std::size_t>(p)] != ParticleMode::kFree) {
         EXPECT_EQ(y.row(p).norm(), 0.0);
       }
-      EXPECT_EQ(y.data()[4 * p + 3], 0.0) << "pad of row " << p;  // pads stay zero
+      for (const PaddedVector* v : {&y, &t, &z}) {
+        EXPECT_EQ(v->data()[4 * p + 3], 0.0) << "pad of row " << p;  // finite rows: zero pads
+      }
     }
   }
 }
@@ -214,8 +217,56 @@ TEST(GaussSeidelPreconditionerTest, StepMatchesBlockJacobiWithFewerIterations) {
   for (int p : model.mesh.BorderParticles()) EXPECT_EQ(a.v(p), Eigen::Vector3d::Zero());
 }
 
-// A non-finite state makes a non-finite solve (the stepper rolls it back); the next step must
-// solve normally again: nothing non-finite may stay behind in the solver's vectors (their pads).
+// A row's blocks against Eigen, for a block that is not symmetric (a transposed inverse would
+// pass on the fabric's near-symmetric blocks), in both builds; singular and non-finite blocks
+// are refused.
+TEST(GaussSeidelPreconditionerTest, RowBlocksInvertAndPremultiplyExactly) {
+  Eigen::Matrix3d a;
+  a << 4.0, 1.0, -0.5, 0.3, 3.0, 0.7, -1.2, 0.4, 5.0;
+  Eigen::Matrix3d lower_block, upper_block;
+  lower_block << 1.0, 2.0, 3.0, -4.0, 5.0, -6.0, 7.0, 8.0, -9.0;
+  upper_block = 0.5 * lower_block.transpose();
+  const double omega = 1.6;
+  const Eigen::Matrix3d d_w = a / omega, d_w_inv = d_w.inverse();
+  auto read = [](const internal::PaddedBlock& b) {
+    Eigen::Matrix3d m;
+    for (int j = 0; j < 3; ++j) {
+      for (int i = 0; i < 3; ++i) m(i, j) = b.col[j][i];
+      EXPECT_EQ(b.col[j][3], 0.0) << "pad of column " << j;
+    }
+    return m;
+  };
+  for (bool avx2 : {false, internal::CpuHasAvx2()}) {
+    internal::PaddedBlock d, d_inv, lower, upper;
+    ASSERT_TRUE(internal::SetRowBlocks(a, omega, &lower_block, &upper_block, avx2, &d, &d_inv, &lower, &upper));
+    EXPECT_LT((read(d) - d_w).cwiseAbs().maxCoeff(), 1e-15) << avx2;
+    EXPECT_LT((read(d_inv) - d_w_inv).cwiseAbs().maxCoeff(), 1e-14) << avx2;
+    EXPECT_LT((read(d_inv) * d_w - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff(), 1e-14) << avx2;
+    EXPECT_LT((read(lower) - d_w_inv * lower_block).cwiseAbs().maxCoeff(), 1e-13) << avx2;
+    EXPECT_LT((read(upper) - d_w_inv * upper_block).cwiseAbs().maxCoeff(), 1e-13) << avx2;
+
+    Eigen::Matrix3d singular;
+    singular << 2.0, 1.0, 0.0, 1.0, 3.0, 1.0, 3.0, 4.0, 1.0;  // row 2 = row 0 + row 1: det exactly 0
+    EXPECT_FALSE(internal::SetRowBlocks(singular, omega, nullptr, nullptr, avx2, &d, &d_inv, &lower, &upper));
+    EXPECT_FALSE(internal::SetRowBlocks(Eigen::Matrix3d::Zero(), omega, nullptr, nullptr, avx2, &d, &d_inv,
+                                        &lower, &upper));
+    Eigen::Matrix3d nan = a;
+    nan(1, 2) = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_FALSE(internal::SetRowBlocks(nan, omega, nullptr, nullptr, avx2, &d, &d_inv, &lower, &upper));
+    Eigen::Matrix3d huge = a;
+    huge(0, 0) = std::numeric_limits<double>::infinity();
+    EXPECT_FALSE(internal::SetRowBlocks(huge, omega, nullptr, nullptr, avx2, &d, &d_inv, &lower, &upper));
+  }
+  // Both builds give the same bits.
+  internal::PaddedBlock d1, i1, l1, u1, d2, i2, l2, u2;
+  internal::SetRowBlocks(a, omega, &lower_block, &upper_block, false, &d1, &i1, &l1, &u1);
+  internal::SetRowBlocks(a, omega, &lower_block, &upper_block, internal::CpuHasAvx2(), &d2, &i2, &l2, &u2);
+  EXPECT_EQ(read(i1), read(i2));
+  EXPECT_EQ(read(l1), read(l2));
+}
+
+// A non-finite state makes a non-finite solve (the stepper rolls it back); the next steps must
+// solve normally again, without the block-Jacobi fallback.
 TEST(GaussSeidelPreconditionerTest, StepAfterANonFiniteStepSolvesNormally) {
   const FabricModel model = DenimModel(12, 0.011);
   FabricState s = BorderFixed(model);
@@ -226,7 +277,9 @@ TEST(GaussSeidelPreconditionerTest, StepAfterANonFiniteStepSolvesNormally) {
   FabricStepper stepper(model, o);
   s.v_W_m_per_s.setConstant(0.01);
   ASSERT_EQ(stepper.Step(&s).status, StepStatus::kOk);
-  s.v_W_m_per_s[3 * 60 + 2] = std::numeric_limits<double>::infinity();
+  const int interior = 5 * 12 + 5;
+  ASSERT_EQ(s.mode[interior], ParticleMode::kFree);
+  s.v_W_m_per_s[3 * interior + 2] = std::numeric_limits<double>::infinity();
   EXPECT_EQ(stepper.Step(&s).status, StepStatus::kNanRecovered);
   for (int i = 0; i < 3; ++i) {
     const StepResult r = stepper.Step(&s);
