@@ -106,7 +106,7 @@ void BM_GaussSeidelUpdate(benchmark::State& bm) {
   const ParticleMode* mode = s.state.mode.data();
   GaussSeidelPreconditioner gs(s.model.product_rows);
   for (auto _ : bm) {
-    benchmark::DoNotOptimize(gs.Update(s.model.product_rows, s.model.pattern, s.system, 1.4,
+    benchmark::DoNotOptimize(gs.Update(s.system, 1.4,
                                        [mode](int r) { return mode[r] == ParticleMode::kFree; }));
   }
 }
@@ -116,7 +116,7 @@ void BM_GaussSeidelSplitProduct(benchmark::State& bm) {
   Setup s(static_cast<int>(bm.range(0)));
   const ParticleMode* mode = s.state.mode.data();
   GaussSeidelPreconditioner gs(s.model.product_rows);
-  gs.Update(s.model.product_rows, s.model.pattern, s.system, 1.4,
+  gs.Update(s.system, 1.4,
             [mode](int r) { return mode[r] == ParticleMode::kFree; });
   const int n = s.model.num_particles;
   PaddedVector x(n), t(n), z(n), y(n);

@@ -285,8 +285,6 @@ GaussSeidelPreconditioner::GaussSeidelPreconditioner(const SplitRows& split) : s
   avx2_ = internal::CpuHasAvx2();
   const int rows = static_cast<int>(split.general_start.size()) - 1;
   general_diag_.assign(static_cast<std::size_t>(rows), 0);
-  adjacent_lower_.assign(static_cast<std::size_t>(rows), 0);
-  adjacent_upper_.assign(static_cast<std::size_t>(rows), 0);
   forward_rows_.resize(static_cast<std::size_t>(rows));
   backward_rows_.resize(static_cast<std::size_t>(rows));
   for (int r = 0; r < rows; ++r) {
@@ -301,12 +299,11 @@ GaussSeidelPreconditioner::GaussSeidelPreconditioner(const SplitRows& split) : s
     }
     HAPTEX_TEXTILE_DEMAND(diag >= 0);
     general_diag_[row] = diag;
-    if (diag > split.general_start[row] && split.general_col[static_cast<std::size_t>(diag) - 1] == r - 1) {
-      adjacent_lower_[row] = 1;
-    }
-    if (diag + 1 < split.general_start[row + 1] && split.general_col[static_cast<std::size_t>(diag) + 1] == r + 1) {
-      adjacent_upper_[row] = 1;
-    }
+    // Couplings to rows r - 1 and r + 1 through a general block: the sweeps apply them last.
+    const int lower_adjacent =
+        diag > split.general_start[row] && split.general_col[static_cast<std::size_t>(diag) - 1] == r - 1;
+    const int upper_adjacent =
+        diag + 1 < split.general_start[row + 1] && split.general_col[static_cast<std::size_t>(diag) + 1] == r + 1;
     int upper = split.scalar_start[row];
     for (int k = split.scalar_start[row]; k < split.scalar_start[row + 1]; ++k) {
       if (k > split.scalar_start[row]) {
@@ -316,7 +313,6 @@ GaussSeidelPreconditioner::GaussSeidelPreconditioner(const SplitRows& split) : s
       if (split.scalar_col[static_cast<std::size_t>(k)] < r) upper = k + 1;
     }
     const int slot_offset = split.general_first_slot[row] - split.general_start[row];
-    const int lower_adjacent = adjacent_lower_[row], upper_adjacent = adjacent_upper_[row];
     forward_rows_[row] = {split.general_start[row], diag - lower_adjacent, split.scalar_start[row], upper,
                           slot_offset, lower_adjacent};
     backward_rows_[row] = {diag + 1 + upper_adjacent, split.general_start[row + 1], upper,

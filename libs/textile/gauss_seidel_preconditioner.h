@@ -15,7 +15,6 @@
 #include <Eigen/Core>
 
 #include "libs/textile/block_pattern.h"
-#include "libs/textile/check.h"
 #include "libs/textile/padded_vector.h"
 
 namespace haptex::textile {
@@ -73,8 +72,7 @@ class GaussSeidelPreconditioner {
   /// Inverts the (scaled) diagonal blocks of `blocks` for relaxation factor omega in (0, 2).
   /// Returns false if a free row's diagonal block is not invertible. Never allocates.
   template <typename RowFree>
-  bool Update(const SplitRows& split, const BlockPattern& pattern,
-              const std::vector<Eigen::Matrix3d>& blocks, double omega, RowFree row_free);
+  bool Update(const std::vector<Eigen::Matrix3d>& blocks, double omega, RowFree row_free);
 
   // The vectors below are padded (padded_vector.h), rows() rows each, and distinct.
 
@@ -106,8 +104,6 @@ class GaussSeidelPreconditioner {
   internal::GaussSeidelSweepArgs Args(bool forward, const std::vector<Eigen::Matrix3d>& blocks,
                                       const std::vector<double>& scalars) const;
 
-  /// Per row: 1 if it couples to row r - 1 (r + 1) through a general block.
-  std::vector<unsigned char> adjacent_lower_, adjacent_upper_;
   std::vector<internal::PaddedBlock> diag_;      ///< D_w per row (zero for rows that are not free)
   /// D_w^-1 A(r, r - 1) and D_w^-1 A(r, r + 1) where those blocks exist (zero elsewhere, and
   /// for rows or neighbours that are not free).
@@ -118,19 +114,16 @@ class GaussSeidelPreconditioner {
   double diag_excess_ = 0.0;               ///< (2 D_w - D) = diag_excess_ D_w: 2 - omega
 
   template <typename RowFree>
-  bool UpdateRow(const SplitRows& split, const BlockPattern& pattern,
-                 const std::vector<Eigen::Matrix3d>& blocks, int r, RowFree row_free);
+  bool UpdateRow(const std::vector<Eigen::Matrix3d>& blocks, int r, RowFree row_free);
 };
 
 template <typename RowFree>
-bool GaussSeidelPreconditioner::Update(const SplitRows& split, const BlockPattern& pattern,
-                                       const std::vector<Eigen::Matrix3d>& blocks, double omega,
+bool GaussSeidelPreconditioner::Update(const std::vector<Eigen::Matrix3d>& blocks, double omega,
                                        RowFree row_free) {
-  HAPTEX_TEXTILE_DEMAND(&split == split_);  // the sweeps read the split they were built for
   omega_ = omega;
   diag_excess_ = 2.0 - omega;
   bool ok = true;
-  for (int r = 0; r < pattern.rows(); ++r) ok = UpdateRow(split, pattern, blocks, r, row_free) && ok;
+  for (int r = 0; r < rows(); ++r) ok = UpdateRow(blocks, r, row_free) && ok;
   return ok;
 }
 
@@ -145,12 +138,11 @@ bool SetRowBlocks(const Eigen::Matrix3d& a, double omega, const Eigen::Matrix3d*
 }  // namespace internal
 
 template <typename RowFree>
-bool GaussSeidelPreconditioner::UpdateRow(const SplitRows& split, const BlockPattern& pattern,
-                                          const std::vector<Eigen::Matrix3d>& blocks, int r,
+bool GaussSeidelPreconditioner::UpdateRow(const std::vector<Eigen::Matrix3d>& blocks, int r,
                                           RowFree row_free) {
   const auto row = static_cast<std::size_t>(r);
-  const bool lower = adjacent_lower_[row] && row_free(r) && row_free(r - 1);
-  const bool upper = adjacent_upper_[row] && row_free(r) && row_free(r + 1);
+  const bool lower = forward_rows_[row].adjacent && row_free(r) && row_free(r - 1);
+  const bool upper = backward_rows_[row].adjacent && row_free(r) && row_free(r + 1);
   if (!lower) adjacent_lower_scaled_[row].SetZero();
   if (!upper) adjacent_upper_scaled_[row].SetZero();
   if (!row_free(r)) {
@@ -158,10 +150,9 @@ bool GaussSeidelPreconditioner::UpdateRow(const SplitRows& split, const BlockPat
     diag_inv_[row].SetZero();
     return true;
   }
-  // Slot of general index k: general_first_slot[r] + (k - general_start[r]).
-  const std::size_t diag = static_cast<std::size_t>(split.general_first_slot[row] - split.general_start[row] +
-                                                    general_diag_[row]);
-  if (internal::SetRowBlocks(blocks[static_cast<std::size_t>(pattern.diag_slot[row])], omega_,
+  // Slot of general index k: k + slot_offset; the row's neighbours r -+ 1 are next to its diagonal.
+  const std::size_t diag = static_cast<std::size_t>(forward_rows_[row].slot_offset + general_diag_[row]);
+  if (internal::SetRowBlocks(blocks[diag], omega_,
                              lower ? &blocks[diag - 1] : nullptr, upper ? &blocks[diag + 1] : nullptr, avx2_,
                              &diag_[row], &diag_inv_[row], &adjacent_lower_scaled_[row],
                              &adjacent_upper_scaled_[row])) {

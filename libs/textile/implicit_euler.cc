@@ -69,6 +69,40 @@ void ResetSystem(const SplitRows& split, int n, FabricWorkspace* ws) {
   }
 }
 
+// The constant part of the system (mass, bending, linear drag) for step h (the sink's scales)
+// into ws->system_base, the values of its scalar blocks, and what ResetSystem needs; `sink` is
+// the step's, aimed at ws->system again on return.
+void BuildSystemBase(const FabricModel& model, double h, ForceSink* sink, FabricWorkspace* ws) {
+  const int n = model.num_particles;
+  for (auto& b : ws->system_base) b.setZero();
+  for (int p = 0; p < n; ++p) {
+    const int slot = model.pattern.diag_slot[static_cast<std::size_t>(p)];
+    ws->system_base[static_cast<std::size_t>(slot)] += model.mass_kg[p] * Eigen::Matrix3d::Identity();
+  }
+  sink->system = &ws->system_base;
+  AddConstantJacobians(model, sink);
+  sink->system = &ws->system;
+  const SplitRows& split = model.product_rows;
+  for (std::size_t k = 0; k < split.scalar_slot.size(); ++k) {
+    const Eigen::Matrix3d& b = ws->system_base[static_cast<std::size_t>(split.scalar_slot[k])];
+    HAPTEX_TEXTILE_DEMAND(b == b(0, 0) * Eigen::Matrix3d::Identity());  // bending only
+    ws->system_scalars[k] = b(0, 0);
+  }
+  ws->system_base_model = &model;
+  ws->system_base_dt_s = h;
+  ws->system = ws->system_base;
+  ws->system_base_general_scalars.assign(ws->system_base.size(), 0.0);
+  bool all_scalar = true;
+  for (int r = 0; r < n; ++r) {
+    ForEachGeneralSlot(split, r, [&](std::size_t slot) {
+      const Eigen::Matrix3d& b = ws->system_base[slot];
+      all_scalar = all_scalar && b == b(0, 0) * Eigen::Matrix3d::Identity();
+      ws->system_base_general_scalars[slot] = b(0, 0);
+    });
+  }
+  if (!all_scalar) ws->system_base_general_scalars.clear();  // steps copy whole blocks
+}
+
 // Block-Jacobi preconditioner: the inverted diagonal blocks of the system.
 void UpdateBlockJacobi(const FabricModel& model, FabricWorkspace* ws) {
   for (int p = 0; p < model.num_particles; ++p) {
@@ -241,35 +275,7 @@ CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options,
   sink.dv_scale = -h;
   sink.dfdx_v = &ws->dfdx_v;
   sink.v = &state->v_W_m_per_s;
-  if (ws->system_base_model != &model || ws->system_base_dt_s != h) {
-    for (auto& b : ws->system_base) b.setZero();
-    for (int p = 0; p < n; ++p) {
-      const int slot = model.pattern.diag_slot[static_cast<std::size_t>(p)];
-      ws->system_base[static_cast<std::size_t>(slot)] += model.mass_kg[p] * Eigen::Matrix3d::Identity();
-    }
-    sink.system = &ws->system_base;
-    AddConstantJacobians(model, &sink);
-    sink.system = &ws->system;
-    const SplitRows& split = model.product_rows;
-    for (std::size_t k = 0; k < split.scalar_slot.size(); ++k) {
-      const Eigen::Matrix3d& b = ws->system_base[static_cast<std::size_t>(split.scalar_slot[k])];
-      HAPTEX_TEXTILE_DEMAND(b == b(0, 0) * Eigen::Matrix3d::Identity());  // bending only
-      ws->system_scalars[k] = b(0, 0);
-    }
-    ws->system_base_model = &model;
-    ws->system_base_dt_s = h;
-    ws->system = ws->system_base;
-    ws->system_base_general_scalars.assign(ws->system_base.size(), 0.0);
-    bool all_scalar = true;
-    for (int r = 0; r < n; ++r) {
-      ForEachGeneralSlot(split, r, [&](std::size_t slot) {
-        const Eigen::Matrix3d& b = ws->system_base[slot];
-        all_scalar = all_scalar && b == b(0, 0) * Eigen::Matrix3d::Identity();
-        ws->system_base_general_scalars[slot] = b(0, 0);
-      });
-    }
-    if (!all_scalar) ws->system_base_general_scalars.clear();  // steps copy whole blocks
-  }
+  if (ws->system_base_model != &model || ws->system_base_dt_s != h) BuildSystemBase(model, h, &sink, ws);
   ResetSystem(model.product_rows, n, ws);
   ws->force_N.setZero();
   ws->dfdx_v.setZero();
@@ -295,7 +301,7 @@ CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options,
     ws->multilevel.Update(model, *state, ws->system);
   } else if (options.preconditioner == Preconditioner::kGaussSeidel) {
     HAPTEX_TEXTILE_DEMAND(ws->gauss_seidel.rows() == n);  // a workspace built for it
-    gauss_seidel_ok = ws->gauss_seidel.Update(model.product_rows, model.pattern, ws->system, options.ssor_omega,
+    gauss_seidel_ok = ws->gauss_seidel.Update(ws->system, options.ssor_omega,
                                               [mode](int r) { return mode[r] == ParticleMode::kFree; });
   } else {
     UpdateBlockJacobi(model, ws);

@@ -105,7 +105,7 @@ TEST(GaussSeidelPreconditionerTest, SweepsAndSplitProductMatchTheDenseFactors) {
   for (double omega : {1.0, 1.4}) {
     GaussSeidelPreconditioner gs(model.product_rows);
     if (omega == 1.0) gs.UsePortableKernel();  // the other kernel at the other omega
-    ASSERT_TRUE(gs.Update(model.product_rows, model.pattern, a.blocks, omega,
+    ASSERT_TRUE(gs.Update(a.blocks, omega,
                           [&](int r) { return s.mode[static_cast<std::size_t>(r)] == ParticleMode::kFree; }));
     // D_w + L and D_w + U over the free rows; identity elsewhere keeps them invertible.
     const Eigen::Index n3 = dense.rows();
@@ -154,8 +154,8 @@ TEST(GaussSeidelPreconditionerTest, PortableKernelGivesTheSameBits) {
   GaussSeidelPreconditioner fast(model.product_rows), portable(model.product_rows);
   portable.UsePortableKernel();
   if (!fast.uses_avx2()) GTEST_SKIP() << "no AVX2 on this CPU: only the portable kernel runs";
-  ASSERT_TRUE(fast.Update(model.product_rows, model.pattern, a.blocks, 1.3, row_free));
-  ASSERT_TRUE(portable.Update(model.product_rows, model.pattern, a.blocks, 1.3, row_free));
+  ASSERT_TRUE(fast.Update(a.blocks, 1.3, row_free));
+  ASSERT_TRUE(portable.Update(a.blocks, 1.3, row_free));
   std::mt19937 rng(9);
   const PaddedVector x = Padded(RandomFree(model, s, &rng));
   const int n = model.num_particles;
@@ -183,7 +183,7 @@ TEST(GaussSeidelPreconditionerTest, SingularDiagonalBlockIsReported) {
   const int centre = 12;
   a.blocks[static_cast<std::size_t>(model.pattern.diag_slot[centre])].setZero();
   GaussSeidelPreconditioner gs(model.product_rows);
-  EXPECT_FALSE(gs.Update(model.product_rows, model.pattern, a.blocks, 1.0, [](int) { return true; }));
+  EXPECT_FALSE(gs.Update(a.blocks, 1.0, [](int) { return true; }));
 }
 
 // The implicit step with Gauss-Seidel gives block Jacobi's answer when both solve tightly,
