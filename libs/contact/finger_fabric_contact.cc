@@ -18,7 +18,9 @@ FingerFabricContact::FingerFabricContact(const Eigen::VectorXd& particle_area_m2
       slot_ratio_(particle_area_m2.size()) {}
 
 void FingerFabricContact::Reset() {
+  if (!touched_) return;  // an absent finger is reset every tick
   for (auto& c : particles_) c = ParticleContact{};
+  touched_ = false;
 }
 
 int FingerFabricContact::num_active() const {
@@ -39,8 +41,14 @@ void FingerFabricContact::Prepare(const FingerPose& pose, const textile::FabricS
   const double len2 = ab.squaredNorm();
   const double inv_len2 = len2 > 0.0 ? 1.0 / len2 : 0.0;
   const double outside2 = radius_eff_m_ * radius_eff_m_ * (1.0 + 1e-9);
+  touched_ = true;
   bool was_sliding = false;
-  for (const auto& c : particles_) was_sliding = was_sliding || (c.active && c.sliding);
+  for (const auto& c : particles_) {
+    if (c.active && c.sliding) {
+      was_sliding = true;
+      break;
+    }
+  }
 
   // Contacts, with their held points carried along by the finger (the trial of a stick).
   Eigen::Vector3d normal_resultant_W_N = Eigen::Vector3d::Zero();

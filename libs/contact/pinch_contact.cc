@@ -32,8 +32,10 @@ PinchContact::PinchContact(const textile::FabricModel& patch, const ContactOptio
       near_(static_cast<std::size_t>(patch.num_particles), 0),
       d2_thumb_(static_cast<std::size_t>(patch.num_particles), 0.0),
       d2_index_(static_cast<std::size_t>(patch.num_particles), 0.0),
+      dist_thumb_(static_cast<std::size_t>(patch.num_particles), 0.0),
+      dist_index_(static_cast<std::size_t>(patch.num_particles), 0.0),
       x_C_(3, patch.num_particles),
-      is_touched_(static_cast<std::size_t>(patch.num_particles), 0),
+      touch_stamp_(static_cast<std::size_t>(patch.num_particles), 0),
       touch_k_(static_cast<std::size_t>(patch.num_particles), 0.0),
       touch_w_(static_cast<std::size_t>(patch.num_particles), 0.0),
       touch_kd_C_(Eigen::Matrix3Xd::Zero(3, patch.num_particles)) {
@@ -53,16 +55,26 @@ PinchContact::PinchContact(const textile::FabricModel& patch, const ContactOptio
     }
   }
   per_triangle_ = static_cast<int>(sample_w_.size());
+  for (const auto& w : sample_w_) {
+    full_wk_.push_back({w[0] * k_N_per_m_, w[1] * k_N_per_m_, w[2] * k_N_per_m_});
+    for (std::size_t m = 0; m < 3; ++m) {
+      full_kw_[m] += full_wk_.back()[m];
+      full_ww_[m] += w[m];
+    }
+  }
   triangle_p_.reserve(patch.triangles.size());
   for (const auto& t : patch.triangles) triangle_p_.push_back(t.p);
   samples_.resize(patch.triangles.size() * sample_w_.size());
+  triangle_held_.assign(patch.triangles.size(), 0);
   active_triangles_.reserve(patch.triangles.size());
+  active_full_.reserve(patch.triangles.size());
   touched_.reserve(static_cast<std::size_t>(patch.num_particles));
 }
 
 void PinchContact::Reset() {
   if (maybe_active_) {
     for (auto& s : samples_) s.active = false;
+    std::fill(triangle_held_.begin(), triangle_held_.end(), std::uint8_t{0});
   }
   maybe_active_ = false;
   active_ = false;
@@ -104,12 +116,11 @@ bool PinchContact::Prepare(const FingerPose& thumb, const FingerPose& index, dou
   axis_thumb_C_ = axis_in_c(seg_thumb_);
   axis_index_C_ = axis_in_c(seg_index_);
 
-  // Forget the last tick's touched particles.
-  for (int p : touched_) {
-    is_touched_[static_cast<std::size_t>(p)] = 0;
-    touch_k_[static_cast<std::size_t>(p)] = 0.0;
-    touch_w_[static_cast<std::size_t>(p)] = 0.0;
-    touch_kd_C_.col(p).setZero();
+  // Forget the last tick's touched particles: a new stamp, and a particle's sums are assigned
+  // when first touched, so nothing is cleared.
+  if (++stamp_ == 0) {
+    std::fill(touch_stamp_.begin(), touch_stamp_.end(), 0u);
+    stamp_ = 1;
   }
   touched_.clear();
 
@@ -129,6 +140,8 @@ bool PinchContact::Prepare(const FingerPose& thumb, const FingerPose& index, dou
     const double di2 = axis_index_C_.Distance2(x_C);
     d2_thumb_[up] = dt2;
     d2_index_[up] = di2;
+    dist_thumb_[up] = std::sqrt(dt2);
+    dist_index_[up] = std::sqrt(di2);
     near_[up] = rel.squaredNorm() < reach * reach ? 1 : 0;
     if (!near_[up]) continue;
     if (dt2 < rt2 * (1.0 - kMargin) && di2 < ri2 * (1.0 - kMargin)) {
@@ -146,27 +159,39 @@ bool PinchContact::Prepare(const FingerPose& thumb, const FingerPose& index, dou
   int num_active = 0;
   double weight_sum = 0.0;
   active_triangles_.clear();
+  active_full_.clear();
   const double ramp = std::max(options_.pinch_edge_ramp_m, 0.0);
   const double full_t = radius_thumb_m_ - ramp, full_i = radius_index_m_ - ramp;
   const double full_t2 = full_t > 0.0 ? full_t * full_t * (1.0 - kMargin) : -1.0;
   const double full_i2 = full_i > 0.0 ? full_i * full_i * (1.0 - kMargin) : -1.0;
   const double out_t2 = rt2 * (1.0 + kMargin), out_i2 = ri2 * (1.0 + kMargin);
+  // A sample whose convex bound (below) is under these passes the exact full-spring test
+  // (dt2 < full_t2 and di2 < full_i2) whatever the rounding.
+  const double full_t_sure = full_t > 0.0 ? full_t * (1.0 - kMargin) : -1.0;
+  const double full_i_sure = full_i > 0.0 ? full_i * (1.0 - kMargin) : -1.0;
   const double k_full = k_N_per_m_;
   const int nt = static_cast<int>(triangle_p_.size());
   const int per = per_triangle_;
+  // A triangle none of whose samples was active last tick has nothing to drop.
+  auto drop_samples = [&](int t) {
+    std::uint8_t& held = triangle_held_[static_cast<std::size_t>(t)];
+    if (!held) return;
+    held = 0;
+    Sample* s = &samples_[static_cast<std::size_t>(t * per)];
+    for (int j = 0; j < per; ++j) s[j].active = false;
+  };
   for (int t = 0; t < nt; ++t) {
     const auto& p = triangle_p_[static_cast<std::size_t>(t)];
     Sample* s = &samples_[static_cast<std::size_t>(t * per)];
     const std::size_t p0 = static_cast<std::size_t>(p[0]), p1 = static_cast<std::size_t>(p[1]),
                       p2 = static_cast<std::size_t>(p[2]);
     if (!(near_[p0] || near_[p1] || near_[p2])) {
-      for (int j = 0; j < per; ++j) s[j].active = false;
+      drop_samples(t);
       continue;
     }
     const Eigen::Vector3d x0 = x_C_.col(p[0]), x1 = x_C_.col(p[1]), x2 = x_C_.col(p[2]);
     const double far_t2 = Max3(d2_thumb_[p0], d2_thumb_[p1], d2_thumb_[p2]);
     const double far_i2 = Max3(d2_index_[p0], d2_index_[p1], d2_index_[p2]);
-    const int active_before = num_active;
     if (far_t2 < full_t2 && far_i2 < full_i2) {
       for (int j = 0; j < per; ++j) {
         Sample& smp = s[j];
@@ -181,21 +206,43 @@ bool PinchContact::Prepare(const FingerPose& thumb, const FingerPose& index, dou
         weight_sum += k_full;
       }
       num_active += per;
+      triangle_held_[static_cast<std::size_t>(t)] = 1;
+      active_triangles_.push_back(t);
+      active_full_.push_back(1);
     } else {
       const double diam = std::sqrt(Max3((x1 - x0).squaredNorm(), (x2 - x0).squaredNorm(),
                                          (x2 - x1).squaredNorm()));
       const double out_t = (radius_thumb_m_ + diam) * (1.0 + kMargin);
       const double out_i = (radius_index_m_ + diam) * (1.0 + kMargin);
       if (far_t2 > out_t * out_t || far_i2 > out_i * out_i) {
-        for (int j = 0; j < per; ++j) s[j].active = false;
+        drop_samples(t);
         continue;
       }
+      const int active_before = num_active;
+      bool all_full = true;
+      const double dt_0 = dist_thumb_[p0], dt_1 = dist_thumb_[p1], dt_2 = dist_thumb_[p2];
+      const double di_0 = dist_index_[p0], di_1 = dist_index_[p1], di_2 = dist_index_[p2];
       for (int j = 0; j < per; ++j) {
         Sample& smp = s[j];
         const auto& w = sample_w_[static_cast<std::size_t>(j)];
+        // The distance to an axis is convex: at a sample it is at most the weighted distances
+        // of the corners. Deep enough in both, the sample holds the full spring (no query).
+        if (w[0] * dt_0 + w[1] * dt_1 + w[2] * dt_2 < full_t_sure &&
+            w[0] * di_0 + w[1] * di_1 + w[2] * di_2 < full_i_sure) {
+          if (!smp.active) {
+            smp.ideal_C = (w[0] * x0 + w[1] * x1 + w[2] * x2).head<2>();
+            smp.active = true;
+            smp.sliding = false;
+          }
+          smp.k_N_per_m = k_full;
+          weight_sum += k_full;
+          ++num_active;
+          continue;
+        }
         const Eigen::Vector3d q_C = w[0] * x0 + w[1] * x1 + w[2] * x2;
         const double dt2 = axis_thumb_C_.Distance2(q_C);
-        const double di2 = axis_index_C_.Distance2(q_C);
+        // Certainly outside the thumb: the index's distance cannot change that.
+        const double di2 = dt2 > out_t2 ? 0.0 : axis_index_C_.Distance2(q_C);
         double k = k_full;  // deeper than the ramp in both: the full spring
         bool inside = !(dt2 > out_t2 || di2 > out_i2);  // else certainly outside a finger
         if (inside && !(dt2 < full_t2 && di2 < full_i2)) {
@@ -208,8 +255,10 @@ bool PinchContact::Prepare(const FingerPose& thumb, const FingerPose& index, dou
         }
         if (!inside) {
           smp.active = false;
+          all_full = false;
           continue;
         }
+        all_full = all_full && k == k_full;
         if (!smp.active) {
           smp.ideal_C = q_C.head<2>();
           smp.active = true;
@@ -219,8 +268,12 @@ bool PinchContact::Prepare(const FingerPose& thumb, const FingerPose& index, dou
         weight_sum += k;
         ++num_active;
       }
+      triangle_held_[static_cast<std::size_t>(t)] = num_active > active_before ? 1 : 0;
+      if (num_active > active_before) {
+        active_triangles_.push_back(t);
+        active_full_.push_back(all_full ? 1 : 0);
+      }
     }
-    if (num_active > active_before) active_triangles_.push_back(t);
   }
   num_active_ = num_active;
   weight_sum_ = weight_sum;
@@ -233,9 +286,32 @@ bool PinchContact::Prepare(const FingerPose& thumb, const FingerPose& index, dou
   // in C: the frictionless point is the sample projected onto the plane, (q_C.x, q_C.y).
   const double grip_per_stiffness = grip_N_ / weight_sum_;
   const double mu_s = 2.0 * mu.mu_static, mu_d = 2.0 * mu.mu_dynamic;
+  // A sample at the full spring has the same load and limits as every other such sample.
+  const double normal_full = grip_per_stiffness * k_full;
+  const bool loaded_full = normal_full > 0.0 && k_full > 0.0;
+  const double limit_full[2] = {mu_s * normal_full * (1.0 + 1e-9), mu_d * normal_full * (1.0 + 1e-9)};
+  const double kk_full = k_full * k_full;
   double k_ideal_x = 0.0, k_ideal_y = 0.0;
   int num_sliding = 0;
-  for (int t : active_triangles_) {
+  // Coulomb's law for a loaded sample at (qx, qy): sticks, or its ideal position trails the
+  // frictionless point at mu_d of the load. Leaves the ideal position in (ix, iy).
+  auto coulomb = [&](Sample& smp, double qx, double qy, double k, double kk, double limit,
+                     double normal_N, double* ix, double* iy) __attribute__((always_inline)) {
+    const double sx = qx - *ix, sy = qy - *iy;
+    const double s2 = sx * sx + sy * sy;
+    if (kk * s2 <= limit * limit) {
+      smp.sliding = false;  // sticks: the ideal position stays
+    } else {
+      const double f = mu_d * normal_N / (k * std::sqrt(s2));
+      *ix = qx - f * sx;
+      *iy = qy - f * sy;
+      smp.ideal_C = Eigen::Vector2d(*ix, *iy);
+      smp.sliding = true;
+    }
+  };
+  const std::size_t num_triangles = active_triangles_.size();
+  for (std::size_t a = 0; a < num_triangles; ++a) {
+    const int t = active_triangles_[a];
     const auto& p = triangle_p_[static_cast<std::size_t>(t)];
     const Eigen::Vector3d x0 = x_C_.col(p[0]), x1 = x_C_.col(p[1]), x2 = x_C_.col(p[2]);
     Sample* s = &samples_[static_cast<std::size_t>(t * per)];
@@ -243,71 +319,101 @@ bool PinchContact::Prepare(const FingerPose& thumb, const FingerPose& index, dou
     double kw0 = 0.0, kw1 = 0.0, kw2 = 0.0, ww0 = 0.0, ww1 = 0.0, ww2 = 0.0;
     double d0x = 0.0, d0y = 0.0, d0z = 0.0, d1x = 0.0, d1y = 0.0, d1z = 0.0, d2x = 0.0, d2y = 0.0,
            d2z = 0.0;
-    for (int j = 0; j < per; ++j) {
-      Sample& smp = s[j];
-      if (!smp.active) continue;
-      const auto& w = sample_w_[static_cast<std::size_t>(j)];
-      const double qx = w[0] * x0.x() + w[1] * x1.x() + w[2] * x2.x();
-      const double qy = w[0] * x0.y() + w[1] * x1.y() + w[2] * x2.y();
-      const double qz = w[0] * x0.z() + w[1] * x1.z() + w[2] * x2.z();
-      const double k = smp.k_N_per_m;
-      const double normal_N = grip_per_stiffness * k;
-      double ix = smp.ideal_C.x(), iy = smp.ideal_C.y();
-      if (normal_N > 0.0 && k > 0.0) {
-        const double sx = qx - ix, sy = qy - iy;
-        const double s2 = sx * sx + sy * sy;
-        const double limit = (smp.sliding ? mu_d : mu_s) * normal_N * (1.0 + 1e-9);
-        if (k * k * s2 <= limit * limit) {
-          smp.sliding = false;  // sticks: the ideal position stays
-        } else {
-          // Slides: the ideal position trails the frictionless point at mu_d of the load.
-          const double f = mu_d * normal_N / (k * std::sqrt(s2));
-          ix = qx - f * sx;
-          iy = qy - f * sy;
-          smp.ideal_C = Eigen::Vector2d(ix, iy);
-          smp.sliding = true;
-        }
-      } else {
-        ix = qx;  // no load, no friction
-        iy = qy;
-        smp.ideal_C = Eigen::Vector2d(ix, iy);
+    if (active_full_[a] && loaded_full) {
+      // Every sample active at the full spring: its weights times k and the sums of w k and w
+      // are constants.
+      for (int j = 0; j < per; ++j) {
+        Sample& smp = s[j];
+        const auto& w = sample_w_[static_cast<std::size_t>(j)];
+        const auto& wk = full_wk_[static_cast<std::size_t>(j)];
+        const double qx = w[0] * x0.x() + w[1] * x1.x() + w[2] * x2.x();
+        const double qy = w[0] * x0.y() + w[1] * x1.y() + w[2] * x2.y();
+        const double qz = w[0] * x0.z() + w[1] * x1.z() + w[2] * x2.z();
+        double ix = smp.ideal_C.x(), iy = smp.ideal_C.y();
+        coulomb(smp, qx, qy, k_full, kk_full, limit_full[smp.sliding ? 1 : 0], normal_full, &ix, &iy);
+        num_sliding += smp.sliding ? 1 : 0;
+        k_ideal_x += k_full * ix;
+        k_ideal_y += k_full * iy;
+        const double dx = ix - qx, dy = iy - qy, dz = -qz;
+        d0x += wk[0] * dx;
+        d0y += wk[0] * dy;
+        d0z += wk[0] * dz;
+        d1x += wk[1] * dx;
+        d1y += wk[1] * dy;
+        d1z += wk[1] * dz;
+        d2x += wk[2] * dx;
+        d2y += wk[2] * dy;
+        d2z += wk[2] * dz;
       }
-      num_sliding += smp.sliding ? 1 : 0;
-      k_ideal_x += k * ix;
-      k_ideal_y += k * iy;
-      // anchor - q, in C: the spring pulls the sample to its ideal position on the plane.
-      const double dx = ix - qx, dy = iy - qy, dz = -qz;
-      const double wk0 = w[0] * k, wk1 = w[1] * k, wk2 = w[2] * k;
-      kw0 += wk0;
-      kw1 += wk1;
-      kw2 += wk2;
-      ww0 += w[0];
-      ww1 += w[1];
-      ww2 += w[2];
-      d0x += wk0 * dx;
-      d0y += wk0 * dy;
-      d0z += wk0 * dz;
-      d1x += wk1 * dx;
-      d1y += wk1 * dy;
-      d1z += wk1 * dz;
-      d2x += wk2 * dx;
-      d2y += wk2 * dy;
-      d2z += wk2 * dz;
+      kw0 = full_kw_[0];
+      kw1 = full_kw_[1];
+      kw2 = full_kw_[2];
+      ww0 = full_ww_[0];
+      ww1 = full_ww_[1];
+      ww2 = full_ww_[2];
+    } else {
+      for (int j = 0; j < per; ++j) {
+        Sample& smp = s[j];
+        if (!smp.active) continue;
+        const auto& w = sample_w_[static_cast<std::size_t>(j)];
+        const double qx = w[0] * x0.x() + w[1] * x1.x() + w[2] * x2.x();
+        const double qy = w[0] * x0.y() + w[1] * x1.y() + w[2] * x2.y();
+        const double qz = w[0] * x0.z() + w[1] * x1.z() + w[2] * x2.z();
+        const double k = smp.k_N_per_m;
+        const double normal_N = grip_per_stiffness * k;
+        double ix = smp.ideal_C.x(), iy = smp.ideal_C.y();
+        if (normal_N > 0.0 && k > 0.0) {
+          coulomb(smp, qx, qy, k, k * k, (smp.sliding ? mu_d : mu_s) * normal_N * (1.0 + 1e-9),
+                  normal_N, &ix, &iy);
+        } else {
+          ix = qx;  // no load, no friction
+          iy = qy;
+          smp.ideal_C = Eigen::Vector2d(ix, iy);
+        }
+        num_sliding += smp.sliding ? 1 : 0;
+        k_ideal_x += k * ix;
+        k_ideal_y += k * iy;
+        // anchor - q, in C: the spring pulls the sample to its ideal position on the plane.
+        const double dx = ix - qx, dy = iy - qy, dz = -qz;
+        const double wk0 = w[0] * k, wk1 = w[1] * k, wk2 = w[2] * k;
+        kw0 += wk0;
+        kw1 += wk1;
+        kw2 += wk2;
+        ww0 += w[0];
+        ww1 += w[1];
+        ww2 += w[2];
+        d0x += wk0 * dx;
+        d0y += wk0 * dy;
+        d0z += wk0 * dz;
+        d1x += wk1 * dx;
+        d1y += wk1 * dy;
+        d1z += wk1 * dz;
+        d2x += wk2 * dx;
+        d2y += wk2 * dy;
+        d2z += wk2 * dz;
+      }
     }
     const double corner[3][5] = {{kw0, ww0, d0x, d0y, d0z}, {kw1, ww1, d1x, d1y, d1z}, {kw2, ww2, d2x, d2y, d2z}};
     for (std::size_t m = 0; m < 3; ++m) {
       const int pm = p[m];
       const std::size_t um = static_cast<std::size_t>(pm);
-      if (!is_touched_[um]) {
-        is_touched_[um] = 1;
-        touched_.push_back(pm);
-      }
-      touch_k_[um] += corner[m][0];
-      touch_w_[um] += corner[m][1];
       double* kd = touch_kd_C_.col(pm).data();
-      kd[0] += corner[m][2];
-      kd[1] += corner[m][3];
-      kd[2] += corner[m][4];
+      if (touch_stamp_[um] != stamp_) {
+        // First touch this tick: assigning is adding to zero (a sum of these is never -0).
+        touch_stamp_[um] = stamp_;
+        touched_.push_back(pm);
+        touch_k_[um] = corner[m][0];
+        touch_w_[um] = corner[m][1];
+        kd[0] = corner[m][2];
+        kd[1] = corner[m][3];
+        kd[2] = corner[m][4];
+      } else {
+        touch_k_[um] += corner[m][0];
+        touch_w_[um] += corner[m][1];
+        kd[0] += corner[m][2];
+        kd[1] += corner[m][3];
+        kd[2] += corner[m][4];
+      }
     }
   }
   k_ideal_C_ = Eigen::Vector2d(k_ideal_x, k_ideal_y);

@@ -74,6 +74,7 @@ class PinchContact {
     s.sliding = state.sliding;
     s.ideal_C = state.ideal_C;
     maybe_active_ = maybe_active_ || state.active;
+    if (state.active) triangle_held_[static_cast<std::size_t>(i / per_triangle_)] = 1;
   }
 
  private:
@@ -108,17 +109,26 @@ class PinchContact {
   std::vector<std::array<int, 3>> triangle_p_;  ///< particles of each triangle (compact copy)
   std::vector<std::array<double, 3>> sample_w_;  ///< barycentric weights of sample j of any triangle
   std::vector<Sample> samples_;  ///< every candidate point, fixed at construction; triangle-major
+  std::vector<std::uint8_t> triangle_held_;  ///< per triangle: 0 if none of its samples is active
   bool maybe_active_ = false;  ///< some sample may be active (Reset has work to do)
 
   // Per tick (sized at construction, so no allocation per tick).
   std::vector<std::uint8_t> near_;  ///< per particle
   std::vector<double> d2_thumb_, d2_index_;  ///< per particle: squared distance to each axis
+  std::vector<double> dist_thumb_, dist_index_;  ///< per particle: distance to each axis
   Eigen::Matrix3Xd x_C_;  ///< per particle: position in C (at Prepare)
   std::vector<int> active_triangles_;  ///< triangles with an active sample, ascending
+  /// Per entry of active_triangles_: 1 if all its samples are active at the full spring.
+  std::vector<std::uint8_t> active_full_;
+  // Such a triangle's sums over its samples that depend only on the weights (the same
+  // additions in the same order as the general loop, so the same bits).
+  std::vector<std::array<double, 3>> full_wk_;  ///< per sample j: w_j k_full
+  std::array<double, 3> full_kw_{}, full_ww_{};  ///< per corner: sum_j w_j k_full, sum_j w_j
   // What Resolve needs, per particle touched by an active sample: sum of w k and of w over the
   // samples on it (the samples' springs and touch points are linear in the particles).
   std::vector<int> touched_;
-  std::vector<std::uint8_t> is_touched_;
+  std::vector<std::uint32_t> touch_stamp_;  ///< == stamp_: touched this tick (no clearing)
+  std::uint32_t stamp_ = 0;
   std::vector<double> touch_k_, touch_w_;
   Eigen::Matrix3Xd touch_kd_C_;  ///< sum of w k (anchor - sample point), in C
   Eigen::Vector2d k_ideal_C_{Eigen::Vector2d::Zero()};  ///< sum of k ideal_C over active samples

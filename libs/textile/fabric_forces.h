@@ -16,4 +16,11 @@ void AccumulateForces(const FabricModel& model, const FabricState& state, ForceS
 /// `sink->constant_jacobians_added`. Never allocates.
 void AddConstantJacobians(const FabricModel& model, ForceSink* sink);
 
+namespace internal {
+/// AccumulateForces with the AVX2 triangle kernel (avx2, only where the CPU has it) or its
+/// portable build: the two give the same bits, which tests check.
+void AccumulateForces(const FabricModel& model, const FabricState& state, bool avx2,
+                      ForceSink* sink);
+}  // namespace internal
+
 }  // namespace haptex::textile

@@ -31,10 +31,10 @@ FabricStepper::FabricStepper(const FabricModel& model, const StepOptions& option
 StepResult FabricStepper::Step(FabricState* state) {
   HAPTEX_TEXTILE_DEMAND(state->num_particles() == model_.num_particles);
   StepResult result;
-  ws_.x_backup = state->x_W_m;
-  ws_.v_backup = state->v_W_m_per_s;
+  ws_.x_backup = state->x_W_m;  // v rolls back to rest
   const double t0 = state->time_s;
-  if (options_.method == Integrator::kImplicitEuler) {
+  const bool implicit = options_.method == Integrator::kImplicitEuler;
+  if (implicit) {
     result.cg = ImplicitEulerStep(model_, options_, state, &ws_);
     state->diagnostics.last_cg_iterations = result.cg.iterations;
     state->diagnostics.last_cg_relative_residual = result.cg.relative_residual;
@@ -62,8 +62,11 @@ StepResult FabricStepper::Step(FabricState* state) {
   }
   ++state->diagnostics.steps;
 
-  // NaN/Inf: roll back to the last good positions, at rest.
-  if (!result.cg.finite || !state->x_W_m.allFinite() || !state->v_W_m_per_s.allFinite()) {
+  // NaN/Inf: roll back to the last good positions, at rest. A finite implicit step checked
+  // the state it wrote.
+  const bool state_finite = implicit ? ws_.stepped_state_finite
+                                     : state->x_W_m.allFinite() && state->v_W_m_per_s.allFinite();
+  if (!result.cg.finite || !state_finite) {
     state->x_W_m = ws_.x_backup;
     state->v_W_m_per_s.setZero();
     state->time_s = t0 + options_.dt_s;
@@ -73,7 +76,8 @@ StepResult FabricStepper::Step(FabricState* state) {
   }
   // Speed cap: keep the direction, count the event.
   const double cap = options_.max_speed_m_per_s;
-  for (int p = 0; p < model_.num_particles; ++p) {
+  const bool may_cap = !implicit || ws_.stepped_max_speed2_m2_per_s2 > cap * cap;
+  for (int p = 0; may_cap && p < model_.num_particles; ++p) {
     auto v = state->v_W_m_per_s.segment<3>(3 * p);
     if (v.squaredNorm() > cap * cap) {  // the square root only where it caps
       v *= cap / v.norm();

@@ -35,7 +35,11 @@ struct FabricWorkspace {
   double system_base_dt_s = 0.0;
   const FabricModel* system_base_model = nullptr;
   Eigen::VectorXd rhs, dv, dv0, r, c, q, s;  ///< 3n CG vectors (dv0: initial guess)
-  Eigen::VectorXd x_backup, v_backup;    ///< roll-back copy of the state
+  Eigen::VectorXd x_backup;              ///< roll-back copy of the positions
+  /// Set by ImplicitEulerStep when it updates the state, for FabricStepper's checks (no second
+  /// scan): whether the new x and v are all finite, and the largest squared particle speed.
+  bool stepped_state_finite = true;
+  double stepped_max_speed2_m2_per_s2 = 0.0;
   Eigen::VectorXd stiffness_row;         ///< n, symplectic stability estimate at the state
   MultilevelPreconditioner multilevel;   ///< used when StepOptions::preconditioner says so
   GaussSeidelPreconditioner gauss_seidel;  ///< likewise (empty unless built for it)

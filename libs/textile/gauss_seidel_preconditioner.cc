@@ -18,23 +18,46 @@ using internal::PaddedBlock;
 
 enum class SweepKind {
   kForward,    // y = (D_w + L)^-1 x
+  // kForward, then z = D_w y row by row and the sum of y . z (as MultiplyDiagonal).
+  kForwardDiagonal,
   kBackward,   // y = (D_w + U)^-1 x
   // Eisenstat's backward half: t = (D_w + U)^-1 x, and z = x - (2 - omega) D_w t in the same
   // pass (0 in rows that are not free, where x and D_w are 0).
   kEisenstatBackward,
+  // kEisenstatBackward after x = s + beta x, row by row (the sweep reads x only in row r).
+  kEisenstatBackwardUpdate,
   // Eisenstat's forward half: w = (D_w + L)^-1 z, kept in z (row r's z is dead once read),
   // y = w + t, and the sum of x . y.
   kEisenstatForward,
 };
 
 constexpr bool IsForward(SweepKind k) {
-  return k == SweepKind::kForward || k == SweepKind::kEisenstatForward;
+  return k == SweepKind::kForward || k == SweepKind::kForwardDiagonal || k == SweepKind::kEisenstatForward;
 }
+constexpr bool IsEisenstatBackward(SweepKind k) {
+  return k == SweepKind::kEisenstatBackward || k == SweepKind::kEisenstatBackwardUpdate;
+}
+
+// A sweep's vectors (rows 4 apart); x is written only by kEisenstatBackwardUpdate.
+struct SweepVectors {
+  double* x;
+  double* y;
+  double* t;
+  double* z;
+  const double* s;  // kEisenstatBackwardUpdate's
+  double beta;      // likewise
+};
 
 // The vector a sweep solves into, whose earlier rows its sums read: y, t, or w kept in z.
 template <SweepKind kKind>
-inline double* Solved(double* y, double* t, double* z) {
-  return kKind == SweepKind::kEisenstatForward ? z : kKind == SweepKind::kEisenstatBackward ? t : y;
+inline double* Solved(const SweepVectors& v) {
+  return kKind == SweepKind::kEisenstatForward ? v.z : IsEisenstatBackward(kKind) ? v.t : v.y;
+}
+
+// y = D x for one row (its pad left as it is), returning x . y as (x_0 y_0 + x_1 y_1) + x_2 y_2.
+inline double DiagonalRowGeneric(const PaddedBlock& d, const double* x, double* y) {
+  for (int i = 0; i < 3; ++i) y[i] = (d.col[0][i] * x[0] + d.col[1][i] * x[1]) + d.col[2][i] * x[2];
+  return (x[0] * y[0] + x[1] * y[1]) + x[2] * y[2];
 }
 
 // Rows are 4 apart (padded_vector.h). One row of a sweep, portable. Per component i, in this
@@ -46,23 +69,26 @@ inline double* Solved(double* y, double* t, double* z) {
 //         - ((G(i,0) p_0 + G(i,1) p_1) + G(i,2) p_2)      (p: the row solved just before)
 // and in the Eisenstat forward half the row's x . y as (x_0 y_0 + x_1 y_1) + x_2 y_2.
 template <SweepKind kKind>
-inline double RowGeneric(const GaussSeidelSweepArgs& a, int r, const double* x, double* y,
-                         double* t, double* z) {
+inline double RowGeneric(const GaussSeidelSweepArgs& a, int r, const SweepVectors& v) {
   constexpr bool kForward = IsForward(kKind);
-  double* solved = Solved<kKind>(y, t, z);
-  const double* in = kKind == SweepKind::kEisenstatForward ? z : x;
+  double* solved = Solved<kKind>(v);
+  const double* x = v.x;
+  if constexpr (kKind == SweepKind::kEisenstatBackwardUpdate) {
+    for (int i = 0; i < 4; ++i) v.x[4 * r + i] = v.s[4 * r + i] + v.beta * x[4 * r + i];
+  }
+  const double* in = kKind == SweepKind::kEisenstatForward ? v.z : x;
   const internal::SweepRow& q = a.rows_info[r];
   double c[3][3] = {};
   for (int k = q.g0; k < q.g1; ++k) {
     const double* m = a.blocks[k + q.slot_offset].data();
-    const double* yc = solved + 4 * a.general_col[k];
+    const double* yc = solved + a.general_offset[k];
     for (int j = 0; j < 3; ++j) {
       for (int i = 0; i < 3; ++i) c[j][i] += m[3 * j + i] * yc[j];
     }
   }
   double sc[3] = {};
   for (int k = q.s0; k < q.s1; ++k) {
-    const double* yc = solved + 4 * a.scalar_col[k];
+    const double* yc = solved + a.scalar_offset[k];
     for (int i = 0; i < 3; ++i) sc[i] += a.scalars[k] * yc[i];
   }
   double acc[3];
@@ -78,16 +104,18 @@ inline double RowGeneric(const GaussSeidelSweepArgs& a, int r, const double* x, 
     for (int i = 0; i < 3; ++i) o[i] -= (g.col[0][i] * p[0] + g.col[1][i] * p[1]) + g.col[2][i] * p[2];
   }
   for (int i = 0; i < 3; ++i) solved[4 * r + i] = o[i];
-  if constexpr (kKind == SweepKind::kEisenstatBackward) {
+  if constexpr (IsEisenstatBackward(kKind)) {
     const PaddedBlock& d = a.diag[r];
     for (int i = 0; i < 3; ++i) {
-      z[4 * r + i] = x[4 * r + i] - a.diag_excess * ((d.col[0][i] * o[0] + d.col[1][i] * o[1]) + d.col[2][i] * o[2]);
+      v.z[4 * r + i] = x[4 * r + i] - a.diag_excess * ((d.col[0][i] * o[0] + d.col[1][i] * o[1]) + d.col[2][i] * o[2]);
     }
+  } else if constexpr (kKind == SweepKind::kForwardDiagonal) {
+    return DiagonalRowGeneric(a.diag[r], o, v.z + 4 * r);
   } else if constexpr (kKind == SweepKind::kEisenstatForward) {
     double yr[3];
     for (int i = 0; i < 3; ++i) {
-      yr[i] = o[i] + t[4 * r + i];
-      y[4 * r + i] = yr[i];
+      yr[i] = o[i] + v.t[4 * r + i];
+      v.y[4 * r + i] = yr[i];
     }
     return (x[4 * r] * yr[0] + x[4 * r + 1] * yr[1]) + x[4 * r + 2] * yr[2];
   }
@@ -100,19 +128,32 @@ inline double RowGeneric(const GaussSeidelSweepArgs& a, int r, const double* x, 
 // D_w^-1 (zero) multiplies: the row's pad is stored as 0. No FMA (target avx2 only): products
 // round as in RowGeneric. `prev` is the row solved just before, kept in a register; returns
 // this row's.
+// y = D x for one row (lane 3 too: 0 for a finite x), returning x . y as (x_0 y_0 + x_1 y_1) + x_2 y_2.
+__attribute__((target("avx2"), always_inline)) inline double DiagonalRowAvx2(const PaddedBlock& d, __m256d x,
+                                                                         double* y) {
+  const __m256d yr = _mm256_add_pd(
+      _mm256_add_pd(_mm256_mul_pd(_mm256_load_pd(d.col[0]), _mm256_permute4x64_pd(x, 0x00)),
+                    _mm256_mul_pd(_mm256_load_pd(d.col[1]), _mm256_permute4x64_pd(x, 0x55))),
+      _mm256_mul_pd(_mm256_load_pd(d.col[2]), _mm256_permute4x64_pd(x, 0xAA)));
+  _mm256_store_pd(y, yr);
+  const __m256d p = _mm256_mul_pd(x, yr);
+  const __m128d p01 = _mm256_castpd256_pd128(p);
+  const __m128d sum01 = _mm_add_sd(p01, _mm_unpackhi_pd(p01, p01));
+  return _mm_cvtsd_f64(_mm_add_sd(sum01, _mm256_extractf128_pd(p, 1)));
+}
+
 template <SweepKind kKind>
 __attribute__((target("avx2"), always_inline)) inline __m256d RowAvx2(const GaussSeidelSweepArgs& a, int r,
-                                                       const double* x, double* y, double* t,
-                                                       double* z, __m256d prev, double* xy) {
-  double* solved = Solved<kKind>(y, t, z);
-  const double* in = kKind == SweepKind::kEisenstatForward ? z : x;
+                                                                      const SweepVectors& v, __m256d prev,
+                                                                      double* xy) {
+  double* solved = Solved<kKind>(v);
   const internal::SweepRow& q = a.rows_info[r];
   const __m256i three = _mm256_set_epi64x(0, -1, -1, -1);
   __m256d c0 = _mm256_setzero_pd(), c1 = _mm256_setzero_pd(), c2 = _mm256_setzero_pd();
   const Eigen::Matrix3d* blocks = a.blocks + q.slot_offset;
   for (int k = q.g0; k < q.g1; ++k) {
     const double* m = blocks[k].data();
-    const double* yc = solved + 4 * a.general_col[k];
+    const double* yc = solved + a.general_offset[k];
     c0 = _mm256_add_pd(c0, _mm256_mul_pd(_mm256_loadu_pd(m), _mm256_broadcast_sd(yc)));
     c1 = _mm256_add_pd(c1, _mm256_mul_pd(_mm256_loadu_pd(m + 3), _mm256_broadcast_sd(yc + 1)));
     c2 = _mm256_add_pd(c2, _mm256_mul_pd(_mm256_maskload_pd(m + 6, three), _mm256_broadcast_sd(yc + 2)));
@@ -120,10 +161,16 @@ __attribute__((target("avx2"), always_inline)) inline __m256d RowAvx2(const Gaus
   __m256d sc = _mm256_setzero_pd();
   for (int k = q.s0; k < q.s1; ++k) {
     sc = _mm256_add_pd(sc, _mm256_mul_pd(_mm256_broadcast_sd(a.scalars + k),
-                                         _mm256_load_pd(solved + 4 * a.scalar_col[k])));
+                                         _mm256_load_pd(solved + a.scalar_offset[k])));
   }
-  const __m256d acc =
-      _mm256_sub_pd(_mm256_sub_pd(_mm256_load_pd(in + 4 * r), _mm256_add_pd(_mm256_add_pd(c0, c1), c2)), sc);
+  __m256d in;
+  if constexpr (kKind == SweepKind::kEisenstatBackwardUpdate) {
+    in = _mm256_add_pd(_mm256_load_pd(v.s + 4 * r), _mm256_mul_pd(_mm256_set1_pd(v.beta), _mm256_load_pd(v.x + 4 * r)));
+    _mm256_store_pd(v.x + 4 * r, in);
+  } else {
+    in = _mm256_load_pd((kKind == SweepKind::kEisenstatForward ? v.z : v.x) + 4 * r);
+  }
+  const __m256d acc = _mm256_sub_pd(_mm256_sub_pd(in, _mm256_add_pd(_mm256_add_pd(c0, c1), c2)), sc);
   const PaddedBlock& inv = a.diag_inv[r];
   __m256d o = _mm256_add_pd(
       _mm256_add_pd(_mm256_mul_pd(_mm256_load_pd(inv.col[0]), _mm256_permute4x64_pd(acc, 0x00)),
@@ -137,63 +184,71 @@ __attribute__((target("avx2"), always_inline)) inline __m256d RowAvx2(const Gaus
                          _mm256_mul_pd(_mm256_load_pd(g.col[2]), _mm256_permute4x64_pd(prev, 0xAA))));
   }
   _mm256_store_pd(solved + 4 * r, o);
-  if constexpr (kKind == SweepKind::kEisenstatBackward) {
+  if constexpr (IsEisenstatBackward(kKind)) {
     const PaddedBlock& d = a.diag[r];
     const __m256d dt = _mm256_add_pd(
         _mm256_add_pd(_mm256_mul_pd(_mm256_load_pd(d.col[0]), _mm256_permute4x64_pd(o, 0x00)),
                       _mm256_mul_pd(_mm256_load_pd(d.col[1]), _mm256_permute4x64_pd(o, 0x55))),
         _mm256_mul_pd(_mm256_load_pd(d.col[2]), _mm256_permute4x64_pd(o, 0xAA)));
-    _mm256_store_pd(z + 4 * r, _mm256_sub_pd(_mm256_load_pd(x + 4 * r), _mm256_mul_pd(_mm256_set1_pd(a.diag_excess), dt)));
+    _mm256_store_pd(v.z + 4 * r, _mm256_sub_pd(in, _mm256_mul_pd(_mm256_set1_pd(a.diag_excess), dt)));
+  } else if constexpr (kKind == SweepKind::kForwardDiagonal) {
+    *xy += DiagonalRowAvx2(a.diag[r], o, v.z + 4 * r);
   } else if constexpr (kKind == SweepKind::kEisenstatForward) {
-    const __m256d yr = _mm256_add_pd(o, _mm256_load_pd(t + 4 * r));
-    _mm256_store_pd(y + 4 * r, yr);
+    const __m256d yr = _mm256_add_pd(o, _mm256_load_pd(v.t + 4 * r));
+    _mm256_store_pd(v.y + 4 * r, yr);
     alignas(32) double p[4];
-    _mm256_store_pd(p, _mm256_mul_pd(_mm256_load_pd(x + 4 * r), yr));
+    _mm256_store_pd(p, _mm256_mul_pd(_mm256_load_pd(v.x + 4 * r), yr));
     *xy += (p[0] + p[1]) + p[2];
   }
   return o;
 }
 
 template <SweepKind kKind>
-__attribute__((target("avx2"))) double SweepAvx2(const GaussSeidelSweepArgs& a, const double* x,
-                                                 double* y, double* t, double* z) {
+// `a` by value: a local copy, kept in registers (the stores of __m256d may alias anything).
+__attribute__((target("avx2"))) double SweepAvx2(GaussSeidelSweepArgs a, SweepVectors v) {
   double xy = 0.0;
   __m256d prev = _mm256_setzero_pd();
   if constexpr (IsForward(kKind)) {
-    for (int r = 0; r < a.rows; ++r) prev = RowAvx2<kKind>(a, r, x, y, t, z, prev, &xy);
+    for (int r = 0; r < a.rows; ++r) prev = RowAvx2<kKind>(a, r, v, prev, &xy);
   } else {
-    for (int r = a.rows - 1; r >= 0; --r) prev = RowAvx2<kKind>(a, r, x, y, t, z, prev, &xy);
+    for (int r = a.rows - 1; r >= 0; --r) prev = RowAvx2<kKind>(a, r, v, prev, &xy);
   }
   return xy;
 }
 
-// y = D_w x per row and the sum of the rows' x . y, each (x_0 y_0 + x_1 y_1) + x_2 y_2.
+// y = D_w x per row and the sum of the rows' x . y.
 __attribute__((target("avx2"))) double MultiplyDiagonalAvx2(const PaddedBlock* diag, int rows,
                                                             const double* x, double* y) {
   double xy = 0.0;
-  for (int r = 0; r < rows; ++r) {
-    const PaddedBlock& d = diag[r];
-    const __m256d xr = _mm256_load_pd(x + 4 * r);
-    const __m256d yr = _mm256_add_pd(
-        _mm256_add_pd(_mm256_mul_pd(_mm256_load_pd(d.col[0]), _mm256_permute4x64_pd(xr, 0x00)),
-                      _mm256_mul_pd(_mm256_load_pd(d.col[1]), _mm256_permute4x64_pd(xr, 0x55))),
-        _mm256_mul_pd(_mm256_load_pd(d.col[2]), _mm256_permute4x64_pd(xr, 0xAA)));
-    _mm256_store_pd(y + 4 * r, yr);
-    alignas(32) double p[4];
-    _mm256_store_pd(p, _mm256_mul_pd(xr, yr));
-    xy += (p[0] + p[1]) + p[2];
+  for (int r = 0; r < rows; ++r) xy += DiagonalRowAvx2(diag[r], _mm256_load_pd(x + 4 * r), y + 4 * r);
+  return xy;
+}
+
+// CG's step (StepResidual), row by row.
+template <bool kYZero>
+__attribute__((target("avx2"))) double StepResidualAvx2(const PaddedBlock* diag, int rows, double alpha,
+                                                        const double* t, const double* q, double* y,
+                                                        double* r, double* s) {
+  const __m256d a = _mm256_set1_pd(alpha);
+  double xy = 0.0;
+  for (int i = 0; i < 4 * rows; i += 4) {
+    const __m256d y0 = kYZero ? _mm256_setzero_pd() : _mm256_load_pd(y + i);
+    _mm256_store_pd(y + i, _mm256_add_pd(y0, _mm256_mul_pd(a, _mm256_load_pd(t + i))));
+    const __m256d ri = _mm256_sub_pd(_mm256_load_pd(r + i), _mm256_mul_pd(a, _mm256_load_pd(q + i)));
+    _mm256_store_pd(r + i, ri);
+    xy += DiagonalRowAvx2(diag[i / 4], ri, s + i);
   }
   return xy;
 }
 #endif
 
 template <SweepKind kKind>
-double Sweep(const GaussSeidelSweepArgs& a, const double* x, double* y, double* t, double* z) {
+double Sweep(const GaussSeidelSweepArgs& a, const SweepVectors& v) {
 #ifdef HAPTEX_TEXTILE_X86_KERNELS
-  if (a.avx2) return SweepAvx2<kKind>(a, x, y, t, z);
+  if (a.avx2) return SweepAvx2<kKind>(a, v);
 #endif
   double xy = 0.0;
-  for (int i = 0; i < a.rows; ++i) xy += RowGeneric<kKind>(a, IsForward(kKind) ? i : a.rows - 1 - i, x, y, t, z);
+  for (int i = 0; i < a.rows; ++i) xy += RowGeneric<kKind>(a, IsForward(kKind) ? i : a.rows - 1 - i, v);
   return xy;
 }
 
@@ -220,6 +275,7 @@ inline __attribute__((always_inline)) V4 Cross(V4 u, V4 v) {
 inline __attribute__((always_inline)) void Premultiply(const PaddedBlock& d_inv, const Eigen::Matrix3d& m,
                                                        PaddedBlock* out) {
   const V4 c0 = LoadColumn(d_inv, 0), c1 = LoadColumn(d_inv, 1), c2 = LoadColumn(d_inv, 2);
+#pragma GCC unroll 3
   for (int j = 0; j < 3; ++j) StoreColumn((c0 * m(0, j) + c1 * m(1, j)) + c2 * m(2, j), out, j);
 }
 
@@ -251,6 +307,57 @@ inline __attribute__((always_inline)) bool RowBlocksKernel(const Eigen::Matrix3d
   if (upper_block != nullptr) Premultiply(*d_inv, *upper_block, upper);
   return true;
 }
+
+// What UpdateRows reads and writes.
+struct RowUpdate {
+  const internal::SweepRow* forward;
+  const internal::SweepRow* backward;
+  const int* general_diag;
+  const unsigned char* free;
+  const Eigen::Matrix3d* blocks;
+  double omega;
+  int rows;
+  PaddedBlock* diag;
+  PaddedBlock* diag_inv;
+  PaddedBlock* lower;
+  PaddedBlock* upper;
+};
+
+// Each row's blocks (RowBlocksKernel) where the row is free, zeros elsewhere; the adjacent
+// blocks only where the neighbour is free too. Returns false if a free row's failed (its blocks
+// zeroed).
+inline __attribute__((always_inline)) bool RowUpdatesKernel(const RowUpdate& u) {
+  bool ok = true;
+  for (int r = 0; r < u.rows; ++r) {
+    const bool free = u.free[r] != 0;
+    const bool lower = u.forward[r].adjacent && free && u.free[r - 1];
+    const bool upper = u.backward[r].adjacent && free && u.free[r + 1];
+    if (!lower) u.lower[r].SetZero();
+    if (!upper) u.upper[r].SetZero();
+    if (!free) {
+      u.diag[r].SetZero();
+      u.diag_inv[r].SetZero();
+      continue;
+    }
+    // Slot of general index k: k + slot_offset; the row's neighbours r -+ 1 are next to its diagonal.
+    const Eigen::Matrix3d* a = u.blocks + u.forward[r].slot_offset + u.general_diag[r];
+    if (!RowBlocksKernel(*a, u.omega, lower ? a - 1 : nullptr, upper ? a + 1 : nullptr, &u.diag[r],
+                         &u.diag_inv[r], &u.lower[r], &u.upper[r])) {
+      u.diag[r].SetZero();
+      u.diag_inv[r].SetZero();
+      u.lower[r].SetZero();
+      u.upper[r].SetZero();
+      ok = false;
+    }
+  }
+  return ok;
+}
+
+bool RowUpdatesGeneric(const RowUpdate& u) { return RowUpdatesKernel(u); }
+
+#ifdef HAPTEX_TEXTILE_X86_KERNELS
+__attribute__((target("avx2"))) bool RowUpdatesAvx2(const RowUpdate& u) { return RowUpdatesKernel(u); }
+#endif
 
 bool RowBlocksGeneric(const Eigen::Matrix3d& a, double omega, const Eigen::Matrix3d* lower_block,
                       const Eigen::Matrix3d* upper_block, PaddedBlock* d, PaddedBlock* d_inv,
@@ -318,17 +425,31 @@ GaussSeidelPreconditioner::GaussSeidelPreconditioner(const SplitRows& split) : s
     backward_rows_[row] = {diag + 1 + upper_adjacent, split.general_start[row + 1], upper,
                            split.scalar_start[row + 1], slot_offset, upper_adjacent};
   }
+  for (int c : split.general_col) general_offset_.push_back(4 * c);
+  for (int c : split.scalar_col) scalar_offset_.push_back(4 * c);
+  row_free_.assign(static_cast<std::size_t>(rows), 0);
   diag_.assign(static_cast<std::size_t>(rows), internal::PaddedBlock{});
   diag_inv_ = diag_;
   adjacent_lower_scaled_ = diag_;
   adjacent_upper_scaled_ = diag_;
 }
 
+bool GaussSeidelPreconditioner::UpdateRows(const std::vector<Eigen::Matrix3d>& blocks, double omega) {
+  diag_excess_ = 2.0 - omega;
+  const RowUpdate u{forward_rows_.data(), backward_rows_.data(), general_diag_.data(), row_free_.data(),
+                    blocks.data(), omega, rows(), diag_.data(), diag_inv_.data(),
+                    adjacent_lower_scaled_.data(), adjacent_upper_scaled_.data()};
+#ifdef HAPTEX_TEXTILE_X86_KERNELS
+  if (avx2_) return RowUpdatesAvx2(u);
+#endif
+  return RowUpdatesGeneric(u);
+}
+
 internal::GaussSeidelSweepArgs GaussSeidelPreconditioner::Args(bool forward, const std::vector<Eigen::Matrix3d>& blocks,
                                                                const std::vector<double>& scalars) const {
   return {forward ? forward_rows_.data() : backward_rows_.data(),
-          split_->general_col.data(),
-          split_->scalar_col.data(),
+          general_offset_.data(),
+          scalar_offset_.data(),
           diag_.data(),
           diag_inv_.data(),
           forward ? adjacent_lower_scaled_.data() : adjacent_upper_scaled_.data(),
@@ -348,7 +469,18 @@ void GaussSeidelPreconditioner::ForwardSolve(const std::vector<Eigen::Matrix3d>&
                                              PaddedVector* y) const {
   DemandRows(x, rows());
   DemandRows(*y, rows());
-  Sweep<SweepKind::kForward>(Args(true, blocks, scalars), x.data(), y->data(), nullptr, nullptr);
+  Sweep<SweepKind::kForward>(Args(true, blocks, scalars),
+                             {const_cast<double*>(x.data()), y->data(), nullptr, nullptr, nullptr, 0.0});
+}
+
+double GaussSeidelPreconditioner::ForwardSolveDiagonal(const std::vector<Eigen::Matrix3d>& blocks,
+                                                       const std::vector<double>& scalars, const PaddedVector& x,
+                                                       PaddedVector* y, PaddedVector* w) const {
+  DemandRows(x, rows());
+  DemandRows(*y, rows());
+  DemandRows(*w, rows());
+  return Sweep<SweepKind::kForwardDiagonal>(
+      Args(true, blocks, scalars), {const_cast<double*>(x.data()), y->data(), nullptr, w->data(), nullptr, 0.0});
 }
 
 void GaussSeidelPreconditioner::BackwardSolve(const std::vector<Eigen::Matrix3d>& blocks,
@@ -356,7 +488,8 @@ void GaussSeidelPreconditioner::BackwardSolve(const std::vector<Eigen::Matrix3d>
                                               PaddedVector* y) const {
   DemandRows(x, rows());
   DemandRows(*y, rows());
-  Sweep<SweepKind::kBackward>(Args(false, blocks, scalars), x.data(), y->data(), nullptr, nullptr);
+  Sweep<SweepKind::kBackward>(Args(false, blocks, scalars),
+                              {const_cast<double*>(x.data()), y->data(), nullptr, nullptr, nullptr, 0.0});
 }
 
 double GaussSeidelPreconditioner::MultiplySplit(const std::vector<Eigen::Matrix3d>& blocks,
@@ -366,9 +499,23 @@ double GaussSeidelPreconditioner::MultiplySplit(const std::vector<Eigen::Matrix3
                                 static_cast<const PaddedVector*>(y)}) {
     DemandRows(*v, rows());
   }
-  Sweep<SweepKind::kEisenstatBackward>(Args(false, blocks, scalars), x.data(), nullptr, t->data(), z->data());
-  return Sweep<SweepKind::kEisenstatForward>(Args(true, blocks, scalars), x.data(), y->data(), t->data(),
-                                             z->data());
+  // x is only read by these kinds.
+  const SweepVectors v{const_cast<double*>(x.data()), y->data(), t->data(), z->data(), nullptr, 0.0};
+  Sweep<SweepKind::kEisenstatBackward>(Args(false, blocks, scalars), v);
+  return Sweep<SweepKind::kEisenstatForward>(Args(true, blocks, scalars), v);
+}
+
+double GaussSeidelPreconditioner::UpdateMultiplySplit(const std::vector<Eigen::Matrix3d>& blocks,
+                                                      const std::vector<double>& scalars, const PaddedVector& s,
+                                                      double beta, PaddedVector* x, PaddedVector* t,
+                                                      PaddedVector* z, PaddedVector* y) const {
+  for (const PaddedVector* v : {&s, static_cast<const PaddedVector*>(x), static_cast<const PaddedVector*>(t),
+                                static_cast<const PaddedVector*>(z), static_cast<const PaddedVector*>(y)}) {
+    DemandRows(*v, rows());
+  }
+  const SweepVectors v{x->data(), y->data(), t->data(), z->data(), s.data(), beta};
+  Sweep<SweepKind::kEisenstatBackwardUpdate>(Args(false, blocks, scalars), v);
+  return Sweep<SweepKind::kEisenstatForward>(Args(true, blocks, scalars), v);
 }
 
 double GaussSeidelPreconditioner::MultiplyDiagonal(const PaddedVector& x, PaddedVector* y) const {
@@ -381,12 +528,36 @@ double GaussSeidelPreconditioner::MultiplyDiagonal(const PaddedVector& x, Padded
   if (avx2_) return MultiplyDiagonalAvx2(diag_.data(), rows, xp, yp);
 #endif
   double xy = 0.0;
-  for (int r = 0; r < rows; ++r) {
-    const internal::PaddedBlock& d = diag_[static_cast<std::size_t>(r)];
-    const double* xr = xp + 4 * r;
-    double* yr = yp + 4 * r;
-    for (int i = 0; i < 3; ++i) yr[i] = (d.col[0][i] * xr[0] + d.col[1][i] * xr[1]) + d.col[2][i] * xr[2];
-    xy += (xr[0] * yr[0] + xr[1] * yr[1]) + xr[2] * yr[2];
+  for (int r = 0; r < rows; ++r) xy += DiagonalRowGeneric(diag_[static_cast<std::size_t>(r)], xp + 4 * r, yp + 4 * r);
+  return xy;
+}
+
+double GaussSeidelPreconditioner::StepResidual(double alpha, const PaddedVector& t, const PaddedVector& q,
+                                               bool y_zero, PaddedVector* y, PaddedVector* r,
+                                               PaddedVector* s) const {
+  for (const PaddedVector* v : {&t, &q, static_cast<const PaddedVector*>(y), static_cast<const PaddedVector*>(r),
+                                static_cast<const PaddedVector*>(s)}) {
+    DemandRows(*v, rows());
+  }
+  const int rows = this->rows();
+  const double* tp = t.data();
+  const double* qp = q.data();
+  double* yp = y->data();
+  double* rp = r->data();
+  double* sp = s->data();
+#ifdef HAPTEX_TEXTILE_X86_KERNELS
+  if (avx2_) {
+    return y_zero ? StepResidualAvx2<true>(diag_.data(), rows, alpha, tp, qp, yp, rp, sp)
+                  : StepResidualAvx2<false>(diag_.data(), rows, alpha, tp, qp, yp, rp, sp);
+  }
+#endif
+  double xy = 0.0;
+  for (int i = 0; i < 4 * rows; i += 4) {
+    for (int k = 0; k < 4; ++k) {
+      yp[i + k] = (y_zero ? 0.0 : yp[i + k]) + alpha * tp[i + k];
+      rp[i + k] -= alpha * qp[i + k];
+    }
+    xy += DiagonalRowGeneric(diag_[static_cast<std::size_t>(i / 4)], rp + i, sp + i);
   }
   return xy;
 }

@@ -47,8 +47,8 @@ struct SweepRow {
 /// What one triangular sweep reads (gauss_seidel_preconditioner.cc).
 struct GaussSeidelSweepArgs {
   const SweepRow* rows_info;  ///< per row, for this sweep's direction
-  const int* general_col;
-  const int* scalar_col;
+  const int* general_offset;  ///< per general block: 4 x its column (its row's offset in a padded vector)
+  const int* scalar_offset;   ///< likewise per scalar block
   const PaddedBlock* diag;
   const PaddedBlock* diag_inv;
   const PaddedBlock* adjacent_scaled;  ///< this direction's
@@ -89,6 +89,21 @@ class GaussSeidelPreconditioner {
   /// y = D_w x over the free rows (CG's preconditioner on A~); returns x . y. Never allocates.
   double MultiplyDiagonal(const PaddedVector& x, PaddedVector* y) const;
 
+  // CG's passes fused with the above (one pass over the rows instead of several): the same
+  // operations in the same order, so the same bits as the unfused calls.
+
+  /// ForwardSolve(x, y), then MultiplyDiagonal(*y, w): returns y . w. Never allocates.
+  double ForwardSolveDiagonal(const std::vector<Eigen::Matrix3d>& blocks, const std::vector<double>& scalars,
+                              const PaddedVector& x, PaddedVector* y, PaddedVector* w) const;
+  /// x = s + beta x (CG's new direction), then MultiplySplit(x, t, z, y). Never allocates.
+  double UpdateMultiplySplit(const std::vector<Eigen::Matrix3d>& blocks, const std::vector<double>& scalars,
+                             const PaddedVector& s, double beta, PaddedVector* x, PaddedVector* t,
+                             PaddedVector* z, PaddedVector* y) const;
+  /// CG's step: y += alpha t, r -= alpha q (all entries, pads too), then MultiplyDiagonal(*r, s).
+  /// With y_zero, y is taken as 0 (not read: y = 0 + alpha t). Never allocates.
+  double StepResidual(double alpha, const PaddedVector& t, const PaddedVector& q, bool y_zero, PaddedVector* y,
+                      PaddedVector* r, PaddedVector* s) const;
+
   /// The sweeps use an AVX2 kernel where the CPU has it (checked at run time), else a portable
   /// one doing the same operations in the same order: identical results. This picks the
   /// portable one anyway (tests compare the two).
@@ -100,6 +115,8 @@ class GaussSeidelPreconditioner {
  private:
   const SplitRows* split_ = nullptr;
   std::vector<int> general_diag_;  ///< per row: index (into general_col) of its diagonal block
+  /// The split's general_col and scalar_col times 4: padded offsets, no scaling in the sweeps.
+  std::vector<int> general_offset_, scalar_offset_;
   std::vector<internal::SweepRow> forward_rows_, backward_rows_;
   internal::GaussSeidelSweepArgs Args(bool forward, const std::vector<Eigen::Matrix3d>& blocks,
                                       const std::vector<double>& scalars) const;
@@ -109,22 +126,19 @@ class GaussSeidelPreconditioner {
   /// for rows or neighbours that are not free).
   std::vector<internal::PaddedBlock> adjacent_lower_scaled_, adjacent_upper_scaled_;
   std::vector<internal::PaddedBlock> diag_inv_;  ///< D_w^-1 per row (zero for rows that are not free)
-  double omega_ = 1.0;
   bool avx2_ = false;
   double diag_excess_ = 0.0;               ///< (2 D_w - D) = diag_excess_ D_w: 2 - omega
 
-  template <typename RowFree>
-  bool UpdateRow(const std::vector<Eigen::Matrix3d>& blocks, int r, RowFree row_free);
+  std::vector<unsigned char> row_free_;  ///< Update's: which rows are free
+  /// Update for the rows row_free_ marks (one pass, the kernel picked once).
+  bool UpdateRows(const std::vector<Eigen::Matrix3d>& blocks, double omega);
 };
 
 template <typename RowFree>
 bool GaussSeidelPreconditioner::Update(const std::vector<Eigen::Matrix3d>& blocks, double omega,
                                        RowFree row_free) {
-  omega_ = omega;
-  diag_excess_ = 2.0 - omega;
-  bool ok = true;
-  for (int r = 0; r < rows(); ++r) ok = UpdateRow(blocks, r, row_free) && ok;
-  return ok;
+  for (int r = 0; r < rows(); ++r) row_free_[static_cast<std::size_t>(r)] = row_free(r) ? 1 : 0;
+  return UpdateRows(blocks, omega);
 }
 
 namespace internal {
@@ -136,33 +150,5 @@ bool SetRowBlocks(const Eigen::Matrix3d& a, double omega, const Eigen::Matrix3d*
                   const Eigen::Matrix3d* upper_block, bool avx2, PaddedBlock* d, PaddedBlock* d_inv,
                   PaddedBlock* lower, PaddedBlock* upper);
 }  // namespace internal
-
-template <typename RowFree>
-bool GaussSeidelPreconditioner::UpdateRow(const std::vector<Eigen::Matrix3d>& blocks, int r,
-                                          RowFree row_free) {
-  const auto row = static_cast<std::size_t>(r);
-  const bool lower = forward_rows_[row].adjacent && row_free(r) && row_free(r - 1);
-  const bool upper = backward_rows_[row].adjacent && row_free(r) && row_free(r + 1);
-  if (!lower) adjacent_lower_scaled_[row].SetZero();
-  if (!upper) adjacent_upper_scaled_[row].SetZero();
-  if (!row_free(r)) {
-    diag_[row].SetZero();
-    diag_inv_[row].SetZero();
-    return true;
-  }
-  // Slot of general index k: k + slot_offset; the row's neighbours r -+ 1 are next to its diagonal.
-  const std::size_t diag = static_cast<std::size_t>(forward_rows_[row].slot_offset + general_diag_[row]);
-  if (internal::SetRowBlocks(blocks[diag], omega_,
-                             lower ? &blocks[diag - 1] : nullptr, upper ? &blocks[diag + 1] : nullptr, avx2_,
-                             &diag_[row], &diag_inv_[row], &adjacent_lower_scaled_[row],
-                             &adjacent_upper_scaled_[row])) {
-    return true;
-  }
-  diag_[row].SetZero();
-  diag_inv_[row].SetZero();
-  adjacent_lower_scaled_[row].SetZero();
-  adjacent_upper_scaled_[row].SetZero();
-  return false;
-}
 
 }  // namespace haptex::textile

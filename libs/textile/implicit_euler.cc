@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include <Eigen/Dense>
 
@@ -58,14 +59,24 @@ void ResetSystem(const SplitRows& split, int n, FabricWorkspace* ws) {
     ws->system = ws->system_base;
     return;
   }
-  const double* scalars = ws->system_base_general_scalars.data();
-  Eigen::Matrix3d* system = ws->system.data();
+  // A block d I column-major is (d, 0), (0, 0), (d, 0), (0, 0), d: five 2-wide stores.
+  static_assert(sizeof(Eigen::Matrix3d) == 9 * sizeof(double));  // blocks 9 apart
+  using V2 = double __attribute__((vector_size(16)));
+  const V2 zero = {0.0, 0.0};
   for (int r = 0; r < n; ++r) {
-    ForEachGeneralSlot(split, r, [&](std::size_t slot) {
-      double* b = system[slot].data();
-      const double d = scalars[slot];
-      b[0] = d, b[1] = 0.0, b[2] = 0.0, b[3] = 0.0, b[4] = d, b[5] = 0.0, b[6] = 0.0, b[7] = 0.0, b[8] = d;
-    });
+    const auto row = static_cast<std::size_t>(r);
+    const int first = split.general_first_slot[row];
+    const int count = split.general_start[row + 1] - split.general_start[row];
+    const double* scalars = ws->system_base_general_scalars.data() + first;
+    double* b = ws->system[static_cast<std::size_t>(first)].data();
+    for (int k = 0; k < count; ++k, b += 9) {
+      const V2 d0 = {scalars[k], 0.0};
+      std::memcpy(b, &d0, sizeof d0);
+      std::memcpy(b + 2, &zero, sizeof zero);
+      std::memcpy(b + 4, &d0, sizeof d0);
+      std::memcpy(b + 6, &zero, sizeof zero);
+      std::memcpy(b + 8, &d0, sizeof(double));
+    }
   }
 }
 
@@ -132,9 +143,8 @@ PcgStart StartPcg(const FabricModel& model, const FabricState& state, double del
   return delta0 > 0.0 ? PcgStart::kIterate : PcgStart::kBreakdown;
 }
 
-// An Eigen view of a CG vector: itself, or a padded vector's entries (pads stay 0).
+// An Eigen view of a CG vector.
 Eigen::VectorXd& View(Eigen::VectorXd& v) { return v; }
-Eigen::Map<Eigen::VectorXd, Eigen::Aligned32> View(PaddedVector& v) { return v.vec(); }
 
 // CG's vectors: the residual, direction, product and preconditioned residual.
 template <typename Vector>
@@ -216,47 +226,79 @@ bool RunPcg(const FabricModel& model, const FabricState& state, const StepOption
       CgVectors<Eigen::VectorXd>{&ws->r, &ws->c, &ws->q, &ws->s}, report);
 }
 
+// rhs = h (f + h df/dx v), all rows.
+void ComputeRhs(double h, FabricWorkspace* ws) { ws->rhs = h * (ws->force_N + h * ws->dfdx_v); }
+
 // PCG on Gauss-Seidel's split system (gauss_seidel_preconditioner.h) for the correction to the
 // guess in ws->dv: A y = r0 = filter(rhs - A dv), y~ = (D_w + U) y from 0, then dv += y. The
 // tolerance is on r' M^-1 r relative to rhs' M^-1 rhs (M: the SSOR preconditioner), as RunPcg
 // measures in its preconditioner's norm. The split system's vectors are padded (ws->split).
-// Returns true on a breakdown (dv left at the guess).
-bool RunGaussSeidelPcg(const FabricModel& model, const FabricState& state,
-                       const StepOptions& options, FabricWorkspace* ws, CgReport* report) {
+// Computes ws->rhs (h the step). Returns true on a breakdown (dv left at the guess); sets
+// *add_y when the caller is to finish with dv += y (ws->split.y).
+bool RunGaussSeidelPcg(const FabricModel& model, const FabricState& state, const StepOptions& options,
+                       FabricWorkspace* ws, CgReport* report, bool* add_y) {
   const int n = model.num_particles;
+  const double h = options.dt_s;
   const GaussSeidelPreconditioner& gs = ws->gauss_seidel;
   const std::vector<Eigen::Matrix3d>& a = ws->system;
   const std::vector<double>& scalars = ws->system_scalars;
   FabricWorkspace::SplitVectors& v = ws->split;
-  // s = filter(rhs); q = filter(rhs - A dv), padded.
+  // rhs; s = filter(rhs); q = filter(rhs - A dv), padded; in one pass. q_zero stays 0 while q
+  // is finite (0 x inf is NaN): its finiteness check.
   FilteredMultiply(model, state, *ws, ws->dv, &ws->q);
   double rhs_norm2 = 0.0;
+  Eigen::Vector3d q_zero = Eigen::Vector3d::Zero();
   for (int p = 0; p < n; ++p) {
+    auto rhs = ws->rhs.segment<3>(3 * p);
+    rhs = h * (ws->force_N.segment<3>(3 * p) + h * ws->dfdx_v.segment<3>(3 * p));
     if (IsFree(state, p)) {
-      v.s.SetRow(p, ws->rhs.segment<3>(3 * p));
-      v.q.SetRow(p, ws->rhs.segment<3>(3 * p) - ws->q.segment<3>(3 * p));
-      rhs_norm2 += ws->rhs.segment<3>(3 * p).squaredNorm();
+      const Eigen::Vector3d q = rhs - ws->q.segment<3>(3 * p);
+      v.s.SetRow(p, rhs);
+      v.q.SetRow(p, q);
+      q_zero += 0.0 * q;
+      rhs_norm2 += rhs.squaredNorm();
     } else {
       v.s.SetRow(p, Eigen::Vector3d::Zero());
       v.q.SetRow(p, Eigen::Vector3d::Zero());
     }
   }
-  gs.ForwardSolve(a, scalars, v.s, &v.z);
-  const double delta0 = gs.MultiplyDiagonal(v.z, &v.t);
-  const PcgStart start = StartPcg(model, state, delta0, rhs_norm2, v.q.vec().allFinite(), ws, report);
+  const double delta0 = gs.ForwardSolveDiagonal(a, scalars, v.s, &v.z, &v.t);
+  const PcgStart start = StartPcg(model, state, delta0, rhs_norm2, q_zero.allFinite(), ws, report);
   if (start != PcgStart::kIterate) return start == PcgStart::kBreakdown;
-  gs.ForwardSolve(a, scalars, v.q, &v.r);  // r~ = (D_w + L)^-1 r0
-  // CG runs on y~ = (D_w + U) y from 0, but y itself is kept: y = sum alpha_k (D_w + U)^-1 c_k,
+  // r~ = (D_w + L)^-1 r0 and the first direction c = D_w r~, delta = r~'c.
+  double delta = gs.ForwardSolveDiagonal(a, scalars, v.q, &v.r, &v.c);
+  // CG runs on y~ = (D_w + U) y from 0 (y = 0 until the first step), but y itself is kept: y = sum alpha_k (D_w + U)^-1 c_k,
   // and the product leaves (D_w + U)^-1 c_k in t. That saves the backward sweep y~ -> y.
-  v.y.SetZero();
-  const bool breakdown = Iterate(
-      [&](const PaddedVector& c, PaddedVector* q) { return gs.MultiplySplit(a, scalars, c, &v.t, &v.z, q); },
-      [&](const PaddedVector& r, PaddedVector* z) { return gs.MultiplyDiagonal(r, z); },
-      [&](double alpha) { v.y.vec() += alpha * v.t.vec(); }, delta0, options,
-      CgVectors<PaddedVector>{&v.r, &v.c, &v.q, &v.s}, report);
-  if (breakdown) return true;
-  v.y.AddRowsTo(&ws->dv);
-  return false;
+  // Iterate's loop with its passes fused: the direction update c = s + beta c is done by the
+  // next product, the unknown's and residual's updates with the preconditioner.
+  const double eps2 = options.cg_tolerance * options.cg_tolerance;
+  bool breakdown = !(delta >= 0.0);
+  double beta = 0.0;
+  int it = 0;
+  while (!breakdown && delta > eps2 * delta0 && it < options.cg_max_iterations) {
+    const double cq = it == 0 ? gs.MultiplySplit(a, scalars, v.c, &v.t, &v.z, &v.q)
+                              : gs.UpdateMultiplySplit(a, scalars, v.s, beta, &v.c, &v.t, &v.z, &v.q);
+    if (!(cq > 0.0)) {
+      breakdown = true;
+      break;
+    }
+    const double alpha = delta / cq;
+    const double delta_old = delta;
+    delta = gs.StepResidual(alpha, v.t, v.q, it == 0, &v.y, &v.r, &v.s);
+    ++it;
+    if (!(delta >= 0.0)) {
+      breakdown = true;
+      break;
+    }
+    beta = delta / delta_old;
+  }
+  report->iterations = it;
+  report->relative_residual = std::sqrt(std::max(delta, 0.0) / delta0);
+  report->converged = !breakdown && delta <= eps2 * delta0;
+  report->finite = std::isfinite(delta);
+  if (!breakdown && it == 0) v.y.SetZero();  // dv += 0 as well (-0 turns +0)
+  *add_y = !breakdown;
+  return breakdown;
 }
 
 }  // namespace
@@ -282,7 +324,6 @@ CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options,
   sink.constant_jacobians_added = true;
   AccumulateForces(model, *state, &sink);
   AddAnchorSpringForces(model, *state, &sink);
-  ws->rhs = h * (ws->force_N + h * ws->dfdx_v);
 
   // Initial guess carries the prescribed velocity change (z).
   for (int p = 0; p < n; ++p) {
@@ -308,30 +349,59 @@ CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options,
   }
 
   // Modified PCG; on a preconditioner breakdown retry from the same guess with block Jacobi.
-  ws->dv0 = ws->dv;
+  // Gauss-Seidel's PCG leaves dv at the guess on a breakdown; the others need a copy.
+  const bool gs = options.preconditioner == Preconditioner::kGaussSeidel;
+  if (!gs) {
+    ComputeRhs(h, ws);
+    ws->dv0 = ws->dv;
+  }
   CgReport report;
   Preconditioner pc = options.preconditioner;
-  bool breakdown = pc == Preconditioner::kGaussSeidel
-                       ? (!gauss_seidel_ok || RunGaussSeidelPcg(model, *state, options, ws, &report))
-                       : RunPcg(model, *state, options, pc, ws, &report);
+  bool add_y = false;
+  bool breakdown = gs ? (!gauss_seidel_ok || RunGaussSeidelPcg(model, *state, options, ws, &report, &add_y))
+                      : RunPcg(model, *state, options, pc, ws, &report);
   if (breakdown && pc != Preconditioner::kBlockJacobi) {
     report.preconditioner_fallback = true;
-    ws->dv = ws->dv0;
+    if (gs) {
+      if (!gauss_seidel_ok) ComputeRhs(h, ws);  // else RunGaussSeidelPcg's
+    } else {
+      ws->dv = ws->dv0;
+    }
     pc = Preconditioner::kBlockJacobi;
     UpdateBlockJacobi(model, ws);
     breakdown = RunPcg(model, *state, options, pc, ws, &report);
   }
   if (breakdown) report.converged = false;
 
-  report.finite = report.finite && ws->dv.allFinite();
+  // dv's finiteness (dv_zero stays 0 while dv is finite), with Gauss-Seidel's dv += y.
+  Eigen::Vector3d dv_zero = Eigen::Vector3d::Zero();
+  if (report.finite) {
+    for (int p = 0; p < n; ++p) {
+      auto dv = ws->dv.segment<3>(3 * p);
+      if (add_y) dv += ws->split.y.row(p);
+      dv_zero += 0.0 * dv;
+    }
+  }
+  report.finite = report.finite && dv_zero.allFinite();
   if (!report.finite) {
     ws->dv.setZero();  // never warm-start from garbage
     return report;
   }
 
-  // Update: v += dv, x += h v.
-  state->v_W_m_per_s += ws->dv;
-  state->x_W_m += h * state->v_W_m_per_s;
+  // Update: v += dv, x += h v; with the new state's finiteness and largest speed for the
+  // stepper's checks.
+  Eigen::Vector3d state_zero = Eigen::Vector3d::Zero();
+  double max_speed2 = 0.0;
+  for (int p = 0; p < n; ++p) {
+    auto v = state->v_W_m_per_s.segment<3>(3 * p);
+    auto x = state->x_W_m.segment<3>(3 * p);
+    v += ws->dv.segment<3>(3 * p);
+    x += h * v;
+    state_zero += 0.0 * x + 0.0 * v;
+    max_speed2 = std::max(max_speed2, v.squaredNorm());
+  }
+  ws->stepped_state_finite = state_zero.allFinite();
+  ws->stepped_max_speed2_m2_per_s2 = max_speed2;
   state->time_s += h;
   return report;
 }

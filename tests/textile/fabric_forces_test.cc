@@ -1,10 +1,12 @@
 #include "libs/textile/fabric_forces.h"
 
+#include <cstring>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "libs/textile/bending_force.h"
+#include "libs/textile/cpu_features.h"
 #include "libs/textile/drag_force.h"
 #include "libs/textile/external_force.h"
 #include "libs/textile/kes_material.h"
@@ -146,6 +148,38 @@ TEST(FabricForcesTest, FusedAssemblyHandlesTailCollapsedElementsAndNoDrag) {
     for (const int p : {1, nu, nu + 1}) s.x(p) = s.x(0);
     ExpectFusedEqualsReference(model, s, drag_coefficient > 0.0 ? "collapsed, drag"
                                                                 : "collapsed, no drag");
+  }
+}
+
+// The AVX2 kernel and its portable build give the same bits (where the CPU has AVX2), with a
+// tail group, a collapsed quad, with and without quadratic drag.
+TEST(FabricForcesTest, Avx2AndPortableKernelsGiveTheSameBits) {
+  if (!internal::CpuHasAvx2()) GTEST_SKIP() << "no AVX2 on this CPU";
+  const auto same_bits = [](const auto& a, const auto& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof a[0]) == 0;
+  };
+  for (const double drag_coefficient : {1.5, 0.0}) {
+    ModelOptions options;
+    options.drag.quadratic_coefficient = drag_coefficient;
+    const FabricModel model = BuildFabricModel(MaterialFromKes(testing::CompositeDenim()),
+                                               {0.03, 0.03, 6, 6}, options);
+    ASSERT_NE(model.triangles.size() % 4, 0u);
+    for (const double stretch : {1.02, 0.97}) {
+      FabricState s = MakeRestState(model);
+      for (int p = 0; p < model.num_particles; ++p) {
+        s.x(p) = s.x(p).cwiseProduct(Eigen::Vector3d(stretch, 1.0 + 0.5 * (stretch - 1.0), 1.0));
+      }
+      testing::Perturb(&s, 2e-3, 0.3, 7);
+      const int nu = model.mesh.particles_warp();
+      for (const int p : {1, nu, nu + 1}) s.x(p) = s.x(0);
+      Assembled portable = Empty(model), avx2 = Empty(model);
+      ForceSink ps = SinkFor(&portable, s), as = SinkFor(&avx2, s);
+      internal::AccumulateForces(model, s, false, &ps);
+      internal::AccumulateForces(model, s, true, &as);
+      EXPECT_TRUE(same_bits(portable.f, avx2.f)) << "stretch " << stretch;
+      EXPECT_TRUE(same_bits(portable.dfdx_v, avx2.dfdx_v)) << "stretch " << stretch;
+      EXPECT_TRUE(same_bits(portable.system, avx2.system)) << "stretch " << stretch;
+    }
   }
 }
 

@@ -174,6 +174,72 @@ TEST(GaussSeidelPreconditionerTest, PortableKernelGivesTheSameBits) {
   const double d1 = fast.MultiplyDiagonal(y1, &z1), d2 = portable.MultiplyDiagonal(y2, &z2);
   EXPECT_EQ(z1.Rows(), z2.Rows());
   EXPECT_EQ(d1, d2);
+  // The fused passes.
+  EXPECT_EQ(fast.ForwardSolveDiagonal(a.blocks, a.scalars, x, &y1, &z1),
+            portable.ForwardSolveDiagonal(a.blocks, a.scalars, x, &y2, &z2));
+  EXPECT_EQ(y1.Rows(), y2.Rows());
+  EXPECT_EQ(z1.Rows(), z2.Rows());
+  PaddedVector c1 = x, c2 = x, u1 = y1, u2 = y2;
+  EXPECT_EQ(fast.UpdateMultiplySplit(a.blocks, a.scalars, u1, 0.7, &c1, &t1, &z1, &y1),
+            portable.UpdateMultiplySplit(a.blocks, a.scalars, u2, 0.7, &c2, &t2, &z2, &y2));
+  EXPECT_EQ(c1.Rows(), c2.Rows());
+  EXPECT_EQ(y1.Rows(), y2.Rows());
+  PaddedVector s1(n), s2(n);
+  for (bool y_zero : {false, true}) {
+    EXPECT_EQ(fast.StepResidual(0.3, t1, y1, y_zero, &z1, &c1, &s1),
+              portable.StepResidual(0.3, t2, y2, y_zero, &z2, &c2, &s2));
+    EXPECT_EQ(z1.Rows(), z2.Rows());
+    EXPECT_EQ(c1.Rows(), c2.Rows());
+    EXPECT_EQ(s1.Rows(), s2.Rows());
+  }
+}
+
+// The fused passes CG runs give the bits of the passes they fuse, with either kernel.
+TEST(GaussSeidelPreconditionerTest, FusedPassesGiveTheUnfusedBits) {
+  const FabricModel model = DenimModel(10, 0.009);
+  FabricState s = BorderFixed(model);
+  const System a = Assemble(model, &s);
+  const auto row_free = [&](int r) { return s.mode[static_cast<std::size_t>(r)] == ParticleMode::kFree; };
+  const int n = model.num_particles;
+  for (bool portable : {false, true}) {
+    GaussSeidelPreconditioner gs(model.product_rows);
+    if (portable) gs.UsePortableKernel();
+    ASSERT_TRUE(gs.Update(a.blocks, 1.2, row_free));
+    std::mt19937 rng(13);
+    const PaddedVector x = Padded(RandomFree(model, s, &rng)), u = Padded(RandomFree(model, s, &rng));
+
+    PaddedVector y1(n), w1(n), y2(n), w2(n);
+    const double d1 = gs.ForwardSolveDiagonal(a.blocks, a.scalars, x, &y1, &w1);
+    gs.ForwardSolve(a.blocks, a.scalars, x, &y2);
+    const double d2 = gs.MultiplyDiagonal(y2, &w2);
+    EXPECT_EQ(d1, d2) << portable;
+    EXPECT_EQ(y1.Rows(), y2.Rows()) << portable;
+    EXPECT_EQ(w1.Rows(), w2.Rows()) << portable;
+
+    // c = u + beta c, then the split product.
+    PaddedVector c1 = x, c2 = x, t1(n), t2(n), z1(n), z2(n), q1(n), q2(n);
+    const double cq1 = gs.UpdateMultiplySplit(a.blocks, a.scalars, u, 0.4, &c1, &t1, &z1, &q1);
+    c2.vec() = u.vec() + 0.4 * c2.vec();
+    const double cq2 = gs.MultiplySplit(a.blocks, a.scalars, c2, &t2, &z2, &q2);
+    EXPECT_EQ(cq1, cq2) << portable;
+    EXPECT_EQ(c1.Rows(), c2.Rows()) << portable;
+    EXPECT_EQ(t1.Rows(), t2.Rows()) << portable;
+    EXPECT_EQ(q1.Rows(), q2.Rows()) << portable;
+
+    // y += alpha t, r -= alpha q, s = D_w r; and from y = 0.
+    for (bool y_zero : {false, true}) {
+      PaddedVector ya = u, yb = u, ra = x, rb = x, sa(n), sb(n);
+      if (y_zero) yb.SetZero();
+      const double da = gs.StepResidual(0.6, t1, q1, y_zero, &ya, &ra, &sa);
+      yb.vec() += 0.6 * t1.vec();
+      rb.vec() -= 0.6 * q1.vec();
+      const double db = gs.MultiplyDiagonal(rb, &sb);
+      EXPECT_EQ(da, db) << portable << y_zero;
+      EXPECT_EQ(ya.Rows(), yb.Rows()) << portable << y_zero;
+      EXPECT_EQ(ra.Rows(), rb.Rows()) << portable << y_zero;
+      EXPECT_EQ(sa.Rows(), sb.Rows()) << portable << y_zero;
+    }
+  }
 }
 
 TEST(GaussSeidelPreconditionerTest, SingularDiagonalBlockIsReported) {
