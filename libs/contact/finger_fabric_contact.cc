@@ -18,9 +18,9 @@ FingerFabricContact::FingerFabricContact(const Eigen::VectorXd& particle_area_m2
       slot_ratio_(particle_area_m2.size()) {}
 
 void FingerFabricContact::Reset() {
-  if (!touched_) return;  // an absent finger is reset every tick
+  if (!dirty_) return;  // an absent finger is reset every tick
   for (auto& c : particles_) c = ParticleContact{};
-  touched_ = false;
+  dirty_ = false;
 }
 
 int FingerFabricContact::num_active() const {
@@ -41,7 +41,7 @@ void FingerFabricContact::Prepare(const FingerPose& pose, const textile::FabricS
   const double len2 = ab.squaredNorm();
   const double inv_len2 = len2 > 0.0 ? 1.0 / len2 : 0.0;
   const double outside2 = radius_eff_m_ * radius_eff_m_ * (1.0 + 1e-9);
-  touched_ = true;
+  dirty_ = true;
   bool was_sliding = false;
   for (const auto& c : particles_) {
     if (c.active && c.sliding) {

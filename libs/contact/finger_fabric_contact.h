@@ -81,7 +81,7 @@ class FingerFabricContact {
   const ParticleContact& particle(int p) const { return particles_[static_cast<std::size_t>(p)]; }
   void SetParticle(int p, const ParticleContact& contact) {
     particles_[static_cast<std::size_t>(p)] = contact;
-    touched_ = true;
+    dirty_ = true;
   }
 
  private:
@@ -89,7 +89,7 @@ class FingerFabricContact {
   double radius_eff_m_;
   Eigen::VectorXd k_N_per_m_;  ///< per particle
   std::vector<ParticleContact> particles_;
-  bool touched_ = false;  ///< particles_ may differ from the default (Reset has work to do)
+  bool dirty_ = false;  ///< particles_ may differ from the default (Reset has work to do)
   // Scratch of Prepare, one column/entry per contact (sized once: no allocation per tick).
   std::vector<int> slot_particle_;
   Eigen::Matrix3Xd slot_free_W_;     ///< where the particle meets the surface

@@ -13,7 +13,8 @@ void AddAnchorSpringForces(const FabricModel& model, const FabricState& state, F
     sink->AddForce(p, k * (state.anchor_W_m.segment<3>(3 * p) - state.x_W_m.segment<3>(3 * p)));
     if (jacobians) {
       // sink->AddDx(diag slot, p, p, -k I) on the diagonal only: the off-diagonal terms it
-      // would add are zeros, which leave an accumulated (never -0) entry as it is.
+      // would add are zeros, which leave an accumulated (never -0) entry as it is. Likewise
+      // (-k I) v's zero terms in dfdx_v, which also starts at +0 and only takes additions.
       double* b = (*sink->system)[static_cast<std::size_t>(model.pattern.diag_slot[static_cast<std::size_t>(p)])].data();
       const double d = sink->dx_scale * -k;
       b[0] += d;

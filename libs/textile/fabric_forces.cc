@@ -315,8 +315,8 @@ HAPTEX_LANES_INLINE void TriangleKernel(const FabricModel& model, const double* 
     const TriangleElement* el[kLanes];
     HAPTEX_UNROLL
     for (int j = 0; j < kLanes; ++j) el[j] = triangles + t0 + std::min(j, lanes - 1);
-    // Lanes gathered with whole-vector constructors (lane-by-lane stores to a vector in memory
-    // would stall its next load).
+    // Lanes gathered into registers (GatherXyz, GatherPairs): lane-by-lane stores to a vector
+    // in memory would stall its next load.
     int corner[3][kLanes];  // 3 x particle index: offset of corner k's coordinates
     HAPTEX_UNROLL
     for (int k = 0; k < 3; ++k) {
@@ -491,6 +491,7 @@ __attribute__((target("avx2"))) void AddTriangleForcesAvx2(const FabricModel& mo
 void AddTriangleForces(const FabricModel& model, const Eigen::VectorXd& x,
                        const Eigen::VectorXd& v, bool avx2, ForceSink* sink) {
 #ifdef HAPTEX_TEXTILE_X86_KERNELS
+  HAPTEX_TEXTILE_DEMAND(!avx2 || internal::CpuHasAvx2());  // else SIGILL
   if (avx2) return AddTriangleForcesAvx2(model, x.data(), v.data(), sink);
 #else
   HAPTEX_TEXTILE_DEMAND(!avx2);
@@ -571,6 +572,17 @@ void AddBending(const FabricModel& model, const Eigen::VectorXd& x, const Eigen:
   if (sink->wants_jacobians() && !sink->constant_jacobians_added) AddBendingBlocks(model, sink);
 }
 
+// Linear drag's constant Jacobian blocks: -c0 A_p I per particle, scaled by the sink.
+void AddLinearDragBlocks(const FabricModel& model, ForceSink* sink) {
+  const double c0 = model.options.drag.linear_N_s_per_m3;
+  if (!(c0 > 0.0)) return;
+  std::vector<Eigen::Matrix3d>& system = *sink->system;
+  for (int p = 0; p < model.num_particles; ++p) {
+    system[static_cast<std::size_t>(model.pattern.diag_slot[static_cast<std::size_t>(p)])]
+        .diagonal().array() -= sink->dv_scale * c0 * model.area_m2[p];
+  }
+}
+
 // Linear (viscous) drag -c A v (its Jacobian is constant) and the loads m g + external force
 // (AddExternalForces) in one pass over the particles, added to each particle in that order.
 void AddLinearDragAndLoads(const FabricModel& model, const FabricState& state, ForceSink* sink) {
@@ -599,13 +611,7 @@ void AddLinearDragAndLoads(const FabricModel& model, const FabricState& state, F
     std::memcpy(fk, &f.xy, sizeof f.xy);
     fk[2] = f.z;
   }
-  if (drag && sink->wants_jacobians() && !sink->constant_jacobians_added) {
-    for (int p = 0; p < model.num_particles; ++p) {
-      const double c = c0 * model.area_m2[p];
-      const int slot = model.pattern.diag_slot[static_cast<std::size_t>(p)];
-      (*sink->system)[static_cast<std::size_t>(slot)].diagonal().array() -= sink->dv_scale * c;
-    }
-  }
+  if (drag && sink->wants_jacobians() && !sink->constant_jacobians_added) AddLinearDragBlocks(model, sink);
 }
 
 }  // namespace
@@ -625,14 +631,7 @@ void internal::AccumulateForces(const FabricModel& model, const FabricState& sta
 
 void AddConstantJacobians(const FabricModel& model, ForceSink* sink) {
   AddBendingBlocks(model, sink);
-  std::vector<Eigen::Matrix3d>& system = *sink->system;
-  const double c0 = model.options.drag.linear_N_s_per_m3;
-  if (c0 > 0.0) {
-    for (int p = 0; p < model.num_particles; ++p) {
-      system[static_cast<std::size_t>(model.pattern.diag_slot[static_cast<std::size_t>(p)])]
-          .diagonal().array() -= sink->dv_scale * c0 * model.area_m2[p];
-    }
-  }
+  AddLinearDragBlocks(model, sink);
 }
 
 }  // namespace haptex::textile

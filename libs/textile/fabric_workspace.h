@@ -34,7 +34,9 @@ struct FabricWorkspace {
   std::vector<double> system_base_general_scalars;
   double system_base_dt_s = 0.0;
   const FabricModel* system_base_model = nullptr;
-  Eigen::VectorXd rhs, dv, dv0, r, c, q, s;  ///< 3n CG vectors (dv0: initial guess)
+  /// 3n CG vectors. dv0: the initial guess, copied only for block Jacobi and multilevel
+  /// (Gauss-Seidel's PCG leaves dv at the guess on a breakdown), so stale on its steps.
+  Eigen::VectorXd rhs, dv, dv0, r, c, q, s;
   Eigen::VectorXd x_backup;              ///< roll-back copy of the positions
   /// Set by ImplicitEulerStep when it updates the state, for FabricStepper's checks (no second
   /// scan): whether the new x and v are all finite, and the largest squared particle speed.

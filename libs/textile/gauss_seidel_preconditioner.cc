@@ -40,12 +40,13 @@ constexpr bool IsEisenstatBackward(SweepKind k) {
 
 // A sweep's vectors (rows 4 apart); x is written only by kEisenstatBackwardUpdate.
 struct SweepVectors {
-  double* x;
+  const double* x;
   double* y;
   double* t;
   double* z;
   const double* s;  // kEisenstatBackwardUpdate's
   double beta;      // likewise
+  double* x_update = nullptr;  // likewise: x itself, updated in place to s + beta x
 };
 
 // The vector a sweep solves into, whose earlier rows its sums read: y, t, or w kept in z.
@@ -74,7 +75,7 @@ inline double RowGeneric(const GaussSeidelSweepArgs& a, int r, const SweepVector
   double* solved = Solved<kKind>(v);
   const double* x = v.x;
   if constexpr (kKind == SweepKind::kEisenstatBackwardUpdate) {
-    for (int i = 0; i < 4; ++i) v.x[4 * r + i] = v.s[4 * r + i] + v.beta * x[4 * r + i];
+    for (int i = 0; i < 4; ++i) v.x_update[4 * r + i] = v.s[4 * r + i] + v.beta * x[4 * r + i];
   }
   const double* in = kKind == SweepKind::kEisenstatForward ? v.z : x;
   const internal::SweepRow& q = a.rows_info[r];
@@ -123,11 +124,6 @@ inline double RowGeneric(const GaussSeidelSweepArgs& a, int r, const SweepVector
 }
 
 #ifdef HAPTEX_TEXTILE_X86_KERNELS
-// The row in 4-wide registers: lanes 0..2 are components 0..2. Lane 3 of the sums holds
-// garbage (a general block's column loads reach into its next column), which only lane 3 of
-// D_w^-1 (zero) multiplies: the row's pad is stored as 0. No FMA (target avx2 only): products
-// round as in RowGeneric. `prev` is the row solved just before, kept in a register; returns
-// this row's.
 // y = D x for one row (lane 3 too: 0 for a finite x), returning x . y as (x_0 y_0 + x_1 y_1) + x_2 y_2.
 __attribute__((target("avx2"), always_inline)) inline double DiagonalRowAvx2(const PaddedBlock& d, __m256d x,
                                                                          double* y) {
@@ -142,6 +138,11 @@ __attribute__((target("avx2"), always_inline)) inline double DiagonalRowAvx2(con
   return _mm_cvtsd_f64(_mm_add_sd(sum01, _mm256_extractf128_pd(p, 1)));
 }
 
+// The row in 4-wide registers: lanes 0..2 are components 0..2. Lane 3 of the sums holds
+// garbage (a general block's column loads reach into its next column), which only lane 3 of
+// D_w^-1 (zero) multiplies: the row's pad is stored as 0. No FMA (target avx2 only): products
+// round as in RowGeneric. `prev` is the row solved just before, kept in a register; returns
+// this row's.
 template <SweepKind kKind>
 __attribute__((target("avx2"), always_inline)) inline __m256d RowAvx2(const GaussSeidelSweepArgs& a, int r,
                                                                       const SweepVectors& v, __m256d prev,
@@ -166,7 +167,7 @@ __attribute__((target("avx2"), always_inline)) inline __m256d RowAvx2(const Gaus
   __m256d in;
   if constexpr (kKind == SweepKind::kEisenstatBackwardUpdate) {
     in = _mm256_add_pd(_mm256_load_pd(v.s + 4 * r), _mm256_mul_pd(_mm256_set1_pd(v.beta), _mm256_load_pd(v.x + 4 * r)));
-    _mm256_store_pd(v.x + 4 * r, in);
+    _mm256_store_pd(v.x_update + 4 * r, in);
   } else {
     in = _mm256_load_pd((kKind == SweepKind::kEisenstatForward ? v.z : v.x) + 4 * r);
   }
@@ -203,8 +204,8 @@ __attribute__((target("avx2"), always_inline)) inline __m256d RowAvx2(const Gaus
   return o;
 }
 
-template <SweepKind kKind>
 // `a` by value: a local copy, kept in registers (the stores of __m256d may alias anything).
+template <SweepKind kKind>
 __attribute__((target("avx2"))) double SweepAvx2(GaussSeidelSweepArgs a, SweepVectors v) {
   double xy = 0.0;
   __m256d prev = _mm256_setzero_pd();
@@ -388,7 +389,7 @@ bool SetRowBlocks(const Eigen::Matrix3d& a, double omega, const Eigen::Matrix3d*
 }
 }  // namespace internal
 
-GaussSeidelPreconditioner::GaussSeidelPreconditioner(const SplitRows& split) : split_(&split) {
+GaussSeidelPreconditioner::GaussSeidelPreconditioner(const SplitRows& split) {
   avx2_ = internal::CpuHasAvx2();
   const int rows = static_cast<int>(split.general_start.size()) - 1;
   general_diag_.assign(static_cast<std::size_t>(rows), 0);
@@ -470,7 +471,7 @@ void GaussSeidelPreconditioner::ForwardSolve(const std::vector<Eigen::Matrix3d>&
   DemandRows(x, rows());
   DemandRows(*y, rows());
   Sweep<SweepKind::kForward>(Args(true, blocks, scalars),
-                             {const_cast<double*>(x.data()), y->data(), nullptr, nullptr, nullptr, 0.0});
+                             {x.data(), y->data(), nullptr, nullptr, nullptr, 0.0});
 }
 
 double GaussSeidelPreconditioner::ForwardSolveDiagonal(const std::vector<Eigen::Matrix3d>& blocks,
@@ -480,7 +481,7 @@ double GaussSeidelPreconditioner::ForwardSolveDiagonal(const std::vector<Eigen::
   DemandRows(*y, rows());
   DemandRows(*w, rows());
   return Sweep<SweepKind::kForwardDiagonal>(
-      Args(true, blocks, scalars), {const_cast<double*>(x.data()), y->data(), nullptr, w->data(), nullptr, 0.0});
+      Args(true, blocks, scalars), {x.data(), y->data(), nullptr, w->data(), nullptr, 0.0});
 }
 
 void GaussSeidelPreconditioner::BackwardSolve(const std::vector<Eigen::Matrix3d>& blocks,
@@ -489,7 +490,7 @@ void GaussSeidelPreconditioner::BackwardSolve(const std::vector<Eigen::Matrix3d>
   DemandRows(x, rows());
   DemandRows(*y, rows());
   Sweep<SweepKind::kBackward>(Args(false, blocks, scalars),
-                              {const_cast<double*>(x.data()), y->data(), nullptr, nullptr, nullptr, 0.0});
+                              {x.data(), y->data(), nullptr, nullptr, nullptr, 0.0});
 }
 
 double GaussSeidelPreconditioner::MultiplySplit(const std::vector<Eigen::Matrix3d>& blocks,
@@ -499,8 +500,7 @@ double GaussSeidelPreconditioner::MultiplySplit(const std::vector<Eigen::Matrix3
                                 static_cast<const PaddedVector*>(y)}) {
     DemandRows(*v, rows());
   }
-  // x is only read by these kinds.
-  const SweepVectors v{const_cast<double*>(x.data()), y->data(), t->data(), z->data(), nullptr, 0.0};
+  const SweepVectors v{x.data(), y->data(), t->data(), z->data(), nullptr, 0.0};
   Sweep<SweepKind::kEisenstatBackward>(Args(false, blocks, scalars), v);
   return Sweep<SweepKind::kEisenstatForward>(Args(true, blocks, scalars), v);
 }
@@ -513,7 +513,7 @@ double GaussSeidelPreconditioner::UpdateMultiplySplit(const std::vector<Eigen::M
                                 static_cast<const PaddedVector*>(z), static_cast<const PaddedVector*>(y)}) {
     DemandRows(*v, rows());
   }
-  const SweepVectors v{x->data(), y->data(), t->data(), z->data(), s.data(), beta};
+  const SweepVectors v{x->data(), y->data(), t->data(), z->data(), s.data(), beta, x->data()};
   Sweep<SweepKind::kEisenstatBackwardUpdate>(Args(false, blocks, scalars), v);
   return Sweep<SweepKind::kEisenstatForward>(Args(true, blocks, scalars), v);
 }

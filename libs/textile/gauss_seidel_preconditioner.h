@@ -64,9 +64,8 @@ class GaussSeidelPreconditioner {
  public:
   GaussSeidelPreconditioner() = default;
   /// Records where each row's blocks switch from below to above the diagonal in `split`
-  /// (each row's general and scalar columns sorted), and keeps a reference to it: `split` must
-  /// outlive this (the model's). Allocates; call once per model. Blocks passed later are in
-  /// its pattern's slot order, scalars in its order.
+  /// (each row's general and scalar columns sorted). Allocates; call once per model. Blocks
+  /// passed later are in its pattern's slot order, scalars in its order.
   explicit GaussSeidelPreconditioner(const SplitRows& split);
 
   /// Inverts the (scaled) diagonal blocks of `blocks` for relaxation factor omega in (0, 2).
@@ -113,7 +112,6 @@ class GaussSeidelPreconditioner {
   bool uses_avx2() const { return avx2_; }
 
  private:
-  const SplitRows* split_ = nullptr;
   std::vector<int> general_diag_;  ///< per row: index (into general_col) of its diagonal block
   /// The split's general_col and scalar_col times 4: padded offsets, no scaling in the sweeps.
   std::vector<int> general_offset_, scalar_offset_;

@@ -68,8 +68,8 @@ void ResetSystem(const SplitRows& split, int n, FabricWorkspace* ws) {
     const int first = split.general_first_slot[row];
     const int count = split.general_start[row + 1] - split.general_start[row];
     const double* scalars = ws->system_base_general_scalars.data() + first;
-    double* b = ws->system[static_cast<std::size_t>(first)].data();
-    for (int k = 0; k < count; ++k, b += 9) {
+    for (int k = 0; k < count; ++k) {
+      double* b = ws->system[static_cast<std::size_t>(first + k)].data();
       const V2 d0 = {scalars[k], 0.0};
       std::memcpy(b, &d0, sizeof d0);
       std::memcpy(b + 2, &zero, sizeof zero);
@@ -143,9 +143,6 @@ PcgStart StartPcg(const FabricModel& model, const FabricState& state, double del
   return delta0 > 0.0 ? PcgStart::kIterate : PcgStart::kBreakdown;
 }
 
-// An Eigen view of a CG vector.
-Eigen::VectorXd& View(Eigen::VectorXd& v) { return v; }
-
 // CG's vectors: the residual, direction, product and preconditioned residual.
 template <typename Vector>
 struct CgVectors {
@@ -155,10 +152,20 @@ struct CgVectors {
   Vector* s;
 };
 
+// CG's report after `it` iterations ending at delta (the preconditioned residual norm squared).
+// Iterate and RunGaussSeidelPcg's fused copy of its loop both end here.
+void FinishReport(double delta, double delta0, double eps2, int it, bool breakdown, CgReport* report) {
+  report->iterations = it;
+  report->relative_residual = std::sqrt(std::max(delta, 0.0) / delta0);
+  report->converged = !breakdown && delta <= eps2 * delta0;
+  report->finite = std::isfinite(delta);
+}
+
 // The PCG iterations from the residual in v.r, with product(c, &q) = A c returning c'Ac,
 // precondition(r, &s) = P^-1 r returning r's, and advance(alpha) moving the unknown by alpha
 // along the direction (x += alpha c). Stops at the tolerance relative to delta0 or at the
 // iteration cap; fills the report. Returns true on a breakdown (a non-positive c'Ac or r'P^-1 r).
+// RunGaussSeidelPcg has this loop with its passes fused: a change here belongs there too.
 template <typename Vector, typename ProductFn, typename PreconditionFn, typename AdvanceFn>
 bool Iterate(ProductFn product, PreconditionFn precondition, AdvanceFn advance, double delta0,
              const StepOptions& options, const CgVectors<Vector>& v, CgReport* report) {
@@ -174,7 +181,7 @@ bool Iterate(ProductFn product, PreconditionFn precondition, AdvanceFn advance, 
     }
     const double alpha = delta / cq;
     advance(alpha);
-    View(*v.r) -= alpha * View(*v.q);
+    *v.r -= alpha * *v.q;
     const double delta_old = delta;
     delta = precondition(*v.r, v.s);
     ++it;
@@ -182,12 +189,9 @@ bool Iterate(ProductFn product, PreconditionFn precondition, AdvanceFn advance, 
       breakdown = true;
       break;
     }
-    View(*v.c) = View(*v.s) + (delta / delta_old) * View(*v.c);
+    *v.c = *v.s + (delta / delta_old) * *v.c;
   }
-  report->iterations = it;
-  report->relative_residual = std::sqrt(std::max(delta, 0.0) / delta0);
-  report->converged = !breakdown && delta <= eps2 * delta0;
-  report->finite = std::isfinite(delta);
+  FinishReport(delta, delta0, eps2, it, breakdown, report);
   return breakdown;
 }
 
@@ -237,6 +241,7 @@ void ComputeRhs(double h, FabricWorkspace* ws) { ws->rhs = h * (ws->force_N + h 
 // *add_y when the caller is to finish with dv += y (ws->split.y).
 bool RunGaussSeidelPcg(const FabricModel& model, const FabricState& state, const StepOptions& options,
                        FabricWorkspace* ws, CgReport* report, bool* add_y) {
+  *add_y = false;
   const int n = model.num_particles;
   const double h = options.dt_s;
   const GaussSeidelPreconditioner& gs = ws->gauss_seidel;
@@ -292,10 +297,7 @@ bool RunGaussSeidelPcg(const FabricModel& model, const FabricState& state, const
     }
     beta = delta / delta_old;
   }
-  report->iterations = it;
-  report->relative_residual = std::sqrt(std::max(delta, 0.0) / delta0);
-  report->converged = !breakdown && delta <= eps2 * delta0;
-  report->finite = std::isfinite(delta);
+  FinishReport(delta, delta0, eps2, it, breakdown, report);
   if (!breakdown && it == 0) v.y.SetZero();  // dv += 0 as well (-0 turns +0)
   *add_y = !breakdown;
   return breakdown;
@@ -307,6 +309,7 @@ CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options,
                            FabricState* state, FabricWorkspace* ws) {
   const double h = options.dt_s;
   const int n = model.num_particles;
+  ws->stepped_state_finite = false;  // until a step has written the state
 
   // Forces and the system matrix A = M - h df/dv - h^2 df/dx, starting from its constant part
   // (mass, bending, linear drag), built once per model and step.
