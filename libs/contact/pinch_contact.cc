@@ -116,8 +116,8 @@ bool PinchContact::Prepare(const FingerPose& thumb, const FingerPose& index, dou
   axis_thumb_C_ = axis_in_c(seg_thumb_);
   axis_index_C_ = axis_in_c(seg_index_);
 
-  // Forget the last tick's touched particles: a new stamp, and a particle's sums are assigned
-  // when first touched, so nothing is cleared.
+  // Forget the last tick's touched particles: a new stamp, and a particle's sums are zeroed
+  // when first touched, so nothing is cleared here.
   if (++stamp_ == 0) {
     std::fill(touch_stamp_.begin(), touch_stamp_.end(), 0u);
     stamp_ = 1;
@@ -319,6 +319,20 @@ bool PinchContact::Prepare(const FingerPose& thumb, const FingerPose& index, dou
     double kw0 = 0.0, kw1 = 0.0, kw2 = 0.0, ww0 = 0.0, ww1 = 0.0, ww2 = 0.0;
     double d0x = 0.0, d0y = 0.0, d0z = 0.0, d1x = 0.0, d1y = 0.0, d1z = 0.0, d2x = 0.0, d2y = 0.0,
            d2z = 0.0;
+    // A sample's spring w_m k (anchor - q) onto the corners' sums; (dx, dy, dz) = anchor - q in
+    // C: the spring pulls the sample to its ideal position on the plane.
+    auto add_spring = [&](double wk0, double wk1, double wk2, double dx, double dy, double dz)
+                          __attribute__((always_inline)) {
+      d0x += wk0 * dx;
+      d0y += wk0 * dy;
+      d0z += wk0 * dz;
+      d1x += wk1 * dx;
+      d1y += wk1 * dy;
+      d1z += wk1 * dz;
+      d2x += wk2 * dx;
+      d2y += wk2 * dy;
+      d2z += wk2 * dz;
+    };
     if (active_full_[a] && loaded_full) {
       // Every sample active at the full spring: its weights times k and the sums of w k and w
       // are constants.
@@ -334,16 +348,7 @@ bool PinchContact::Prepare(const FingerPose& thumb, const FingerPose& index, dou
         num_sliding += smp.sliding ? 1 : 0;
         k_ideal_x += k_full * ix;
         k_ideal_y += k_full * iy;
-        const double dx = ix - qx, dy = iy - qy, dz = -qz;
-        d0x += wk[0] * dx;
-        d0y += wk[0] * dy;
-        d0z += wk[0] * dz;
-        d1x += wk[1] * dx;
-        d1y += wk[1] * dy;
-        d1z += wk[1] * dz;
-        d2x += wk[2] * dx;
-        d2y += wk[2] * dy;
-        d2z += wk[2] * dz;
+        add_spring(wk[0], wk[1], wk[2], ix - qx, iy - qy, -qz);
       }
       kw0 = full_kw_[0];
       kw1 = full_kw_[1];
@@ -373,8 +378,6 @@ bool PinchContact::Prepare(const FingerPose& thumb, const FingerPose& index, dou
         num_sliding += smp.sliding ? 1 : 0;
         k_ideal_x += k * ix;
         k_ideal_y += k * iy;
-        // anchor - q, in C: the spring pulls the sample to its ideal position on the plane.
-        const double dx = ix - qx, dy = iy - qy, dz = -qz;
         const double wk0 = w[0] * k, wk1 = w[1] * k, wk2 = w[2] * k;
         kw0 += wk0;
         kw1 += wk1;
@@ -382,15 +385,7 @@ bool PinchContact::Prepare(const FingerPose& thumb, const FingerPose& index, dou
         ww0 += w[0];
         ww1 += w[1];
         ww2 += w[2];
-        d0x += wk0 * dx;
-        d0y += wk0 * dy;
-        d0z += wk0 * dz;
-        d1x += wk1 * dx;
-        d1y += wk1 * dy;
-        d1z += wk1 * dz;
-        d2x += wk2 * dx;
-        d2y += wk2 * dy;
-        d2z += wk2 * dz;
+        add_spring(wk0, wk1, wk2, ix - qx, iy - qy, -qz);
       }
     }
     const double corner[3][5] = {{kw0, ww0, d0x, d0y, d0z}, {kw1, ww1, d1x, d1y, d1z}, {kw2, ww2, d2x, d2y, d2z}};
@@ -398,22 +393,16 @@ bool PinchContact::Prepare(const FingerPose& thumb, const FingerPose& index, dou
       const int pm = p[m];
       const std::size_t um = static_cast<std::size_t>(pm);
       double* kd = touch_kd_C_.col(pm).data();
-      if (touch_stamp_[um] != stamp_) {
-        // First touch this tick: assigning is adding to zero (a sum of these is never -0).
+      if (touch_stamp_[um] != stamp_) {  // first touch this tick: its sums start from 0
         touch_stamp_[um] = stamp_;
         touched_.push_back(pm);
-        touch_k_[um] = corner[m][0];
-        touch_w_[um] = corner[m][1];
-        kd[0] = corner[m][2];
-        kd[1] = corner[m][3];
-        kd[2] = corner[m][4];
-      } else {
-        touch_k_[um] += corner[m][0];
-        touch_w_[um] += corner[m][1];
-        kd[0] += corner[m][2];
-        kd[1] += corner[m][3];
-        kd[2] += corner[m][4];
+        touch_k_[um] = touch_w_[um] = kd[0] = kd[1] = kd[2] = 0.0;
       }
+      touch_k_[um] += corner[m][0];
+      touch_w_[um] += corner[m][1];
+      kd[0] += corner[m][2];
+      kd[1] += corner[m][3];
+      kd[2] += corner[m][4];
     }
   }
   k_ideal_C_ = Eigen::Vector2d(k_ideal_x, k_ideal_y);

@@ -144,12 +144,11 @@ PcgStart StartPcg(const FabricModel& model, const FabricState& state, double del
 }
 
 // CG's vectors: the residual, direction, product and preconditioned residual.
-template <typename Vector>
 struct CgVectors {
-  Vector* r;
-  Vector* c;
-  Vector* q;
-  Vector* s;
+  Eigen::VectorXd* r;
+  Eigen::VectorXd* c;
+  Eigen::VectorXd* q;
+  Eigen::VectorXd* s;
 };
 
 // CG's report after `it` iterations ending at delta (the preconditioned residual norm squared).
@@ -166,9 +165,9 @@ void FinishReport(double delta, double delta0, double eps2, int it, bool breakdo
 // along the direction (x += alpha c). Stops at the tolerance relative to delta0 or at the
 // iteration cap; fills the report. Returns true on a breakdown (a non-positive c'Ac or r'P^-1 r).
 // RunGaussSeidelPcg has this loop with its passes fused: a change here belongs there too.
-template <typename Vector, typename ProductFn, typename PreconditionFn, typename AdvanceFn>
+template <typename ProductFn, typename PreconditionFn, typename AdvanceFn>
 bool Iterate(ProductFn product, PreconditionFn precondition, AdvanceFn advance, double delta0,
-             const StepOptions& options, const CgVectors<Vector>& v, CgReport* report) {
+             const StepOptions& options, const CgVectors& v, CgReport* report) {
   double delta = precondition(*v.r, v.c);
   const double eps2 = options.cg_tolerance * options.cg_tolerance;
   bool breakdown = !(delta >= 0.0);
@@ -227,7 +226,7 @@ bool RunPcg(const FabricModel& model, const FabricState& state, const StepOption
         return r.dot(*z);
       },
       [&](double alpha) { ws->dv += alpha * ws->c; }, delta0, options,
-      CgVectors<Eigen::VectorXd>{&ws->r, &ws->c, &ws->q, &ws->s}, report);
+      CgVectors{&ws->r, &ws->c, &ws->q, &ws->s}, report);
 }
 
 // rhs = h (f + h df/dx v), all rows.
