@@ -18,6 +18,7 @@
 #include "libs/contact/anchor_accumulator.h"
 #include "libs/contact/contact_options.h"
 #include "libs/contact/finger_geometry.h"
+#include "libs/contact/pinch_sample_lanes.h"
 #include "libs/textile/fabric_model.h"
 #include "libs/textile/fabric_state.h"
 
@@ -63,42 +64,43 @@ class PinchContact {
     Eigen::Vector2d ideal_C{Eigen::Vector2d::Zero()};
   };
   int samples_per_triangle() const { return options_.pinch_samples_per_edge * options_.pinch_samples_per_edge; }
-  int num_samples() const { return static_cast<int>(samples_.size()); }
+  int num_samples() const { return static_cast<int>(triangle_p_.size()) * per_triangle_; }
   SampleState sample(int i) const {
-    const Sample& s = samples_[static_cast<std::size_t>(i)];
-    return {s.active, s.sliding, s.ideal_C};
+    const std::size_t l = Lane(i);
+    return {k_[l] > 0.0, sliding_[l] != 0, Eigen::Vector2d(ideal_x_[l], ideal_y_[l])};
   }
   void SetSample(int i, const SampleState& state) {
-    Sample& s = samples_[static_cast<std::size_t>(i)];
-    s.active = state.active;
-    s.sliding = state.sliding;
-    s.ideal_C = state.ideal_C;
+    const std::size_t l = Lane(i);
+    // Any spring marks it active until the next Prepare sets the sample's own.
+    k_[l] = state.active ? k_N_per_m_ : 0.0;
+    sliding_[l] = state.sliding ? -1 : 0;
+    ideal_x_[l] = state.ideal_C.x();
+    ideal_y_[l] = state.ideal_C.y();
     maybe_active_ = maybe_active_ || state.active;
     if (state.active) triangle_held_[static_cast<std::size_t>(i / per_triangle_)] = 1;
   }
 
  private:
-  struct Sample {
-    Eigen::Vector2d ideal_C{Eigen::Vector2d::Zero()};  ///< ideal position on the contact plane
-    double k_N_per_m = 0.0;  ///< spring during the last step: ramps in near the edge
-    bool active = false;
-    bool sliding = false;
-  };
-  /// A capsule axis in the contact frame C, for squared distances without a square root.
-  struct AxisC {
-    Eigen::Vector3d a{Eigen::Vector3d::Zero()};
-    Eigen::Vector3d ab{Eigen::Vector3d::Zero()};
-    double inv_len2 = 0.0;  ///< 0 for a sphere
-    [[gnu::always_inline]] double Distance2(const Eigen::Vector3d& q) const {
-      const Eigen::Vector3d aq = q - a;
-      const double t = std::clamp(aq.dot(ab) * inv_len2, 0.0, 1.0);
-      return (aq - t * ab).squaredNorm();
-    }
-  };
+  /// Lane of sample i (triangle i / per_triangle_, padded to whole chunks of 4).
+  std::size_t Lane(int i) const {
+    return static_cast<std::size_t>(i / per_triangle_) * static_cast<std::size_t>(lanes_per_triangle_) +
+           static_cast<std::size_t>(i % per_triangle_);
+  }
   /// How deep q lies inside both fingers [m]: min over the two of (radius - distance to axis);
   /// negative outside the intersection. The exact test of a particle that the squared distances
   /// in C leave too close to call.
   double DepthInBoth(const Eigen::Vector3d& q) const;
+  // Prepare's steps, in order.
+  /// Each particle's position in C and distances to the axes; marks those in the intersection.
+  void LocateParticles(const textile::FabricState& state, std::vector<std::uint8_t>* owned);
+  /// Which samples are active and their springs; false when none is.
+  bool ClassifySamples();
+  /// Coulomb's law for every active sample; their springs summed per particle.
+  void ApplyFriction(const FrictionCoefficients& mu);
+  /// The per-particle sums as anchor springs.
+  void LumpSprings(const textile::FabricState& state, AnchorAccumulator* springs);
+  internal::PinchSampleLayout Layout() const;
+  internal::PinchSampleArrays SampleArrays();
   bool InsideBoth(const Eigen::Vector3d& q) const { return DepthInBoth(q) > 0.0; }
 
   const textile::FabricModel& patch_;
@@ -106,31 +108,35 @@ class PinchContact {
   double radius_thumb_m_, radius_index_m_;  ///< reach of the pinch: radius + 2 half thicknesses
   double k_N_per_m_;  ///< per sample (uniform mesh: triangle area / samples)
   int per_triangle_ = 1;  ///< samples per triangle
+  int lanes_per_triangle_ = 4;  ///< per_triangle_ rounded up to whole 4-lane chunks
+  bool avx2_ = false;  ///< the friction kernel's AVX2 build (same results)
   std::vector<std::array<int, 3>> triangle_p_;  ///< particles of each triangle (compact copy)
   std::vector<std::array<double, 3>> sample_w_;  ///< barycentric weights of sample j of any triangle
-  std::vector<Sample> samples_;  ///< every candidate point, fixed at construction; triangle-major
+  // Every candidate point, fixed at construction: per lane (pinch_sample_lanes.h), triangle-major.
+  std::vector<double> ideal_x_, ideal_y_;  ///< ideal position on the contact plane, in C
+  std::vector<double> k_;  ///< spring during the last step (ramps in near the edge); 0: inactive
+  std::vector<long long> sliding_;  ///< -1 sliding, 0 sticking
+  std::vector<double> lane_w_, lane_k_full_, w_sum_full_;  ///< internal::PinchSampleLayout's arrays
   std::vector<std::uint8_t> triangle_held_;  ///< per triangle: 0 if none of its samples is active
   bool maybe_active_ = false;  ///< some sample may be active (Reset has work to do)
 
   // Per tick (sized at construction, so no allocation per tick).
-  std::vector<std::uint8_t> near_;  ///< per particle
-  std::vector<double> d2_thumb_, d2_index_;  ///< per particle: squared distance to each axis
-  std::vector<double> dist_thumb_, dist_index_;  ///< per particle: distance to each axis
-  Eigen::Matrix3Xd x_C_;  ///< per particle: position in C (at Prepare)
+  // Per particle, padded to whole 4-particle lanes (internal::PinchParticleArrays).
+  std::vector<std::uint8_t> near_;
+  std::vector<internal::PinchOwned> particle_owned_;
+  std::vector<double> d2_thumb_, d2_index_;  ///< squared distance to each axis
+  std::vector<double> x_C_;  ///< position in C (at Prepare), 4 doubles per particle
+  std::vector<int> candidates_;  ///< triangles classified sample by sample, ascending
+  std::vector<std::uint8_t> candidate_deep_;  ///< per candidate: every corner deeper than the ramp
+  std::vector<internal::PinchTriangleHold> hold_;  ///< per candidate
   std::vector<int> active_triangles_;  ///< triangles with an active sample, ascending
-  /// Per entry of active_triangles_: 1 if all its samples are active at the full spring.
-  std::vector<std::uint8_t> active_full_;
-  // Such a triangle's sums over its samples that depend only on the weights (the same
-  // additions in the same order as the general loop, so the same bits).
-  std::vector<std::array<double, 3>> full_wk_;  ///< per sample j: w_j k_full
-  std::array<double, 3> full_kw_{}, full_ww_{};  ///< per corner: sum_j w_j k_full, sum_j w_j
-  // What Resolve needs, per particle touched by an active sample: sum of w k and of w over the
-  // samples on it (the samples' springs and touch points are linear in the particles).
+  std::vector<std::uint8_t> active_full_;  ///< per entry: all its samples active at the full spring
+  // What Resolve needs, per particle touched by an active sample: sums of w k (ideal - q) and of
+  // w k, and of w, over the samples on it (the samples' springs and touch points are linear in
+  // the particles).
   std::vector<int> touched_;
-  std::vector<std::uint32_t> touch_stamp_;  ///< == stamp_: touched this tick (no clearing)
-  std::uint32_t stamp_ = 0;
-  std::vector<double> touch_k_, touch_w_;
-  Eigen::Matrix3Xd touch_kd_C_;  ///< sum of w k (anchor - sample point), in C
+  std::vector<internal::PinchParticleSums> touch_sums_;
+  std::vector<double> touch_w_;
   Eigen::Vector2d k_ideal_C_{Eigen::Vector2d::Zero()};  ///< sum of k ideal_C over active samples
   int num_sliding_ = 0;
   int last_triangle_ = -1;
@@ -140,7 +146,7 @@ class PinchContact {
   double weight_sum_ = 0.0;  ///< sum of the active samples' springs [N/m]
   double grip_N_ = 0.0;
   Segment seg_thumb_{}, seg_index_{};
-  AxisC axis_thumb_C_{}, axis_index_C_{};
+  internal::PinchAxis axis_thumb_C_{}, axis_index_C_{};
   Eigen::Vector3d origin_W_{Eigen::Vector3d::Zero()};
   Eigen::Matrix3d R_WC_{Eigen::Matrix3d::Identity()};
 };

@@ -1,0 +1,311 @@
+#include "libs/contact/pinch_sample_lanes.h"
+
+#include <algorithm>
+
+#include "libs/textile/check.h"
+#include "libs/textile/cpu_features.h"
+#include "libs/textile/lanes.h"
+
+// The kernels are built twice (portable and AVX2) from the same source: see lanes.h.
+
+namespace haptex::contact::internal {
+namespace {
+
+using textile::lanes::Any;
+using textile::lanes::LaneSums;
+using textile::lanes::M4;
+using textile::lanes::Splat;
+using textile::lanes::Sqrt;
+using textile::lanes::Transpose;
+using textile::lanes::V4;
+using textile::lanes::Where;
+
+HAPTEX_LANES_INLINE V4 Load(const double* p) {
+  V4 v;
+  __builtin_memcpy(&v, p, sizeof v);
+  return v;
+}
+HAPTEX_LANES_INLINE void Store(V4 v, double* p) { __builtin_memcpy(p, &v, sizeof v); }
+HAPTEX_LANES_INLINE M4 LoadMask(const long long* p) {
+  M4 m;
+  __builtin_memcpy(&m, p, sizeof m);
+  return m;
+}
+HAPTEX_LANES_INLINE void StoreMask(M4 m, long long* p) { __builtin_memcpy(p, &m, sizeof m); }
+
+HAPTEX_LANES_INLINE V4 Min(V4 a, V4 b) { return a < b ? a : b; }
+HAPTEX_LANES_INLINE V4 Max(V4 a, V4 b) { return a > b ? a : b; }
+
+// Squared distances of four points q (per axis) to a capsule axis: the clamped projection, as
+// PinchContact::AxisC::Distance2.
+HAPTEX_LANES_INLINE V4 Distance2(const PinchAxis& axis, const V4 q[3]) {
+  V4 aq[3];
+  HAPTEX_UNROLL
+  for (int i = 0; i < 3; ++i) aq[i] = q[i] - axis.a[i];
+  const V4 along = (aq[0] * axis.ab[0] + aq[1] * axis.ab[1] + aq[2] * axis.ab[2]) * axis.inv_len2;
+  const V4 t = Min(Max(along, Splat(0.0)), Splat(1.0));
+  V4 r[3];
+  HAPTEX_UNROLL
+  for (int i = 0; i < 3; ++i) r[i] = aq[i] - t * axis.ab[i];
+  return r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+}
+
+HAPTEX_LANES_INLINE void LocateKernel(const PinchLocateInput& in, const PinchParticleArrays& out) {
+  const int n = in.num_particles;
+  for (int p0 = 0; p0 < n; p0 += 4) {
+    // Four particles (the last repeated past the end: its lanes land in the arrays' padding).
+    const double* x[4];
+    HAPTEX_UNROLL
+    for (int j = 0; j < 4; ++j) x[j] = in.x_W_m + 3 * std::min(p0 + j, n - 1);
+    V4 rel[3];
+    HAPTEX_UNROLL
+    for (int i = 0; i < 3; ++i) rel[i] = V4{x[0][i], x[1][i], x[2][i], x[3][i]} - in.origin_W_m[i];
+    V4 q[3];
+    HAPTEX_UNROLL
+    for (int i = 0; i < 3; ++i) {
+      q[i] = in.R_CW[3 * i] * rel[0] + in.R_CW[3 * i + 1] * rel[1] + in.R_CW[3 * i + 2] * rel[2];
+    }
+    const V4 dt2 = Distance2(in.thumb, q), di2 = Distance2(in.index, q);
+    const M4 near = rel[0] * rel[0] + rel[1] * rel[1] + rel[2] * rel[2] < in.reach2_m2;
+    const M4 in_both = near & (dt2 < in.in_thumb2) & (di2 < in.in_index2);
+    const M4 maybe = near & ~in_both & ~((dt2 > in.out_thumb2) | (di2 > in.out_index2));
+    const std::size_t up = static_cast<std::size_t>(p0);
+    Store(dt2, out.d2_thumb_m2 + up);
+    Store(di2, out.d2_index_m2 + up);
+    V4 xc[4];
+    const V4 rows[4] = {q[0], q[1], q[2], Splat(0.0)};
+    Transpose(rows, xc);
+    HAPTEX_UNROLL
+    for (int j = 0; j < 4; ++j) {
+      Store(xc[j], out.x_C_m + 4 * (up + static_cast<std::size_t>(j)));
+      out.near[up + static_cast<std::size_t>(j)] = near[j] ? 1 : 0;
+      out.owned[up + static_cast<std::size_t>(j)] =
+          in_both[j] ? PinchOwned::kYes : (maybe[j] ? PinchOwned::kExactTest : PinchOwned::kNo);
+    }
+  }
+}
+
+// kChunks: the chunks per triangle as a constant (0: layout.chunks), so that one-chunk
+// triangles (the default, 2 samples per edge) keep every vector in a register.
+template <int kChunks>
+HAPTEX_LANES_INLINE PinchClassifyTotals ClassifyKernel(const PinchSampleLayout& layout,
+                                                       const PinchClassifyInput& in,
+                                                       const PinchSampleArrays& s,
+                                                       PinchTriangleHold* hold) {
+  const int chunks = kChunks > 0 ? kChunks : layout.chunks;
+  const double k_full = layout.k_full_N_per_m;
+  const bool ramped = in.edge_ramp_m > 0.0;
+  PinchClassifyTotals totals;
+  M4 active_count = M4{0, 0, 0, 0};  // minus the sum of the active masks (not-full triangles)
+  for (int a = 0; a < in.num_triangles; ++a) {
+    const int t = in.triangles[a];
+    const std::array<int, 3>& p = in.triangle_p[t];
+    const double* x[3] = {in.x_C_m + 4 * p[0], in.x_C_m + 4 * p[1], in.x_C_m + 4 * p[2]};
+    const bool deep = in.deep[a] != 0;
+    M4 any_active = M4{0, 0, 0, 0}, all_full = ~M4{0, 0, 0, 0};
+    V4 k_sum = Splat(0.0);
+    M4 count = M4{0, 0, 0, 0};
+    for (int c = 0; c < chunks; ++c) {
+      const std::size_t lane0 = 4 * (static_cast<std::size_t>(t) * static_cast<std::size_t>(chunks) +
+                                     static_cast<std::size_t>(c));
+      const double* wc = layout.w + 12 * c;
+      const V4 w[3] = {Load(wc), Load(wc + 4), Load(wc + 8)};
+      const V4 k_full_lanes = Load(layout.k_full_lanes + 4 * c);
+      const M4 real = k_full_lanes > 0.0;
+      V4 q[3];
+      HAPTEX_UNROLL
+      for (int i = 0; i < 3; ++i) q[i] = w[0] * x[0][i] + w[1] * x[1][i] + w[2] * x[2][i];  // broadcasts
+      V4 k = k_full_lanes;
+      if (!deep) {
+        const V4 dt2 = Distance2(in.thumb, q), di2 = Distance2(in.index, q);
+        const M4 outside = dt2 > in.out_thumb2 || di2 > in.out_index2;  // certainly, whatever the rounding
+        const M4 full = dt2 < in.full_thumb2 && di2 < in.full_index2;
+        // Near an edge: the depth in both decides.
+        const V4 depth = Min(in.radius_thumb_m - Sqrt(dt2), in.radius_index_m - Sqrt(di2));
+        const V4 ramp_k = ramped ? k_full * Min(Splat(1.0), depth / in.edge_ramp_m) : Splat(k_full);
+        const M4 edge_inside = depth > 0.0 && ramp_k > 0.0;
+        k = outside ? Splat(0.0) : (full ? k_full_lanes : Where(edge_inside, ramp_k));
+        k = Where(real, k);
+        all_full &= ~real | (k == k_full_lanes);
+      }
+      const M4 active = k > 0.0;
+      const M4 start = active & ~(Load(s.k_N_per_m + lane0) > 0.0);
+      if (Any(start)) {
+        Store(start ? q[0] : Load(s.ideal_x_C_m + lane0), s.ideal_x_C_m + lane0);
+        Store(start ? q[1] : Load(s.ideal_y_C_m + lane0), s.ideal_y_C_m + lane0);
+        StoreMask(LoadMask(s.sliding + lane0) & ~start, s.sliding + lane0);
+      }
+      Store(k, s.k_N_per_m + lane0);
+      any_active |= active;
+      k_sum += k;
+      count -= active;
+    }
+    if (deep || !Any(~all_full)) {
+      hold[a] = PinchTriangleHold::kAllFull;
+      ++totals.all_full_triangles;
+    } else if (Any(any_active)) {
+      hold[a] = PinchTriangleHold::kSome;
+      const V4 sums = LaneSums(k_sum, Splat(0.0), Splat(0.0), Splat(0.0));
+      totals.k_not_full_N_per_m += sums[0];
+      active_count += count;
+    } else {
+      hold[a] = PinchTriangleHold::kNone;
+    }
+  }
+  totals.active_not_full = static_cast<int>(active_count[0] + active_count[1] + active_count[2] + active_count[3]);
+  return totals;
+}
+
+template <int kChunks>
+HAPTEX_LANES_INLINE PinchFrictionTotals FrictionKernel(const PinchSampleLayout& layout,
+                                               const PinchFrictionInput& in,
+                                               const PinchSampleArrays& s,
+                                               PinchParticleSums* sums, double* w_sums) {
+  const double gps = in.normal_per_stiffness_m;
+  const double mu_s = in.mu_static, mu_d = in.mu_dynamic;
+  const bool loaded = gps > 0.0;
+  const int chunks = kChunks > 0 ? kChunks : layout.chunks;
+  V4 k_ideal_x = Splat(0.0), k_ideal_y = Splat(0.0);
+  M4 sliding_count = M4{0, 0, 0, 0};  // minus the sum of the sliding masks
+  for (int a = 0; a < in.num_triangles; ++a) {
+    const int t = in.triangles[a];
+    const std::array<int, 3>& p = in.triangle_p[t];
+    const bool full = in.full[a] != 0;
+    const double* x[3] = {in.x_C_m + 4 * p[0], in.x_C_m + 4 * p[1], in.x_C_m + 4 * p[2]};
+    // Per corner m, over the samples: w k (ideal - q) per axis, w k, and w.
+    V4 d[3][3] = {}, wk_sum[3] = {}, w_sum[3] = {};
+    for (int c = 0; c < chunks; ++c) {
+      const std::size_t lane0 = 4 * (static_cast<std::size_t>(t) * static_cast<std::size_t>(chunks) +
+                                     static_cast<std::size_t>(c));
+      const double* wc = layout.w + 12 * c;
+      const V4 w[3] = {Load(wc), Load(wc + 4), Load(wc + 8)};
+      V4 q[3];
+      HAPTEX_UNROLL
+      for (int i = 0; i < 3; ++i) q[i] = w[0] * x[0][i] + w[1] * x[1][i] + w[2] * x[2][i];  // broadcasts
+      const V4 k = full ? Load(layout.k_full_lanes + 4 * c) : Load(s.k_N_per_m + lane0);
+      const M4 active = k > 0.0;
+      V4 ix = Load(s.ideal_x_C_m + lane0), iy = Load(s.ideal_y_C_m + lane0);
+      const M4 was_sliding = LoadMask(s.sliding + lane0);
+      if (loaded) {
+        const V4 normal = gps * k;
+        const V4 limit = (was_sliding ? Splat(mu_d) : Splat(mu_s)) * normal * (1.0 + 1e-9);
+        const V4 sx = q[0] - ix, sy = q[1] - iy;
+        const V4 s2 = sx * sx + sy * sy;
+        const M4 slide = active & ~(k * k * s2 <= limit * limit);
+        if (Any(slide)) {
+          const V4 f = mu_d * normal / (k * Sqrt(s2));
+          ix = slide ? q[0] - f * sx : ix;
+          iy = slide ? q[1] - f * sy : iy;
+          Store(ix, s.ideal_x_C_m + lane0);
+          Store(iy, s.ideal_y_C_m + lane0);
+        }
+        StoreMask(active ? slide : was_sliding, s.sliding + lane0);
+        sliding_count -= slide;
+      } else {
+        // No grip, no friction: the ideal position is the frictionless point.
+        ix = active ? q[0] : ix;
+        iy = active ? q[1] : iy;
+        Store(ix, s.ideal_x_C_m + lane0);
+        Store(iy, s.ideal_y_C_m + lane0);
+        sliding_count -= active & was_sliding;
+      }
+      k_ideal_x += k * Where(active, ix);
+      k_ideal_y += k * Where(active, iy);
+      const V4 delta[3] = {Where(active, ix - q[0]), Where(active, iy - q[1]), Where(active, -q[2])};
+      HAPTEX_UNROLL
+      for (int m = 0; m < 3; ++m) {
+        const V4 wk = w[m] * k;
+        HAPTEX_UNROLL
+        for (int i = 0; i < 3; ++i) d[m][i] += wk * delta[i];
+        wk_sum[m] += wk;
+        if (!full) w_sum[m] += Where(active, w[m]);
+      }
+    }
+    const V4 w_corner = full ? V4{layout.w_sum_full[0], layout.w_sum_full[1], layout.w_sum_full[2], 0.0}
+                             : LaneSums(w_sum[0], w_sum[1], w_sum[2], Splat(0.0));
+    HAPTEX_UNROLL
+    for (int m = 0; m < 3; ++m) {
+      const std::size_t pm = static_cast<std::size_t>(p[static_cast<std::size_t>(m)]);
+      double* out = &sums[pm].kd_x_N;
+      Store(Load(out) + LaneSums(d[m][0], d[m][1], d[m][2], wk_sum[m]), out);
+      w_sums[pm] += w_corner[m];
+    }
+  }
+  const V4 kx_ky = LaneSums(k_ideal_x, k_ideal_y, Splat(0.0), Splat(0.0));
+  PinchFrictionTotals totals;
+  totals.k_ideal_x_N = kx_ky[0];
+  totals.k_ideal_y_N = kx_ky[1];
+  totals.sliding = static_cast<int>(sliding_count[0] + sliding_count[1] + sliding_count[2] + sliding_count[3]);
+  return totals;
+}
+
+void LocatePortable(const PinchLocateInput& in, const PinchParticleArrays& out) { LocateKernel(in, out); }
+
+PinchClassifyTotals ClassifyPortable(const PinchSampleLayout& layout, const PinchClassifyInput& in,
+                                     const PinchSampleArrays& s, PinchTriangleHold* hold) {
+  return layout.chunks == 1 ? ClassifyKernel<1>(layout, in, s, hold) : ClassifyKernel<0>(layout, in, s, hold);
+}
+
+PinchFrictionTotals FrictionPortable(const PinchSampleLayout& layout, const PinchFrictionInput& in,
+                             const PinchSampleArrays& s, PinchParticleSums* sums, double* w_sums) {
+  return layout.chunks == 1 ? FrictionKernel<1>(layout, in, s, sums, w_sums)
+                            : FrictionKernel<0>(layout, in, s, sums, w_sums);
+}
+
+#ifdef HAPTEX_TEXTILE_X86_KERNELS
+// The same kernels on 256-bit registers. No FMA: the products round as in the portable build.
+__attribute__((target("avx2"))) void LocateAvx2(const PinchLocateInput& in, const PinchParticleArrays& out) {
+  LocateKernel(in, out);
+}
+__attribute__((target("avx2"))) PinchClassifyTotals ClassifyAvx2(const PinchSampleLayout& layout,
+                                                                const PinchClassifyInput& in,
+                                                                const PinchSampleArrays& s,
+                                                                PinchTriangleHold* hold) {
+  return layout.chunks == 1 ? ClassifyKernel<1>(layout, in, s, hold) : ClassifyKernel<0>(layout, in, s, hold);
+}
+__attribute__((target("avx2"))) PinchFrictionTotals FrictionAvx2(const PinchSampleLayout& layout,
+                                                        const PinchFrictionInput& in,
+                                                        const PinchSampleArrays& s,
+                                                        PinchParticleSums* sums, double* w_sums) {
+  return layout.chunks == 1 ? FrictionKernel<1>(layout, in, s, sums, w_sums)
+                            : FrictionKernel<0>(layout, in, s, sums, w_sums);
+}
+#endif
+
+}  // namespace
+
+void LocatePinchParticles(const PinchLocateInput& in, const PinchParticleArrays& out, bool avx2) {
+#ifdef HAPTEX_TEXTILE_X86_KERNELS
+  HAPTEX_TEXTILE_DEMAND(!avx2 || textile::internal::CpuHasAvx2());  // else SIGILL
+  if (avx2) return LocateAvx2(in, out);
+#else
+  HAPTEX_TEXTILE_DEMAND(!avx2);
+#endif
+  LocatePortable(in, out);
+}
+
+PinchClassifyTotals ClassifyPinchSamples(const PinchSampleLayout& layout, const PinchClassifyInput& in,
+                                         const PinchSampleArrays& samples, PinchTriangleHold* hold,
+                                         bool avx2) {
+#ifdef HAPTEX_TEXTILE_X86_KERNELS
+  HAPTEX_TEXTILE_DEMAND(!avx2 || textile::internal::CpuHasAvx2());  // else SIGILL
+  if (avx2) return ClassifyAvx2(layout, in, samples, hold);
+#else
+  HAPTEX_TEXTILE_DEMAND(!avx2);
+#endif
+  return ClassifyPortable(layout, in, samples, hold);
+}
+
+PinchFrictionTotals ApplyPinchFriction(const PinchSampleLayout& layout, const PinchFrictionInput& in,
+                                       const PinchSampleArrays& samples, PinchParticleSums* sums,
+                                       double* w_sums, bool avx2) {
+#ifdef HAPTEX_TEXTILE_X86_KERNELS
+  HAPTEX_TEXTILE_DEMAND(!avx2 || textile::internal::CpuHasAvx2());  // else SIGILL
+  if (avx2) return FrictionAvx2(layout, in, samples, sums, w_sums);
+#else
+  HAPTEX_TEXTILE_DEMAND(!avx2);
+#endif
+  return FrictionPortable(layout, in, samples, sums, w_sums);
+}
+
+}  // namespace haptex::contact::internal
