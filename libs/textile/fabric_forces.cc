@@ -12,6 +12,10 @@
 #include "libs/textile/check.h"
 #include "libs/textile/cpu_features.h"
 
+#ifdef HAPTEX_TEXTILE_X86_KERNELS
+#include <immintrin.h>
+#endif
+
 namespace haptex::textile {
 namespace {
 
@@ -170,6 +174,36 @@ HAPTEX_LANES_INLINE void AddBlocks(const V4 m[9], const std::array<int, 9>* slot
   }
 }
 
+// AddBlocks of m at slot index kl, then of its transpose at lk. The transposed lanes come from
+// the untransposed ones: (m0 m3 m6 m1) and (m4 m7 m2 m5) are (m0..m3) and (m4..m7) permuted
+// (0 3 2 1) with entries 2 swapped: four shuffles a lane instead of two more transposes.
+HAPTEX_LANES_INLINE void AddBlockPair(const V4 m[9], const std::array<int, 9>* slots, int lanes,
+                                      int kl, int lk, Eigen::Matrix3d* system) {
+  V4 lo[kLanes], hi[kLanes];
+  Transpose(m, lo);
+  Transpose(m + 4, hi);
+  const auto add = [&](int j, int slot_index, V4 first, V4 second) HAPTEX_LANES_LAMBDA {
+    double* block =
+        system[static_cast<std::size_t>(slots[j][static_cast<std::size_t>(slot_index)])].data();
+    AddTo(first, block);
+    AddTo(second, block + 4);
+    block[8] += m[8][j];
+  };
+  HAPTEX_UNROLL
+  for (int j = 0; j < kLanes; ++j) {  // unrolled as in ScatterToCorners
+    if (j == lanes) break;
+    add(j, kl, lo[j], hi[j]);
+  }
+  HAPTEX_UNROLL
+  for (int j = 0; j < kLanes; ++j) {
+    if (j == lanes) break;
+    const V4 plo = __builtin_shufflevector(lo[j], lo[j], 0, 3, 2, 1);
+    const V4 phi = __builtin_shufflevector(hi[j], hi[j], 0, 3, 2, 1);
+    add(j, lk, __builtin_shufflevector(plo, phi, 0, 1, 6, 3),
+        __builtin_shufflevector(phi, plo, 0, 1, 6, 3));
+  }
+}
+
 // A strain curve read through its public interface (StrainCurve, MonotoneSpline), evaluated for
 // four strains with the arithmetic of StrainCurve::Evaluate, so to the same values.
 struct CurveLanes {
@@ -204,20 +238,26 @@ HAPTEX_LANES_INLINE void Evaluate(const CurveLanes* c, V4 strain, V4* f, V4* df)
   // the knots the linear ends below replace the lane). Binary lifting with conditional moves:
   // strains of neighbouring triangles scatter over a few segments, so a walk from the previous
   // lane's segment mispredicted its branches.
-  int seg[kLanes];
-  for (int j = 0; j < kLanes; ++j) {
-    const double a = arg[j];
-    int k = 0;
-    for (int step = c->top_step; step > 0; step >>= 1) {
-      const int probe = std::min(k + step, c->last - 1);
-      k = c->x[probe] <= a ? probe : k;
-    }
-    seg[j] = k;
-  }
   V4 xk, xk1, yk, yk1, mk, mk1;
-  GatherPairs(c->x, seg, &xk, &xk1);
-  GatherPairs(c->y, seg, &yk, &yk1);
-  GatherPairs(c->m, seg, &mk, &mk1);
+  if (c->top_step == 0) {  // one segment (as the shear curve): no search, no gathers
+    xk = Splat(c->x[0]), xk1 = Splat(c->x[1]);
+    yk = Splat(c->y[0]), yk1 = Splat(c->y[1]);
+    mk = Splat(c->m[0]), mk1 = Splat(c->m[1]);
+  } else {
+    int seg[kLanes];
+    for (int j = 0; j < kLanes; ++j) {
+      const double a = arg[j];
+      int k = 0;
+      for (int step = c->top_step; step > 0; step >>= 1) {
+        const int probe = std::min(k + step, c->last - 1);
+        k = c->x[probe] <= a ? probe : k;
+      }
+      seg[j] = k;
+    }
+    GatherPairs(c->x, seg, &xk, &xk1);
+    GatherPairs(c->y, seg, &yk, &yk1);
+    GatherPairs(c->m, seg, &mk, &mk1);
+  }
   const V4 h = xk1 - xk;
   const V4 t = (arg - xk) / h;
   const V4 t2 = t * t;
@@ -395,14 +435,24 @@ HAPTEX_LANES_INLINE void TriangleKernel(const FabricModel& model, const double* 
 
     // Forces, each entry summed in the order warp, weft, shear, drag. Formed here, not term by
     // term above: fewer vectors live through the curve evaluations (register spills).
+    // The membrane forces of a triangle sum to zero (linear shape functions, as the blocks
+    // below): corner 2's is minus the sum of the others'.
     V4 f[3][3];
     HAPTEX_UNROLL
-    for (int k = 0; k < 3; ++k) {
+    for (int k = 0; k < 2; ++k) {
       const V4 s_warp = warp.area_total * a[k], s_weft = weft.area_total * b[k];
       HAPTEX_UNROLL
       for (int i = 0; i < 3; ++i) {
         f[k][i] = Splat(0.0) - s_warp * warp.dir[i] - s_weft * weft.dir[i] - shear_f * g[k][i];
-        if (drag_force) f[k][i] += fc * n[i];
+      }
+    }
+    HAPTEX_UNROLL
+    for (int i = 0; i < 3; ++i) {
+      const V4 drag_i = drag_force ? fc * n[i] : Splat(0.0);
+      f[2][i] = drag_i - (f[0][i] + f[1][i]);
+      if (drag_force) {
+        f[0][i] += drag_i;
+        f[1][i] += drag_i;
       }
     }
     ScatterToCorners(f, corner, lanes, fp);
@@ -411,61 +461,102 @@ HAPTEX_LANES_INLINE void TriangleKernel(const FabricModel& model, const double* 
     // (df/dx) v per particle.
     const V4 shear_kx = -area * shear_slope * gamma_dot;
     const V4 shear_sys = -area * (dxs * shear_slope + dvs * shear_c);
-    V4 dk[3][3];
+    V4 dk[3][3];  // summing to zero over the corners, as the membrane forces
     HAPTEX_UNROLL
-    for (int k = 0; k < 3; ++k) {
+    for (int k = 0; k < 2; ++k) {
       HAPTEX_UNROLL
       for (int i = 0; i < 3; ++i) {
         dk[k][i] = shear_kx * g[k][i] + a[k] * warp.kx_ddot[i] + b[k] * weft.kx_ddot[i];
       }
     }
+    HAPTEX_UNROLL
+    for (int i = 0; i < 3; ++i) dk[2][i] = Splat(0.0) - (dk[0][i] + dk[1][i]);
     ScatterToCorners(dk, corner, lanes, dfv);
 
-    // Blocks (k, l) = shear_sys g_k g_l^T + a_k a_l K_warp + b_k b_l K_weft + dq n n^T, with
-    // K = beta dir dir^T + alpha I, entry (i, j) at i + 3 j (column-major). On a grid half the
-    // weight products are zero: skipped when zero in all four lanes.
-    V4 k_warp[9], k_weft[9], k_drag[9], shear_p[3][3];
+    // Blocks (k, l) = M_kl + dq n n^T, the membrane part M_kl = shear_sys g_k g_l^T +
+    // a_k a_l K_warp + b_k b_l K_weft with K = beta dir dir^T + alpha I, entry (i, j) at i + 3 j
+    // (column-major). Linear shape functions: a_0 + a_1 + a_2 = b_0 + b_1 + b_2 = 0, so
+    // g_0 + g_1 + g_2 = 0 and each row of membrane blocks sums to zero. M_00, M_01 and M_11 are
+    // formed (M_10 = M_01^T); with S_0 = M_00 + M_01 and S_1 = M_01^T + M_11, M_02 = -S_0,
+    // M_12 = -S_1 and M_22 = S_0^T + S_1^T.
+    // Symmetric matrices (the K, the drag term, the diagonal blocks) are formed on and above
+    // the diagonal and mirrored: exactly symmetric, in fewer operations.
+    const auto mirror = [](V4 m[9]) HAPTEX_LANES_LAMBDA {
+      m[1] = m[3], m[2] = m[6], m[5] = m[7];
+    };
+    constexpr bool kUpper[9] = {true, false, false, true, true, false, true, true, true};
+    V4 k_warp[9], k_weft[9], k_drag[9], shear_p[2][3];
     HAPTEX_UNROLL
     for (int e = 0; e < 9; ++e) {
+      if (!kUpper[e]) continue;
       k_warp[e] = StiffnessEntry(warp, e % 3, e / 3);
       k_weft[e] = StiffnessEntry(weft, e % 3, e / 3);
       k_drag[e] = dq * n[e % 3] * n[e / 3];
     }
+    mirror(k_warp), mirror(k_weft), mirror(k_drag);
     HAPTEX_UNROLL
-    for (int k = 0; k < 3; ++k) {
+    for (int k = 0; k < 2; ++k) {
       HAPTEX_UNROLL
       for (int i = 0; i < 3; ++i) shear_p[k][i] = shear_sys * g[k][i];
     }
     const bool drag_active = Any(dq != 0.0);
     const std::array<int, 9>* slots = &model.triangle_slots[t0];
-    // Block (l, k) is block (k, l) transposed: computed once, written twice.
-    HAPTEX_UNROLL
-    for (int k = 0; k < 3; ++k) {
+    const auto membrane = [&](int k, int l, V4 m[9]) HAPTEX_LANES_LAMBDA {
+      const V4 aa = a[k] * a[l], bb = b[k] * b[l];
       HAPTEX_UNROLL
-      for (int l = k; l < 3; ++l) {
-        V4 m[9];
-        HAPTEX_UNROLL
-        for (int e = 0; e < 9; ++e) m[e] = shear_p[k][e % 3] * g[l][e / 3];
-        const V4 aa = a[k] * a[l], bb = b[k] * b[l];
-        if (Any(aa != 0.0)) {
-          HAPTEX_UNROLL
-          for (int e = 0; e < 9; ++e) m[e] += aa * k_warp[e];
-        }
-        if (Any(bb != 0.0)) {
-          HAPTEX_UNROLL
-          for (int e = 0; e < 9; ++e) m[e] += bb * k_weft[e];
-        }
-        if (drag_active) {
-          HAPTEX_UNROLL
-          for (int e = 0; e < 9; ++e) m[e] += k_drag[e];
-        }
-        AddBlocks(m, slots, lanes, k * 3 + l, system);
-        if (l != k) {
-          const V4 mt[9] = {m[0], m[3], m[6], m[1], m[4], m[7], m[2], m[5], m[8]};
-          AddBlocks(mt, slots, lanes, l * 3 + k, system);
-        }
+      for (int e = 0; e < 9; ++e) {
+        if (k == l && !kUpper[e]) continue;
+        m[e] = shear_p[k][e % 3] * g[l][e / 3] + aa * k_warp[e] + bb * k_weft[e];
       }
+      if (k == l) mirror(m);
+    };
+    // Adds block (k, l) = m (plus drag) and block (l, k) = its transpose.
+    const auto add_pair = [&](int k, int l, V4 m[9]) HAPTEX_LANES_LAMBDA {
+      if (drag_active) {
+        HAPTEX_UNROLL
+        for (int e = 0; e < 9; ++e) {
+          if (k != l || kUpper[e]) m[e] += k_drag[e];
+        }
+        if (k == l) mirror(m);
+      }
+      if (l == k) {
+        AddBlocks(m, slots, lanes, k * 3 + l, system);
+      } else {
+        AddBlockPair(m, slots, lanes, k * 3 + l, l * 3 + k, system);
+      }
+    };
+    // -s (plus drag) as drag - s: one operation per entry either way.
+    const auto add_negated_pair = [&](int k, int l, const V4 s[9]) HAPTEX_LANES_LAMBDA {
+      V4 m[9];
+      HAPTEX_UNROLL
+      for (int e = 0; e < 9; ++e) m[e] = (drag_active ? k_drag[e] : Splat(0.0)) - s[e];
+      AddBlockPair(m, slots, lanes, k * 3 + l, l * 3 + k, system);
+    };
+    V4 s0[9], s1[9];
+    {
+      V4 m00[9], m01[9], m11[9];
+      membrane(0, 0, m00);
+      membrane(0, 1, m01);
+      membrane(1, 1, m11);
+      HAPTEX_UNROLL
+      for (int e = 0; e < 9; ++e) {
+        s0[e] = m00[e] + m01[e];
+        s1[e] = m01[3 * (e % 3) + e / 3] + m11[e];
+      }
+      add_pair(0, 0, m00);
+      add_pair(0, 1, m01);
+      add_pair(1, 1, m11);
     }
+    add_negated_pair(0, 2, s0);
+    add_negated_pair(1, 2, s1);
+    V4 m22[9];
+    HAPTEX_UNROLL
+    for (int e = 0; e < 9; ++e) {
+      const int t = 3 * (e % 3) + e / 3;  // entry e of the transpose
+      if (kUpper[e]) m22[e] = s0[t] + s1[t];
+    }
+    mirror(m22);
+    add_pair(2, 2, m22);
   };
   // Full groups with the lane count a constant: no per-lane tail tests in the scatters.
   std::size_t t0 = 0;
@@ -500,8 +591,8 @@ void AddTriangleForces(const FabricModel& model, const Eigen::VectorXd& x,
 }
 
 // (x, y) as one 2-wide vector and z alone: the IEEE operations of the scalar formulas, per
-// component, in fewer instructions (bending runs in the base build: SSE2 on x86-64). Four
-// elements per V4, as the triangles, measured no faster: the scatter dominates.
+// component, in fewer instructions (AddLinearDragAndLoads runs in the base build: SSE2 on
+// x86-64).
 struct Xyz {
   V2 xy;
   double z;
@@ -511,19 +602,6 @@ inline Xyz LoadXyz(const double* p) {
   std::memcpy(&r.xy, p, sizeof r.xy);
   r.z = p[2];
   return r;
-}
-// *p += s a, component by component.
-inline void AddScaledTo(double s, const Xyz& a, double* p) {
-  V2 xy;
-  std::memcpy(&xy, p, sizeof xy);
-  xy += s * a.xy;
-  std::memcpy(p, &xy, sizeof xy);
-  p[2] += s * a.z;
-}
-// 0 + w0 a0 + w1 a1 + w2 a2 (the 0 + as in the Eigen reference: it turns -0 into +0).
-inline Xyz Combine(const double w[3], const Xyz& a0, const Xyz& a1, const Xyz& a2) {
-  return {0.0 + w[0] * a0.xy + w[1] * a1.xy + w[2] * a2.xy,
-          0.0 + w[0] * a0.z + w[1] * a1.z + w[2] * a2.z};
 }
 
 // The constant Jacobian blocks of bending with its damping: lambda alpha_k alpha_l I, scaled.
@@ -542,33 +620,136 @@ void AddBendingBlocks(const FabricModel& model, ForceSink* sink) {
   }
 }
 
-// Volino's linear bending with damping; the constant Jacobian blocks only when asked for.
-void AddBending(const FabricModel& model, const Eigen::VectorXd& x, const Eigen::VectorXd& v,
-                ForceSink* sink) {
+// Bending on (x, y, z, -) in one V4 per particle: the IEEE operations of the scalar formulas,
+// per component (lane 3 is never stored). A particle is one masked load in the avx2 build (it
+// never reads past the particle), an (x, y) pair and z in the portable one.
+#ifdef HAPTEX_TEXTILE_X86_KERNELS
+// Not always_inline: its avx2 target would not match the template's; flatten on the avx2
+// kernel inlines it there.
+__attribute__((target("avx2"))) inline V4 Load3Avx2(const double* p) {
+  return _mm256_maskload_pd(p, _mm256_set_epi64x(0, -1, -1, -1));
+}
+#endif
+template <bool kAvx2>
+HAPTEX_LANES_INLINE V4 Load3(const double* p) {
+#ifdef HAPTEX_TEXTILE_X86_KERNELS
+  if constexpr (kAvx2) return Load3Avx2(p);
+#endif
+  V2 xy;
+  std::memcpy(&xy, p, sizeof xy);
+  return __builtin_shufflevector(xy, V2{p[2], p[2]}, 0, 1, 2, 3);  // z twice: one load
+}
+HAPTEX_LANES_INLINE void Store3(V4 a, double* p) {
+  const V2 xy = __builtin_shufflevector(a, a, 0, 1);
+  std::memcpy(p, &xy, sizeof xy);
+  p[2] = a[2];
+}
+
+// Volino's linear bending with damping: forces, and (df/dx) v into dfv unless null (kDfv).
+// Bends along a grid line come in chains, each starting at the previous one's corners 1 and 2:
+// those two particles' sums stay in registers, so each bend loads and stores one particle's
+// instead of three. Every particle's sum is still added to in bend order: the bits of one bend
+// at a time.
+template <bool kAvx2, bool kDfv>
+HAPTEX_LANES_INLINE void BendingKernel(const FabricModel& model, const double* xp,
+                                       const double* vp, double* fp, double* dfv) {
   const double damping_s = model.options.damping.bend_s;
-  const double* xp = x.data();
-  const double* vp = v.data();
-  double* fp = sink->force_N->data();
-  double* dfv = sink->wants_jacobians() ? sink->dfdx_v->data() : nullptr;
   // Model data in locals: the force stores could alias it, so it would be reloaded.
   const BendElement* bends = model.bends.data();
   const std::size_t num_bends = model.bends.size();
-  for (std::size_t b = 0; b < num_bends; ++b) {
-    const BendElement& e = bends[b];
-    const int o[3] = {3 * e.p[0], 3 * e.p[1], 3 * e.p[2]};
-    const double alpha[3] = {e.alpha[0], e.alpha[1], e.alpha[2]};
-    const double neg_lambda = -e.lambda_N_per_m;
-    const Xyz r = Combine(alpha, LoadXyz(xp + o[0]), LoadXyz(xp + o[1]), LoadXyz(xp + o[2]));
-    const Xyz r_dot = Combine(alpha, LoadXyz(vp + o[0]), LoadXyz(vp + o[1]), LoadXyz(vp + o[2]));
-    const Xyz f = {neg_lambda * (r.xy + damping_s * r_dot.xy),
-                   neg_lambda * (r.z + damping_s * r_dot.z)};
-    const Xyz kv = {neg_lambda * r_dot.xy, neg_lambda * r_dot.z};
-    HAPTEX_UNROLL
-    for (int k = 0; k < 3; ++k) {
-      AddScaledTo(alpha[k], f, fp + o[k]);
-      if (dfv != nullptr) AddScaledTo(alpha[k], kv, dfv + o[k]);
+  std::size_t b = 0;
+  while (b < num_bends) {
+    int o0 = 3 * bends[b].p[0], o1 = 3 * bends[b].p[1], o2 = 3 * bends[b].p[2];
+    // Sums of corners 0 and 1 (a triplet with a repeated particle is a chain of one).
+    const bool distinct = o0 != o1 && o0 != o2 && o1 != o2;
+    V4 f0 = Load3<kAvx2>(fp + o0), f1 = Load3<kAvx2>(fp + o1), d0{}, d1{};
+    if constexpr (kDfv) d0 = Load3<kAvx2>(dfv + o0), d1 = Load3<kAvx2>(dfv + o1);
+    // Positions and velocities of corners 0 and 1, also carried along the chain.
+    V4 x0 = Load3<kAvx2>(xp + o0), x1 = Load3<kAvx2>(xp + o1);
+    V4 v0 = Load3<kAvx2>(vp + o0), v1 = Load3<kAvx2>(vp + o1);
+    for (;;) {
+      const BendElement& e = bends[b];
+      const V4 alpha[3] = {Splat(e.alpha[0]), Splat(e.alpha[1]), Splat(e.alpha[2])};
+      const V4 neg_lambda = Splat(-e.lambda_N_per_m);
+      const V4 x2 = Load3<kAvx2>(xp + o2), v2 = Load3<kAvx2>(vp + o2);
+      // 0 + w0 a0 + w1 a1 + w2 a2 (the 0 + as in the Eigen reference: it turns -0 into +0).
+      const V4 r = Splat(0.0) + alpha[0] * x0 + alpha[1] * x1 + alpha[2] * x2;
+      const V4 r_dot = Splat(0.0) + alpha[0] * v0 + alpha[1] * v1 + alpha[2] * v2;
+      const V4 f = neg_lambda * (r + damping_s * r_dot);
+      if (!distinct) {  // corner by corner through memory
+        const int o[3] = {o0, o1, o2};
+        HAPTEX_UNROLL
+        for (int k = 0; k < 3; ++k) {
+          Store3(Load3<kAvx2>(fp + o[k]) + alpha[k] * f, fp + o[k]);
+          if constexpr (kDfv) {
+            Store3(Load3<kAvx2>(dfv + o[k]) + alpha[k] * (neg_lambda * r_dot), dfv + o[k]);
+          }
+        }
+        ++b;
+        break;
+      }
+      f0 += alpha[0] * f;
+      f1 += alpha[1] * f;
+      V4 f2 = Load3<kAvx2>(fp + o2) + alpha[2] * f;
+      Store3(f0, fp + o0);  // corner 0 is done: the chain moves on
+      V4 d2{};
+      if constexpr (kDfv) {
+        const V4 kv = neg_lambda * r_dot;
+        d0 += alpha[0] * kv;
+        d1 += alpha[1] * kv;
+        d2 = Load3<kAvx2>(dfv + o2) + alpha[2] * kv;
+        Store3(d0, dfv + o0);
+      }
+      ++b;
+      // The chain goes on if the next bend starts at corners 1 and 2 and ends at a new particle.
+      const bool more = b < num_bends && 3 * bends[b].p[0] == o1 && 3 * bends[b].p[1] == o2 &&
+                        3 * bends[b].p[2] != o1 && 3 * bends[b].p[2] != o2;
+      if (!more) {
+        Store3(f1, fp + o1);
+        Store3(f2, fp + o2);
+        if constexpr (kDfv) {
+          Store3(d1, dfv + o1);
+          Store3(d2, dfv + o2);
+        }
+        break;
+      }
+      o0 = o1, o1 = o2, o2 = 3 * bends[b].p[2];
+      f0 = f1, f1 = f2;
+      if constexpr (kDfv) d0 = d1, d1 = d2;
+      x0 = x1, x1 = x2, v0 = v1, v1 = v2;
     }
   }
+}
+
+void AddBendingGeneric(const FabricModel& model, const double* x, const double* v, double* f,
+                       double* dfv) {
+  if (dfv != nullptr) return BendingKernel<false, true>(model, x, v, f, dfv);
+  BendingKernel<false, false>(model, x, v, f, dfv);
+}
+
+#ifdef HAPTEX_TEXTILE_X86_KERNELS
+__attribute__((target("avx2"), flatten)) void AddBendingAvx2(const FabricModel& model,
+                                                             const double* x, const double* v,
+                                                             double* f, double* dfv) {
+  if (dfv != nullptr) return BendingKernel<true, true>(model, x, v, f, dfv);
+  BendingKernel<true, false>(model, x, v, f, dfv);
+}
+#endif
+
+// Bending forces; the constant Jacobian blocks only when asked for.
+void AddBending(const FabricModel& model, const Eigen::VectorXd& x, const Eigen::VectorXd& v,
+                bool avx2, ForceSink* sink) {
+  double* fp = sink->force_N->data();
+  double* dfv = sink->wants_jacobians() ? sink->dfdx_v->data() : nullptr;
+#ifdef HAPTEX_TEXTILE_X86_KERNELS
+  if (avx2) {
+    AddBendingAvx2(model, x.data(), v.data(), fp, dfv);
+  } else {
+    AddBendingGeneric(model, x.data(), v.data(), fp, dfv);
+  }
+#else
+  AddBendingGeneric(model, x.data(), v.data(), fp, dfv);
+#endif
   if (sink->wants_jacobians() && !sink->constant_jacobians_added) AddBendingBlocks(model, sink);
 }
 
@@ -625,7 +806,7 @@ void internal::AccumulateForces(const FabricModel& model, const FabricState& sta
   const Eigen::VectorXd& x = state.x_W_m;
   const Eigen::VectorXd& v = state.v_W_m_per_s;
   AddTriangleForces(model, x, v, avx2, sink);
-  AddBending(model, x, v, sink);
+  AddBending(model, x, v, avx2, sink);
   AddLinearDragAndLoads(model, state, sink);
 }
 
