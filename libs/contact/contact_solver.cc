@@ -42,7 +42,8 @@ ContactSolver::ContactSolver(const textile::FabricModel& patch, const ContactOpt
                   Hysteresis(options.textile_contact_force_N, 0.5 * options.textile_contact_force_N)},
       dynamic_(options.dynamic_enter_fraction, options.dynamic_leave_fraction),
       touching_(0.0, -options.touch_release_gap_m),
-      particle_force_W_N_(Eigen::VectorXd::Zero(3 * patch.num_particles)) {
+      particle_force_W_N_(Eigen::VectorXd::Zero(3 * patch.num_particles)),
+      force_particles_(static_cast<std::size_t>(patch.num_particles), 0) {
   for (int p = 0; p < patch.num_particles; ++p) {
     rest_uv_m_.row(p) = (patch.mesh.rest_uv_m(p) + uv_origin_m).transpose();
   }
@@ -131,8 +132,16 @@ void ContactSolver::Prepare(const FingerInput& thumb, const FingerInput& index, 
 
 const ContactOutput& ContactSolver::Resolve(const textile::FabricState& state) {
   ++output_.ticks;
-  // The force each particle felt during the step, exactly as the integrator applied it.
-  for (int p = 0; p < patch_.num_particles; ++p) {
+  // The force each particle felt during the step, exactly as the integrator applied it: only
+  // the particles Prepare gave springs have one (the integrator skips k = 0); the others keep
+  // or get back +0.
+  for (int i = 0; i < num_force_particles_; ++i) {
+    particle_force_W_N_.segment<3>(3 * force_particles_[static_cast<std::size_t>(i)]).setZero();
+  }
+  num_force_particles_ = springs_.num_touched();
+  for (int i = 0; i < num_force_particles_; ++i) {
+    const int p = springs_.touched(i);
+    force_particles_[static_cast<std::size_t>(i)] = p;
     particle_force_W_N_.segment<3>(3 * p) =
         state.anchor_stiffness_N_per_m[p] *
         (state.anchor_W_m.segment<3>(3 * p) - state.x_W_m.segment<3>(3 * p));

@@ -130,6 +130,9 @@ class ContactSolver {
   double dt_s_ = 0.0;
   bool pinching_ = false;
   Eigen::VectorXd particle_force_W_N_;
+  /// The particles whose particle_force_W_N_ Resolve last set: [0, num_force_particles_).
+  std::vector<int> force_particles_;
+  int num_force_particles_ = 0;
   ContactOutput output_;
   ContactDiagnostics diagnostics_;
 };

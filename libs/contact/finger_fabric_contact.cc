@@ -21,6 +21,7 @@ void FingerFabricContact::Reset() {
   if (!dirty_) return;  // an absent finger is reset every tick
   for (auto& c : particles_) c = ParticleContact{};
   dirty_ = false;
+  slots_current_ = false;
 }
 
 int FingerFabricContact::num_active() const {
@@ -43,28 +44,41 @@ void FingerFabricContact::Prepare(const FingerPose& pose, const textile::FabricS
   const double outside2 = radius_eff_m_ * radius_eff_m_ * (1.0 + 1e-9);
   dirty_ = true;
   bool was_sliding = false;
-  for (const auto& c : particles_) {
-    if (c.active && c.sliding) {
-      was_sliding = true;
-      break;
+  if (slots_current_) {
+    was_sliding = num_slots_ > 0 && slots_sliding_;
+  } else {
+    for (const auto& c : particles_) {
+      if (c.active && c.sliding) {
+        was_sliding = true;
+        break;
+      }
     }
   }
+  slots_current_ = false;  // until the slots below are complete
 
   // Contacts, with their held points carried along by the finger (the trial of a stick).
   Eigen::Vector3d normal_resultant_W_N = Eigen::Vector3d::Zero();
   Eigen::Vector3d friction_W_N = Eigen::Vector3d::Zero();
   int m = 0;
   const int n = static_cast<int>(particles_.size());
+  // The scan over every particle, written out (Eigen's 3-vector code is several times longer).
+  const std::uint8_t* skip = excluded.data();
+  const textile::ParticleMode* mode = state.mode.data();
+  const double* x_all = state.x_W_m.data();
+  const double px = pose.p_W_m.x(), py = pose.p_W_m.y(), pz = pose.p_W_m.z();
+  const double reach2 = reach * reach;
   for (int p = 0; p < n; ++p) {
     ParticleContact& c = particles_[static_cast<std::size_t>(p)];
-    if (excluded[static_cast<std::size_t>(p)] ||
-        state.mode[static_cast<std::size_t>(p)] != textile::ParticleMode::kFree) {
+    if (skip[p] != 0 || mode[p] != textile::ParticleMode::kFree) {
       c.active = false;
       continue;
     }
-    const Eigen::Vector3d x = state.x_W_m.segment<3>(3 * p);
     // Cheap rejects before the exact query: most particles are far from the finger.
-    if (!c.active && (x - pose.p_W_m).squaredNorm() >= reach * reach) continue;
+    if (!c.active) {
+      const double dx = x_all[3 * p] - px, dy = x_all[3 * p + 1] - py, dz = x_all[3 * p + 2] - pz;
+      if ((dx * dx + dy * dy) + dz * dz >= reach2) continue;
+    }
+    const Eigen::Vector3d x = state.x_W_m.segment<3>(3 * p);
     const Eigen::Vector3d ax = x - seg.a_W;
     const double t = std::clamp(ax.dot(ab) * inv_len2, 0.0, 1.0);
     if ((ax - t * ab).squaredNorm() > outside2) {
@@ -136,6 +150,9 @@ void FingerFabricContact::Prepare(const FingerPose& pose, const textile::FabricS
     c.sliding = sliding;
     springs->Add(p, k_N_per_m_[p], c.anchor_W);
   }
+  num_slots_ = m;
+  slots_sliding_ = sliding;
+  slots_current_ = true;
 }
 
 void FingerFabricContact::Resolve(const FingerPose& pose, const textile::FabricState& state,
@@ -146,8 +163,10 @@ void FingerFabricContact::Resolve(const FingerPose& pose, const textile::FabricS
   Eigen::Vector2d uv_acc = Eigen::Vector2d::Zero();
   Eigen::Vector3d vel_acc = Eigen::Vector3d::Zero();
   double strongest = 0.0;
-  const int n = static_cast<int>(particles_.size());
-  for (int p = 0; p < n; ++p) {
+  // The active particles in increasing order: the last Prepare's slots where still current.
+  const int n = slots_current_ ? num_slots_ : static_cast<int>(particles_.size());
+  for (int i = 0; i < n; ++i) {
+    const int p = slots_current_ ? slot_particle_[static_cast<std::size_t>(i)] : i;
     ParticleContact& c = particles_[static_cast<std::size_t>(p)];
     if (!c.active) continue;
     const Eigen::Vector3d x = state.x_W_m.segment<3>(3 * p);

@@ -82,6 +82,7 @@ class FingerFabricContact {
   void SetParticle(int p, const ParticleContact& contact) {
     particles_[static_cast<std::size_t>(p)] = contact;
     dirty_ = true;
+    slots_current_ = false;
   }
 
  private:
@@ -95,6 +96,12 @@ class FingerFabricContact {
   Eigen::Matrix3Xd slot_free_W_;     ///< where the particle meets the surface
   Eigen::Matrix3Xd slot_spring_W_N_;  ///< k_i s_i: friction spring, held point carried along
   Eigen::VectorXd slot_ratio_;        ///< k_i |s_i| / F_i^N
+  /// Whether the active particles are still exactly slot_particle_[0, num_slots_) (in order)
+  /// and all slide iff slots_sliding_, as the last Prepare left them: then Resolve and the next
+  /// Prepare visit those instead of scanning every particle.
+  bool slots_current_ = false;
+  int num_slots_ = 0;
+  bool slots_sliding_ = false;
 };
 
 }  // namespace haptex::contact

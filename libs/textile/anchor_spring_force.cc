@@ -22,6 +22,7 @@ void AddAnchorSpringForces(const FabricModel& model, const FabricState& state, F
       b[8] += d;
       double* dfdx_v = sink->dfdx_v->data() + 3 * p;
       const double* v = sink->v->data() + 3 * p;
+#pragma GCC unroll 3
       for (int i = 0; i < 3; ++i) dfdx_v[i] += -k * v[i];
     }
   }

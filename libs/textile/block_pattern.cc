@@ -150,6 +150,9 @@ __attribute__((target("avx"))) double RangeAvx(const SplitRows& split,
   const int* g_start = split.general_start.data();
   const int* g_first = split.general_first_slot.data();
   const int* g_col = split.general_col.data();
+  const int* s_start = split.scalar_start.data();
+  const int* s_col = split.scalar_col.data();
+  const __m256i three = _mm256_set_epi64x(0, -1, -1, -1);
   double xy = 0.0;
   for (int r = r0; r < r1; ++r) {
     // Even and odd blocks in separate accumulators: six independent chains of adds.
@@ -177,11 +180,22 @@ __attribute__((target("avx"))) double RangeAvx(const SplitRows& split,
     }
     const __m256d s01 = _mm256_add_pd(_mm256_add_pd(c0, d0), _mm256_add_pd(c1, d1));
     const __m256d s2 = _mm256_add_pd(c2, d2);
-    alignas(32) double a01[4], a2[4];
-    _mm256_store_pd(a01, s01);
-    _mm256_store_pd(a2, s2);
-    double acc[3] = {a01[0] + a2[1], a01[1] + a2[2], a01[2] + a2[3]};
-    xy += FinishRow(split, scalars, x, r, acc, y);
+    // acc_i = s01_i + s2_(i+1): s2's lanes 1..3 moved down to 0..2 (lane 3: 0).
+    const __m256d s2_high = _mm256_permute2f128_pd(s2, s2, 0x81);  // (s2_2, s2_3, 0, 0)
+    __m256d acc = _mm256_add_pd(s01, _mm256_shuffle_pd(s2, s2_high, 0x5));
+    // FinishRow's sums in its order, lane i for component i (x's rows read 3 wide: the last
+    // row has no 4th entry).
+    for (int j = s_start[r]; j < s_start[r + 1]; ++j) {
+      acc = _mm256_add_pd(acc, _mm256_mul_pd(_mm256_broadcast_sd(scalars + j),
+                                             _mm256_maskload_pd(x + 3 * s_col[j], three)));
+    }
+    const __m128d acc01 = _mm256_castpd256_pd128(acc), acc2 = _mm256_extractf128_pd(acc, 1);
+    _mm_storeu_pd(y + 3 * r, acc01);
+    _mm_store_sd(y + 3 * r + 2, acc2);
+    // x_r . y_r as (x_0 y_0 + x_1 y_1) + x_2 y_2.
+    const __m256d p = _mm256_mul_pd(_mm256_maskload_pd(x + 3 * r, three), acc);
+    const __m128d p01 = _mm256_castpd256_pd128(p);
+    xy += _mm_cvtsd_f64(_mm_add_sd(_mm_add_sd(p01, _mm_unpackhi_pd(p01, p01)), _mm256_extractf128_pd(p, 1)));
   }
   return xy;
 }
@@ -192,9 +206,15 @@ __attribute__((target("avx"))) double RangeAvx(const SplitRows& split,
 
 double MultiplySplitRowRange(const SplitRows& split, const Eigen::Matrix3d* blocks,
                              const double* scalars, const double* x, double* y, int r0, int r1) {
+  return MultiplySplitRowRange(split, blocks, scalars, x, y, r0, r1, CpuHasAvx());
+}
+
+double MultiplySplitRowRange(const SplitRows& split, const Eigen::Matrix3d* blocks,
+                             const double* scalars, const double* x, double* y, int r0, int r1, bool avx) {
 #ifdef HAPTEX_TEXTILE_X86_KERNELS
-  if (CpuHasAvx()) return RangeAvx(split, blocks, scalars, x, y, r0, r1);
+  if (avx) return RangeAvx(split, blocks, scalars, x, y, r0, r1);
 #endif
+  (void)avx;
   return RangeGeneric(split, blocks, scalars, x, y, r0, r1);
 }
 

@@ -217,6 +217,70 @@ __attribute__((target("avx2"))) double SweepAvx2(GaussSeidelSweepArgs a, SweepVe
   return xy;
 }
 
+// Two kForwardDiagonal sweeps (v[0], v[1]) in one pass: each block, D_w^-1, the adjacent
+// block and D_w loaded once for both; per system the operations of RowAvx2<kForwardDiagonal>
+// in its order, so the bits of two separate sweeps.
+__attribute__((target("avx2"))) void SweepForwardDiagonalPairAvx2(GaussSeidelSweepArgs a, SweepVectors v0,
+                                                                   SweepVectors v1, double* xy) {
+  const __m256i three = _mm256_set_epi64x(0, -1, -1, -1);
+  __m256d prev0 = _mm256_setzero_pd(), prev1 = _mm256_setzero_pd();
+  double xy0 = 0.0, xy1 = 0.0;
+  for (int r = 0; r < a.rows; ++r) {
+    const internal::SweepRow& q = a.rows_info[r];
+    __m256d c0 = _mm256_setzero_pd(), c1 = _mm256_setzero_pd(), c2 = _mm256_setzero_pd();
+    __m256d e0 = _mm256_setzero_pd(), e1 = _mm256_setzero_pd(), e2 = _mm256_setzero_pd();
+    const Eigen::Matrix3d* blocks = a.blocks + q.slot_offset;
+    for (int k = q.g0; k < q.g1; ++k) {
+      const double* m = blocks[k].data();
+      const __m256d m0 = _mm256_loadu_pd(m), m1 = _mm256_loadu_pd(m + 3), m2 = _mm256_maskload_pd(m + 6, three);
+      const double* yc = v0.y + a.general_offset[k];
+      const double* ye = v1.y + a.general_offset[k];
+      c0 = _mm256_add_pd(c0, _mm256_mul_pd(m0, _mm256_broadcast_sd(yc)));
+      c1 = _mm256_add_pd(c1, _mm256_mul_pd(m1, _mm256_broadcast_sd(yc + 1)));
+      c2 = _mm256_add_pd(c2, _mm256_mul_pd(m2, _mm256_broadcast_sd(yc + 2)));
+      e0 = _mm256_add_pd(e0, _mm256_mul_pd(m0, _mm256_broadcast_sd(ye)));
+      e1 = _mm256_add_pd(e1, _mm256_mul_pd(m1, _mm256_broadcast_sd(ye + 1)));
+      e2 = _mm256_add_pd(e2, _mm256_mul_pd(m2, _mm256_broadcast_sd(ye + 2)));
+    }
+    __m256d sc = _mm256_setzero_pd(), se = _mm256_setzero_pd();
+    for (int k = q.s0; k < q.s1; ++k) {
+      const __m256d value = _mm256_broadcast_sd(a.scalars + k);
+      sc = _mm256_add_pd(sc, _mm256_mul_pd(value, _mm256_load_pd(v0.y + a.scalar_offset[k])));
+      se = _mm256_add_pd(se, _mm256_mul_pd(value, _mm256_load_pd(v1.y + a.scalar_offset[k])));
+    }
+    const __m256d acc0 =
+        _mm256_sub_pd(_mm256_sub_pd(_mm256_load_pd(v0.x + 4 * r), _mm256_add_pd(_mm256_add_pd(c0, c1), c2)), sc);
+    const __m256d acc1 =
+        _mm256_sub_pd(_mm256_sub_pd(_mm256_load_pd(v1.x + 4 * r), _mm256_add_pd(_mm256_add_pd(e0, e1), e2)), se);
+    const PaddedBlock& inv = a.diag_inv[r];
+    const __m256d i0 = _mm256_load_pd(inv.col[0]), i1 = _mm256_load_pd(inv.col[1]), i2 = _mm256_load_pd(inv.col[2]);
+    __m256d o0 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(i0, _mm256_permute4x64_pd(acc0, 0x00)),
+                                             _mm256_mul_pd(i1, _mm256_permute4x64_pd(acc0, 0x55))),
+                               _mm256_mul_pd(i2, _mm256_permute4x64_pd(acc0, 0xAA)));
+    __m256d o1 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(i0, _mm256_permute4x64_pd(acc1, 0x00)),
+                                             _mm256_mul_pd(i1, _mm256_permute4x64_pd(acc1, 0x55))),
+                               _mm256_mul_pd(i2, _mm256_permute4x64_pd(acc1, 0xAA)));
+    if (q.adjacent) {
+      const PaddedBlock& g = a.adjacent_scaled[r];
+      const __m256d g0 = _mm256_load_pd(g.col[0]), g1 = _mm256_load_pd(g.col[1]), g2 = _mm256_load_pd(g.col[2]);
+      o0 = _mm256_sub_pd(o0, _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(g0, _mm256_permute4x64_pd(prev0, 0x00)),
+                                                         _mm256_mul_pd(g1, _mm256_permute4x64_pd(prev0, 0x55))),
+                                           _mm256_mul_pd(g2, _mm256_permute4x64_pd(prev0, 0xAA))));
+      o1 = _mm256_sub_pd(o1, _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(g0, _mm256_permute4x64_pd(prev1, 0x00)),
+                                                         _mm256_mul_pd(g1, _mm256_permute4x64_pd(prev1, 0x55))),
+                                           _mm256_mul_pd(g2, _mm256_permute4x64_pd(prev1, 0xAA))));
+    }
+    _mm256_store_pd(v0.y + 4 * r, o0);
+    _mm256_store_pd(v1.y + 4 * r, o1);
+    xy0 += DiagonalRowAvx2(a.diag[r], o0, v0.z + 4 * r);
+    xy1 += DiagonalRowAvx2(a.diag[r], o1, v1.z + 4 * r);
+    prev0 = o0;
+    prev1 = o1;
+  }
+  xy[0] = xy0;
+  xy[1] = xy1;
+}
+
 // y = D_w x per row and the sum of the rows' x . y.
 __attribute__((target("avx2"))) double MultiplyDiagonalAvx2(const PaddedBlock* diag, int rows,
                                                             const double* x, double* y) {
@@ -253,6 +317,21 @@ double Sweep(const GaussSeidelSweepArgs& a, const SweepVectors& v) {
   return xy;
 }
 
+// Two kForwardDiagonal sweeps in one pass over the rows (independent: the bits of two sweeps).
+void SweepForwardDiagonalPair(const GaussSeidelSweepArgs& a, const SweepVectors& v0, const SweepVectors& v1,
+                              double* xy) {
+#ifdef HAPTEX_TEXTILE_X86_KERNELS
+  if (a.avx2) return SweepForwardDiagonalPairAvx2(a, v0, v1, xy);
+#endif
+  double xy0 = 0.0, xy1 = 0.0;
+  for (int i = 0; i < a.rows; ++i) {
+    xy0 += RowGeneric<SweepKind::kForwardDiagonal>(a, i, v0);
+    xy1 += RowGeneric<SweepKind::kForwardDiagonal>(a, i, v1);
+  }
+  xy[0] = xy0;
+  xy[1] = xy1;
+}
+
 // A row's blocks (SetRowBlocks) on GCC vector extensions: the generic build does each 4-wide
 // operation as SSE2 pairs, the avx2 build as one instruction; the same IEEE operations in the
 // same order, so identical results.
@@ -268,8 +347,18 @@ inline __attribute__((always_inline)) void StoreColumn(V4 v, PaddedBlock* b, int
   std::memcpy(b->col[j], &v, sizeof v);
 }
 
+// u x v lane by lane: (u_1 v_2 - u_2 v_1, u_2 v_0 - u_0 v_2, u_0 v_1 - u_1 v_0, 0) for lanes 3 of 0.
 inline __attribute__((always_inline)) V4 Cross(V4 u, V4 v) {
-  return V4{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0], 0.0};
+  const V4 u_yzx = __builtin_shufflevector(u, u, 1, 2, 0, 3), u_zxy = __builtin_shufflevector(u, u, 2, 0, 1, 3);
+  const V4 v_yzx = __builtin_shufflevector(v, v, 1, 2, 0, 3), v_zxy = __builtin_shufflevector(v, v, 2, 0, 1, 3);
+  return u_yzx * v_zxy - u_zxy * v_yzx;
+}
+
+// Column j of m, lane 3: 0.
+inline __attribute__((always_inline)) V4 MatrixColumn(const Eigen::Matrix3d& m, int j) {
+  V4 v = {0.0, 0.0, 0.0, 0.0};
+  std::memcpy(&v, m.data() + 3 * j, 3 * sizeof(double));
+  return v;
 }
 
 // out = d_inv m (lane 3 of each column: 0, from d_inv's).
@@ -280,27 +369,31 @@ inline __attribute__((always_inline)) void Premultiply(const PaddedBlock& d_inv,
   for (int j = 0; j < 3; ++j) StoreColumn((c0 * m(0, j) + c1 * m(1, j)) + c2 * m(2, j), out, j);
 }
 
-inline __attribute__((always_inline)) bool RowBlocksKernel(const Eigen::Matrix3d& a, double omega,
+inline __attribute__((always_inline)) bool RowBlocksKernel(const Eigen::Matrix3d& a, double omega, double inv_omega,
                                                            const Eigen::Matrix3d* lower_block,
                                                            const Eigen::Matrix3d* upper_block, PaddedBlock* d,
                                                            PaddedBlock* d_inv, PaddedBlock* lower,
                                                            PaddedBlock* upper) {
-  // D_w = a / omega and D_w^-1 = omega adj(a) / det(a): the adjugate's columns are cross
-  // products of a's rows.
-  const double inv_omega = 1.0 / omega;
-  const V4 r0 = {a(0, 0), a(0, 1), a(0, 2), 0.0}, r1 = {a(1, 0), a(1, 1), a(1, 2), 0.0},
-           r2 = {a(2, 0), a(2, 1), a(2, 2), 0.0};
-  // Cross products of a's rows are the columns of adj(a): (r1 x r2) . r0 = det, (r1 x r2) . r1 = 0.
-  const V4 adj0 = Cross(r1, r2), adj1 = Cross(r2, r0), adj2 = Cross(r0, r1);
-  const double det = (r0[0] * adj0[0] + r0[1] * adj0[1]) + r0[2] * adj0[2];
+  // D_w = a / omega (inv_omega = 1 / omega) and D_w^-1 = omega adj(a) / det(a). The rows of
+  // adj(a) are cross products of a's columns: entry by entry the products of the textbook's
+  // columns of adj(a) from a's rows (multiplication commutes exactly), on whole columns.
+  const V4 a0 = MatrixColumn(a, 0), a1 = MatrixColumn(a, 1), a2 = MatrixColumn(a, 2);
+  const V4 row0 = Cross(a1, a2), row1 = Cross(a2, a0), row2 = Cross(a0, a1);
+  const V4 zero = {0.0, 0.0, 0.0, 0.0};
+  const V4 t0 = __builtin_shufflevector(row0, row1, 0, 4, 2, 6), t1 = __builtin_shufflevector(row0, row1, 1, 5, 3, 7);
+  const V4 t2 = __builtin_shufflevector(row2, zero, 0, 4, 2, 6), t3 = __builtin_shufflevector(row2, zero, 1, 5, 3, 7);
+  const V4 adj0 = __builtin_shufflevector(t0, t2, 0, 1, 4, 5), adj1 = __builtin_shufflevector(t1, t3, 0, 1, 4, 5),
+           adj2 = __builtin_shufflevector(t0, t2, 2, 3, 6, 7);  // columns of adj(a)
+  // det = a's row 0 . adj's column 0.
+  const double det = (a(0, 0) * adj0[0] + a(0, 1) * adj0[1]) + a(0, 2) * adj0[2];
   const double s = omega / det;
   const V4 col0 = adj0 * s, col1 = adj1 * s, col2 = adj2 * s;  // columns of D_w^-1
   // An infinite or NaN entry makes the sum of all nine non-finite.
   const V4 sum = (col0 + col1) + col2;
   if (!(det != 0.0) || !std::isfinite(s) || !std::isfinite((sum[0] + sum[1]) + sum[2])) return false;
-  for (int j = 0; j < 3; ++j) {
-    StoreColumn(V4{a(0, j), a(1, j), a(2, j), 0.0} * inv_omega, d, j);
-  }
+  StoreColumn(a0 * inv_omega, d, 0);
+  StoreColumn(a1 * inv_omega, d, 1);
+  StoreColumn(a2 * inv_omega, d, 2);
   StoreColumn(col0, d_inv, 0);
   StoreColumn(col1, d_inv, 1);
   StoreColumn(col2, d_inv, 2);
@@ -317,6 +410,7 @@ struct RowUpdate {
   const unsigned char* free;
   const Eigen::Matrix3d* blocks;
   double omega;
+  double inv_omega;  // 1 / omega
   int rows;
   PaddedBlock* diag;
   PaddedBlock* diag_inv;
@@ -342,7 +436,7 @@ inline __attribute__((always_inline)) bool RowUpdatesKernel(const RowUpdate& u) 
     }
     // Slot of general index k: k + slot_offset; the row's neighbours r -+ 1 are next to its diagonal.
     const Eigen::Matrix3d* a = u.blocks + u.forward[r].slot_offset + u.general_diag[r];
-    if (!RowBlocksKernel(*a, u.omega, lower ? a - 1 : nullptr, upper ? a + 1 : nullptr, &u.diag[r],
+    if (!RowBlocksKernel(*a, u.omega, u.inv_omega, lower ? a - 1 : nullptr, upper ? a + 1 : nullptr, &u.diag[r],
                          &u.diag_inv[r], &u.lower[r], &u.upper[r])) {
       u.diag[r].SetZero();
       u.diag_inv[r].SetZero();
@@ -363,7 +457,7 @@ __attribute__((target("avx2"))) bool RowUpdatesAvx2(const RowUpdate& u) { return
 bool RowBlocksGeneric(const Eigen::Matrix3d& a, double omega, const Eigen::Matrix3d* lower_block,
                       const Eigen::Matrix3d* upper_block, PaddedBlock* d, PaddedBlock* d_inv,
                       PaddedBlock* lower, PaddedBlock* upper) {
-  return RowBlocksKernel(a, omega, lower_block, upper_block, d, d_inv, lower, upper);
+  return RowBlocksKernel(a, omega, 1.0 / omega, lower_block, upper_block, d, d_inv, lower, upper);
 }
 
 #ifdef HAPTEX_TEXTILE_X86_KERNELS
@@ -371,7 +465,7 @@ __attribute__((target("avx2"))) bool RowBlocksAvx2(const Eigen::Matrix3d& a, dou
                                                    const Eigen::Matrix3d* lower_block,
                                                    const Eigen::Matrix3d* upper_block, PaddedBlock* d,
                                                    PaddedBlock* d_inv, PaddedBlock* lower, PaddedBlock* upper) {
-  return RowBlocksKernel(a, omega, lower_block, upper_block, d, d_inv, lower, upper);
+  return RowBlocksKernel(a, omega, 1.0 / omega, lower_block, upper_block, d, d_inv, lower, upper);
 }
 #endif
 
@@ -438,7 +532,7 @@ GaussSeidelPreconditioner::GaussSeidelPreconditioner(const SplitRows& split) {
 bool GaussSeidelPreconditioner::UpdateRows(const std::vector<Eigen::Matrix3d>& blocks, double omega) {
   diag_excess_ = 2.0 - omega;
   const RowUpdate u{forward_rows_.data(), backward_rows_.data(), general_diag_.data(), row_free_.data(),
-                    blocks.data(), omega, rows(), diag_.data(), diag_inv_.data(),
+                    blocks.data(), omega, 1.0 / omega, rows(), diag_.data(), diag_inv_.data(),
                     adjacent_lower_scaled_.data(), adjacent_upper_scaled_.data()};
 #ifdef HAPTEX_TEXTILE_X86_KERNELS
   if (avx2_) return RowUpdatesAvx2(u);
@@ -482,6 +576,19 @@ double GaussSeidelPreconditioner::ForwardSolveDiagonal(const std::vector<Eigen::
   DemandRows(*w, rows());
   return Sweep<SweepKind::kForwardDiagonal>(
       Args(true, blocks, scalars), {x.data(), y->data(), nullptr, w->data(), nullptr, 0.0});
+}
+
+void GaussSeidelPreconditioner::ForwardSolveDiagonalPair(const std::vector<Eigen::Matrix3d>& blocks,
+                                                         const std::vector<double>& scalars,
+                                                         const PaddedVector& x0, PaddedVector* y0, PaddedVector* w0,
+                                                         const PaddedVector& x1, PaddedVector* y1, PaddedVector* w1,
+                                                         double* yw) const {
+  for (const PaddedVector* v : {&x0, static_cast<const PaddedVector*>(y0), static_cast<const PaddedVector*>(w0),
+                                &x1, static_cast<const PaddedVector*>(y1), static_cast<const PaddedVector*>(w1)}) {
+    DemandRows(*v, rows());
+  }
+  SweepForwardDiagonalPair(Args(true, blocks, scalars), {x0.data(), y0->data(), nullptr, w0->data(), nullptr, 0.0},
+                           {x1.data(), y1->data(), nullptr, w1->data(), nullptr, 0.0}, yw);
 }
 
 void GaussSeidelPreconditioner::BackwardSolve(const std::vector<Eigen::Matrix3d>& blocks,

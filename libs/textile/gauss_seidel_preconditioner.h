@@ -94,6 +94,11 @@ class GaussSeidelPreconditioner {
   /// ForwardSolve(x, y), then MultiplyDiagonal(*y, w): returns y . w. Never allocates.
   double ForwardSolveDiagonal(const std::vector<Eigen::Matrix3d>& blocks, const std::vector<double>& scalars,
                               const PaddedVector& x, PaddedVector* y, PaddedVector* w) const;
+  /// ForwardSolveDiagonal(x0, y0, w0) and ForwardSolveDiagonal(x1, y1, w1) in one pass (each
+  /// block read once for both): yw[0] = y0 . w0, yw[1] = y1 . w1. Never allocates.
+  void ForwardSolveDiagonalPair(const std::vector<Eigen::Matrix3d>& blocks, const std::vector<double>& scalars,
+                                const PaddedVector& x0, PaddedVector* y0, PaddedVector* w0, const PaddedVector& x1,
+                                PaddedVector* y1, PaddedVector* w1, double yw[2]) const;
   /// x = s + beta x (CG's new direction), then MultiplySplit(x, t, z, y). Never allocates.
   double UpdateMultiplySplit(const std::vector<Eigen::Matrix3d>& blocks, const std::vector<double>& scalars,
                              const PaddedVector& s, double beta, PaddedVector* x, PaddedVector* t,

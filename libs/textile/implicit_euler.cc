@@ -8,7 +8,12 @@
 
 #include "libs/textile/anchor_spring_force.h"
 #include "libs/textile/check.h"
+#include "libs/textile/cpu_features.h"
 #include "libs/textile/fabric_forces.h"
+
+#ifdef HAPTEX_TEXTILE_X86_KERNELS
+#include <immintrin.h>
+#endif
 
 namespace haptex::textile {
 namespace {
@@ -16,6 +21,16 @@ namespace {
 bool IsFree(const FabricState& s, int p) {
   return s.mode[static_cast<std::size_t>(p)] == ParticleMode::kFree;
 }
+
+// Components 0 and 1 of a particle as a pair (SSE2 in any x86-64 build), component 2 apart:
+// the per-particle passes below do per component the operations Eigen did, in half the code.
+using V2 = double __attribute__((vector_size(16)));
+inline V2 Load2(const double* p) {
+  V2 v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+inline void Store2(double* p, V2 v) { std::memcpy(p, &v, sizeof v); }
 
 // y = filter(A x), with A = ws->system (its bend-only blocks read as ws->system_scalars);
 // returns x . y.
@@ -52,24 +67,29 @@ void ForEachGeneralSlot(const SplitRows& split, int r, Fn f) {
   for (int k = 0; k < count; ++k) f(static_cast<std::size_t>(first + k));
 }
 
-// system = system_base before the state-dependent blocks are added: only the general blocks,
-// from their scalars, where the workspace has them (the scalar blocks never change).
-void ResetSystem(const SplitRows& split, int n, FabricWorkspace* ws) {
-  if (ws->system_base_general_scalars.empty()) {
-    ws->system = ws->system_base;
-    return;
-  }
-  // A block d I column-major is (d, 0), (0, 0), (d, 0), (0, 0), d: five 2-wide stores.
+// What ResetStep writes: the general blocks d I (d = scalars[slot]; rows' general slots
+// [first_slot[r], first_slot[r] + start[r + 1] - start[r])), and two 3n vectors zeroed.
+struct StepReset {
+  const int* first_slot;
+  const int* start;
+  const double* scalars;
+  double* blocks;  // 9 per slot
+  double* force;
+  double* dfdx_v;
+  int rows;
+};
+
+// One pass over the rows (the vectors' rows zeroed with the blocks: no memset pass). A block
+// d I column-major is (d, 0, 0, 0), (d, 0, 0, 0), d.
+void ResetStepGeneric(const StepReset& u) {
   static_assert(sizeof(Eigen::Matrix3d) == 9 * sizeof(double));  // blocks 9 apart
-  using V2 = double __attribute__((vector_size(16)));
   const V2 zero = {0.0, 0.0};
-  for (int r = 0; r < n; ++r) {
-    const auto row = static_cast<std::size_t>(r);
-    const int first = split.general_first_slot[row];
-    const int count = split.general_start[row + 1] - split.general_start[row];
-    const double* scalars = ws->system_base_general_scalars.data() + first;
-    for (int k = 0; k < count; ++k) {
-      double* b = ws->system[static_cast<std::size_t>(first + k)].data();
+  for (int r = 0; r < u.rows; ++r) {
+    const int first = u.first_slot[r];
+    const int count = u.start[r + 1] - u.start[r];
+    const double* scalars = u.scalars + first;
+    double* b = u.blocks + 9 * static_cast<std::ptrdiff_t>(first);
+    for (int k = 0; k < count; ++k, b += 9) {
       const V2 d0 = {scalars[k], 0.0};
       std::memcpy(b, &d0, sizeof d0);
       std::memcpy(b + 2, &zero, sizeof zero);
@@ -77,11 +97,67 @@ void ResetSystem(const SplitRows& split, int n, FabricWorkspace* ws) {
       std::memcpy(b + 6, &zero, sizeof zero);
       std::memcpy(b + 8, &d0, sizeof(double));
     }
+    for (double* v : {u.force + 3 * r, u.dfdx_v + 3 * r}) {
+      std::memcpy(v, &zero, sizeof zero);
+      v[2] = 0.0;
+    }
   }
 }
 
+#ifdef HAPTEX_TEXTILE_X86_KERNELS
+// The same stores 4 wide; a vector row's 4-wide zero reaches into the next row (zeroed next),
+// so the last row is zeroed 3 wide. `u` by value and the pointers restrict: kept in registers.
+__attribute__((target("avx"))) void ResetStepAvx(StepReset u) {
+  const int* __restrict first_slot = u.first_slot;
+  const int* __restrict start = u.start;
+  const double* __restrict all_scalars = u.scalars;
+  double* __restrict blocks = u.blocks;
+  double* __restrict force = u.force;
+  double* __restrict dfdx_v = u.dfdx_v;
+  const __m256d zero = _mm256_setzero_pd();
+  const int last = u.rows - 1;
+  for (int r = 0; r <= last; ++r) {
+    const int first = first_slot[r];
+    const double* scalars = all_scalars + first;
+    const double* end = all_scalars + first + (start[r + 1] - start[r]);
+    double* b = blocks + 9 * static_cast<std::ptrdiff_t>(first);
+    for (; scalars != end; ++scalars, b += 9) {
+      const __m256d d0 = _mm256_set_pd(0.0, 0.0, 0.0, *scalars);  // one load
+      _mm256_storeu_pd(b, d0);
+      _mm256_storeu_pd(b + 4, d0);
+      _mm_store_sd(b + 8, _mm256_castpd256_pd128(d0));
+    }
+    if (r < last) {
+      _mm256_storeu_pd(force + 3 * r, zero);
+      _mm256_storeu_pd(dfdx_v + 3 * r, zero);
+    } else {
+      for (double* v : {force + 3 * r, dfdx_v + 3 * r}) v[0] = v[1] = v[2] = 0.0;
+    }
+  }
+}
+#endif
+
+// A step's accumulators before the forces are added: system = system_base (only the general
+// blocks, from their scalars, where the workspace has them: the scalar blocks never change),
+// force_N = 0, dfdx_v = 0.
+void ResetStep(const SplitRows& split, int n, FabricWorkspace* ws) {
+  if (ws->system_base_general_scalars.empty()) {
+    ws->system = ws->system_base;
+    ws->force_N.setZero();
+    ws->dfdx_v.setZero();
+    return;
+  }
+  const StepReset u{split.general_first_slot.data(), split.general_start.data(),
+                    ws->system_base_general_scalars.data(), reinterpret_cast<double*>(ws->system.data()),
+                    ws->force_N.data(), ws->dfdx_v.data(), n};
+#ifdef HAPTEX_TEXTILE_X86_KERNELS
+  if (internal::CpuHasAvx()) return ResetStepAvx(u);
+#endif
+  ResetStepGeneric(u);
+}
+
 // The constant part of the system (mass, bending, linear drag) for step h (the sink's scales)
-// into ws->system_base, the values of its scalar blocks, and what ResetSystem needs; `sink` is
+// into ws->system_base, the values of its scalar blocks, and what ResetStep needs; `sink` is
 // the step's, aimed at ws->system again on return.
 void BuildSystemBase(const FabricModel& model, double h, ForceSink* sink, FabricWorkspace* ws) {
   const int n = model.num_particles;
@@ -250,27 +326,56 @@ bool RunGaussSeidelPcg(const FabricModel& model, const FabricState& state, const
   // rhs; s = filter(rhs); q = filter(rhs - A dv), padded; in one pass. q_zero stays 0 while q
   // is finite (0 x inf is NaN): its finiteness check.
   FilteredMultiply(model, state, *ws, ws->dv, &ws->q);
+  // Component by component the operations of h (f + h dfdx_v), rhs - A dv, |rhs|^2 as
+  // (x^2 + y^2) + z^2.
   double rhs_norm2 = 0.0;
-  Eigen::Vector3d q_zero = Eigen::Vector3d::Zero();
+  V2 q_zero01 = {0.0, 0.0};
+  double q_zero2 = 0.0;
+  const ParticleMode* mode = state.mode.data();
+  const double* force = ws->force_N.data();
+  const double* dfdx_v = ws->dfdx_v.data();
+  const double* a_dv = ws->q.data();
+  double* rhs_all = ws->rhs.data();
+  double* s_rows = v.s.data();
+  double* q_rows = v.q.data();
+  const V2 zero = {0.0, 0.0};
   for (int p = 0; p < n; ++p) {
-    auto rhs = ws->rhs.segment<3>(3 * p);
-    rhs = h * (ws->force_N.segment<3>(3 * p) + h * ws->dfdx_v.segment<3>(3 * p));
-    if (IsFree(state, p)) {
-      const Eigen::Vector3d q = rhs - ws->q.segment<3>(3 * p);
-      v.s.SetRow(p, rhs);
-      v.q.SetRow(p, q);
-      q_zero += 0.0 * q;
-      rhs_norm2 += rhs.squaredNorm();
+    const double* f = force + 3 * p;
+    const double* d = dfdx_v + 3 * p;
+    const V2 rhs01 = h * (Load2(f) + h * Load2(d));
+    const double rhs2 = h * (f[2] + h * d[2]);
+    Store2(rhs_all + 3 * p, rhs01);
+    rhs_all[3 * p + 2] = rhs2;
+    double* s_row = s_rows + 4 * p;
+    double* q_row = q_rows + 4 * p;
+    if (mode[p] == ParticleMode::kFree) {
+      const V2 q01 = rhs01 - Load2(a_dv + 3 * p);
+      const double q2 = rhs2 - a_dv[3 * p + 2];
+      Store2(s_row, rhs01);
+      Store2(s_row + 2, V2{rhs2, 0.0});
+      Store2(q_row, q01);
+      Store2(q_row + 2, V2{q2, 0.0});
+      q_zero01 += 0.0 * q01;
+      q_zero2 += 0.0 * q2;
+      const V2 sq = rhs01 * rhs01;
+      rhs_norm2 += (sq[0] + sq[1]) + rhs2 * rhs2;
     } else {
-      v.s.SetRow(p, Eigen::Vector3d::Zero());
-      v.q.SetRow(p, Eigen::Vector3d::Zero());
+      Store2(s_row, zero);
+      Store2(s_row + 2, zero);
+      Store2(q_row, zero);
+      Store2(q_row + 2, zero);
     }
   }
-  const double delta0 = gs.ForwardSolveDiagonal(a, scalars, v.s, &v.z, &v.t);
-  const PcgStart start = StartPcg(model, state, delta0, rhs_norm2, q_zero.allFinite(), ws, report);
+  const bool q_finite = std::isfinite(q_zero01[0]) && std::isfinite(q_zero01[1]) && std::isfinite(q_zero2);
+  // In one pass: the reference size delta0 = s' M^-1 s (through z, t: scratch here), and
+  // r~ = (D_w + L)^-1 r0 with the first direction c = D_w r~, delta = r~'c (unused unless CG
+  // iterates).
+  double sizes[2];
+  gs.ForwardSolveDiagonalPair(a, scalars, v.s, &v.z, &v.t, v.q, &v.r, &v.c, sizes);
+  const double delta0 = sizes[0];
+  const PcgStart start = StartPcg(model, state, delta0, rhs_norm2, q_finite, ws, report);
   if (start != PcgStart::kIterate) return start == PcgStart::kBreakdown;
-  // r~ = (D_w + L)^-1 r0 and the first direction c = D_w r~, delta = r~'c.
-  double delta = gs.ForwardSolveDiagonal(a, scalars, v.q, &v.r, &v.c);
+  double delta = sizes[1];
   // CG runs on y~ = (D_w + U) y from 0 (y = 0 until the first step), but y itself is kept: y = sum alpha_k (D_w + U)^-1 c_k,
   // and the product leaves (D_w + U)^-1 c_k in t. That saves the backward sweep y~ -> y.
   // Iterate's loop with its passes fused: the direction update c = s + beta c is done by the
@@ -320,9 +425,7 @@ CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options,
   sink.dfdx_v = &ws->dfdx_v;
   sink.v = &state->v_W_m_per_s;
   if (ws->system_base_model != &model || ws->system_base_dt_s != h) BuildSystemBase(model, h, &sink, ws);
-  ResetSystem(model.product_rows, n, ws);
-  ws->force_N.setZero();
-  ws->dfdx_v.setZero();
+  ResetStep(model.product_rows, n, ws);
   sink.constant_jacobians_added = true;
   AccumulateForces(model, *state, &sink);
   AddAnchorSpringForces(model, *state, &sink);
@@ -375,16 +478,29 @@ CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options,
   }
   if (breakdown) report.converged = false;
 
-  // dv's finiteness (dv_zero stays 0 while dv is finite), with Gauss-Seidel's dv += y.
-  Eigen::Vector3d dv_zero = Eigen::Vector3d::Zero();
+  // dv's finiteness (dv_zero stays 0 while dv is finite), with Gauss-Seidel's dv += y; these
+  // last passes per component as the right-hand side's.
+  V2 dv_zero01 = {0.0, 0.0};
+  double dv_zero2 = 0.0;
+  double* dv = ws->dv.data();
   if (report.finite) {
+    const double* y = ws->split.y.data();
     for (int p = 0; p < n; ++p) {
-      auto dv = ws->dv.segment<3>(3 * p);
-      if (add_y) dv += ws->split.y.row(p);
-      dv_zero += 0.0 * dv;
+      double* d = dv + 3 * p;
+      V2 d01 = Load2(d);
+      double d2 = d[2];
+      if (add_y) {
+        d01 += Load2(y + 4 * p);
+        d2 += y[4 * p + 2];
+        Store2(d, d01);
+        d[2] = d2;
+      }
+      dv_zero01 += 0.0 * d01;
+      dv_zero2 += 0.0 * d2;
     }
   }
-  report.finite = report.finite && dv_zero.allFinite();
+  report.finite = report.finite && std::isfinite(dv_zero01[0]) && std::isfinite(dv_zero01[1]) &&
+                  std::isfinite(dv_zero2);
   if (!report.finite) {
     ws->dv.setZero();  // never warm-start from garbage
     return report;
@@ -392,17 +508,30 @@ CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options,
 
   // Update: v += dv, x += h v; with the new state's finiteness and largest speed for the
   // stepper's checks.
-  Eigen::Vector3d state_zero = Eigen::Vector3d::Zero();
+  V2 state_zero01 = {0.0, 0.0};
+  double state_zero2 = 0.0;
   double max_speed2 = 0.0;
+  double* v_all = state->v_W_m_per_s.data();
+  double* x_all = state->x_W_m.data();
   for (int p = 0; p < n; ++p) {
-    auto v = state->v_W_m_per_s.segment<3>(3 * p);
-    auto x = state->x_W_m.segment<3>(3 * p);
-    v += ws->dv.segment<3>(3 * p);
-    x += h * v;
-    state_zero += 0.0 * x + 0.0 * v;
-    max_speed2 = std::max(max_speed2, v.squaredNorm());
+    double* v = v_all + 3 * p;
+    double* x = x_all + 3 * p;
+    const double* d = dv + 3 * p;
+    const V2 v01 = Load2(v) + Load2(d);
+    const double v2 = v[2] + d[2];
+    const V2 x01 = Load2(x) + h * v01;
+    const double x2 = x[2] + h * v2;
+    Store2(v, v01);
+    v[2] = v2;
+    Store2(x, x01);
+    x[2] = x2;
+    state_zero01 += 0.0 * x01 + 0.0 * v01;
+    state_zero2 += 0.0 * x2 + 0.0 * v2;
+    const V2 sq = v01 * v01;
+    max_speed2 = std::max(max_speed2, (sq[0] + sq[1]) + v2 * v2);
   }
-  ws->stepped_state_finite = state_zero.allFinite();
+  ws->stepped_state_finite =
+      std::isfinite(state_zero01[0]) && std::isfinite(state_zero01[1]) && std::isfinite(state_zero2);
   ws->stepped_max_speed2_m2_per_s2 = max_speed2;
   state->time_s += h;
   return report;

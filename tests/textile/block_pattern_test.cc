@@ -1,8 +1,13 @@
 #include "libs/textile/block_pattern.h"
 
+#include <bit>
+#include <cstdint>
+#include <cstring>
 #include <random>
 
 #include <gtest/gtest.h>
+
+#include "libs/textile/cpu_features.h"
 
 namespace haptex::textile {
 namespace {
@@ -67,6 +72,17 @@ TEST(BlockPatternTest, MovedBlocksGoToTheRowEndsAndTheSplitProductAgrees) {
   EXPECT_LT((y - y_ref).norm(), 1e-12 * y_ref.norm());
   EXPECT_EQ(y.segment<3>(3).norm(), 0.0);
   EXPECT_NEAR(xy, x.dot(y_ref), 1e-12 * y_ref.norm() * x.norm());
+
+  // The AVX and the portable kernel give the same bits (rows 2..3 reach x's last row).
+  if (internal::CpuHasAvx()) {
+    Eigen::VectorXd y_avx = Eigen::VectorXd::Zero(12), y_portable = Eigen::VectorXd::Zero(12);
+    const double xy_avx = internal::MultiplySplitRowRange(split, blocks.data(), scalars.data(), x.data(),
+                                                          y_avx.data(), 0, 4, true);
+    const double xy_portable = internal::MultiplySplitRowRange(split, blocks.data(), scalars.data(), x.data(),
+                                                               y_portable.data(), 0, 4, false);
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(xy_avx), std::bit_cast<std::uint64_t>(xy_portable));
+    EXPECT_EQ(std::memcmp(y_avx.data(), y_portable.data(), 12 * sizeof(double)), 0);
+  }
 }
 
 TEST(BlockPatternDeathTest, MissingBlockIsABug) {

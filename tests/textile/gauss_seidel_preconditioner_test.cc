@@ -193,6 +193,19 @@ TEST(GaussSeidelPreconditionerTest, PortableKernelGivesTheSameBits) {
             Bits(portable.ForwardSolveDiagonal(a.blocks, a.scalars, x, &y2, &z2)));
   EXPECT_TRUE(SameRowBits(y1, y2));
   EXPECT_TRUE(SameRowBits(z1, z2));
+  {
+    const PaddedVector x2 = Padded(RandomFree(model, s, &rng));
+    PaddedVector ya1(n), wa1(n), yb1(n), wb1(n), ya2(n), wa2(n), yb2(n), wb2(n);
+    double pair1[2], pair2[2];
+    fast.ForwardSolveDiagonalPair(a.blocks, a.scalars, x, &ya1, &wa1, x2, &yb1, &wb1, pair1);
+    portable.ForwardSolveDiagonalPair(a.blocks, a.scalars, x, &ya2, &wa2, x2, &yb2, &wb2, pair2);
+    EXPECT_EQ(Bits(pair1[0]), Bits(pair2[0]));
+    EXPECT_EQ(Bits(pair1[1]), Bits(pair2[1]));
+    EXPECT_TRUE(SameRowBits(ya1, ya2));
+    EXPECT_TRUE(SameRowBits(wa1, wa2));
+    EXPECT_TRUE(SameRowBits(yb1, yb2));
+    EXPECT_TRUE(SameRowBits(wb1, wb2));
+  }
   PaddedVector c1 = x, c2 = x, u1 = y1, u2 = y2;
   EXPECT_EQ(Bits(fast.UpdateMultiplySplit(a.blocks, a.scalars, u1, 0.7, &c1, &t1, &z1, &y1)),
             Bits(portable.UpdateMultiplySplit(a.blocks, a.scalars, u2, 0.7, &c2, &t2, &z2, &y2)));
@@ -229,6 +242,18 @@ TEST(GaussSeidelPreconditionerTest, FusedPassesGiveTheUnfusedBits) {
     EXPECT_EQ(Bits(d1), Bits(d2)) << portable;
     EXPECT_TRUE(SameRowBits(y1, y2)) << portable;
     EXPECT_TRUE(SameRowBits(w1, w2)) << portable;
+
+    // Two forward-diagonal sweeps in one pass.
+    PaddedVector yx(n), wx(n), yp(n), wp(n), yu(n), wu(n);
+    double pair[2];
+    gs.ForwardSolveDiagonalPair(a.blocks, a.scalars, x, &yx, &wx, u, &yp, &wp, pair);
+    const double du = gs.ForwardSolveDiagonal(a.blocks, a.scalars, u, &yu, &wu);
+    EXPECT_EQ(Bits(pair[0]), Bits(d1)) << portable;
+    EXPECT_EQ(Bits(pair[1]), Bits(du)) << portable;
+    EXPECT_TRUE(SameRowBits(yx, y1)) << portable;
+    EXPECT_TRUE(SameRowBits(wx, w1)) << portable;
+    EXPECT_TRUE(SameRowBits(yp, yu)) << portable;
+    EXPECT_TRUE(SameRowBits(wp, wu)) << portable;
 
     // c = u + beta c, then the split product.
     PaddedVector c1 = x, c2 = x, t1(n), t2(n), z1(n), z2(n), q1(n), q2(n);
@@ -343,6 +368,17 @@ TEST(GaussSeidelPreconditionerTest, RowBlocksInvertAndPremultiplyExactly) {
   internal::SetRowBlocks(a, omega, &lower_block, &upper_block, internal::CpuHasAvx2(), &d2, &i2, &l2, &u2);
   EXPECT_EQ(read(i1), read(i2));
   EXPECT_EQ(read(l1), read(l2));
+  // The bits of the textbook order: adj(a)'s columns are cross products of a's rows, and
+  // D_w^-1 = adj(a) (omega / det) with det = a's row 0 . adj's column 0.
+  const auto cross = [](const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
+    return Eigen::Vector3d(u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]);
+  };
+  Eigen::Matrix3d adj;
+  adj.col(0) = cross(a.row(1), a.row(2));
+  adj.col(1) = cross(a.row(2), a.row(0));
+  adj.col(2) = cross(a.row(0), a.row(1));
+  const double det = (a(0, 0) * adj(0, 0) + a(0, 1) * adj(1, 0)) + a(0, 2) * adj(2, 0);
+  EXPECT_EQ(read(i1), Eigen::Matrix3d(adj * (omega / det)));
 }
 
 // A non-finite state makes a non-finite solve (the stepper rolls it back); the next steps must
