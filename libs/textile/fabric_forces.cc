@@ -11,6 +11,7 @@
 
 #include "libs/textile/check.h"
 #include "libs/textile/cpu_features.h"
+#include "libs/textile/lanes.h"
 
 #ifdef HAPTEX_TEXTILE_X86_KERNELS
 #include <immintrin.h>
@@ -18,18 +19,6 @@
 
 namespace haptex::textile {
 namespace {
-
-// Full unrolling of the fixed 3- and 9-long element loops (-O2 keeps them as loops over stack
-// arrays, several times slower here).
-#define HAPTEX_UNROLL _Pragma("GCC unroll 9")
-// Every helper on V4 is inlined into the kernel, so it is compiled once per instruction set
-// (and no 32-byte vector crosses a call in the generic build).
-#define HAPTEX_LANES_INLINE inline __attribute__((always_inline))
-#define HAPTEX_LANES_LAMBDA __attribute__((always_inline))
-
-#ifdef __SSE2__
-#include <emmintrin.h>
-#endif
 
 // The per-force functions (tensile_force.cc, shear_force.cc, bending_force.cc, drag_force.cc)
 // are the reference; this file evaluates the same forces and Jacobians in one pass per element,
@@ -43,45 +32,17 @@ namespace {
 // and (df/dx) v are the one-triangle formulas, added per lane in triangle order (triangles of a
 // group share particles). Blocks (l, k) are blocks (k, l) transposed, and a group's terms reach
 // a shared block in block order: the system differs from a triangle-by-triangle sum by rounding.
-// Helpers take and return V4 by value; they are always inlined, so the psabi note (32-byte
-// vectors change the calling convention without AVX) never applies. GCC reports it at the end
-// of the file, so it stays off for the rest of the file.
-#pragma GCC diagnostic ignored "-Wpsabi"
-using V4 = double __attribute__((vector_size(32)));
-using M4 = long long __attribute__((vector_size(32)));  // lane masks of V4 comparisons: -1 or 0
-using V2 = double __attribute__((vector_size(16)));      // (x, y) of one particle
-constexpr int kLanes = 4;
-
-HAPTEX_LANES_INLINE V4 Splat(double s) { return V4{s, s, s, s}; }
-// Four square roots, correctly rounded as std::sqrt: two 2-wide instructions (which the avx2
-// build keeps as such) instead of four scalar ones, each with its errno branch.
-HAPTEX_LANES_INLINE V4 Sqrt(V4 a) {
-#ifdef __SSE2__
-  const V2 lo = _mm_sqrt_pd(__builtin_shufflevector(a, a, 0, 1));
-  const V2 hi = _mm_sqrt_pd(__builtin_shufflevector(a, a, 2, 3));
-  return __builtin_shufflevector(lo, hi, 0, 1, 2, 3);
-#else
-  return V4{std::sqrt(a[0]), std::sqrt(a[1]), std::sqrt(a[2]), std::sqrt(a[3])};
-#endif
-}
-// |a|: the sign bit cleared, as std::abs does.
-HAPTEX_LANES_INLINE V4 Abs(V4 a) {
-  return std::bit_cast<V4>(std::bit_cast<M4>(a) & ~std::bit_cast<M4>(Splat(-0.0)));
-}
-HAPTEX_LANES_INLINE V4 Dot3(const V4* a, const V4* b) {
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-// Whether any lane of a mask is set: the two halves or-ed, then one sign-bit mask (SSE2, so in
-// both builds) instead of four lane extractions.
-HAPTEX_LANES_INLINE bool Any(M4 m) {
-#ifdef __SSE2__
-  using M2 = long long __attribute__((vector_size(16)));
-  const M2 halves = __builtin_shufflevector(m, m, 0, 1) | __builtin_shufflevector(m, m, 2, 3);
-  return _mm_movemask_pd(std::bit_cast<__m128d>(halves)) != 0;
-#else
-  return (m[0] | m[1] | m[2] | m[3]) != 0;
-#endif
-}
+// The lane helpers (V4, Splat, Sqrt, Any, Transpose, ...) are libs/textile/lanes.h's.
+using lanes::Abs;
+using lanes::Any;
+using lanes::Dot3;
+using lanes::kLanes;
+using lanes::M4;
+using lanes::Splat;
+using lanes::Sqrt;
+using lanes::Transpose;
+using lanes::V2;
+using lanes::V4;
 
 // base[index[j]] in lane j.
 HAPTEX_LANES_INLINE V4 Gather(const double* base, const int index[kLanes]) {
@@ -109,17 +70,6 @@ HAPTEX_LANES_INLINE V4 Weight(const TriangleElement* const el[kLanes],
                               std::array<double, 3> TriangleElement::*weights, std::size_t k) {
   return V4{(el[0]->*weights)[k], (el[1]->*weights)[k], (el[2]->*weights)[k],
             (el[3]->*weights)[k]};
-}
-// 4x4 transpose: rows r[e] (entry e of lanes 0..3) become c[j] (entries 0..3 of lane j).
-HAPTEX_LANES_INLINE void Transpose(const V4 r[4], V4 c[4]) {
-  const V4 t0 = __builtin_shufflevector(r[0], r[1], 0, 4, 2, 6);
-  const V4 t1 = __builtin_shufflevector(r[0], r[1], 1, 5, 3, 7);
-  const V4 t2 = __builtin_shufflevector(r[2], r[3], 0, 4, 2, 6);
-  const V4 t3 = __builtin_shufflevector(r[2], r[3], 1, 5, 3, 7);
-  c[0] = __builtin_shufflevector(t0, t2, 0, 1, 4, 5);
-  c[1] = __builtin_shufflevector(t1, t3, 0, 1, 4, 5);
-  c[2] = __builtin_shufflevector(t0, t2, 2, 3, 6, 7);
-  c[3] = __builtin_shufflevector(t1, t3, 2, 3, 6, 7);
 }
 // *p += a for 4 doubles at p (a Matrix3d's data: 8-byte aligned only).
 HAPTEX_LANES_INLINE void AddTo(V4 a, double* p) {
