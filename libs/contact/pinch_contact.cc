@@ -21,7 +21,6 @@ double Max3(double a, double b, double c) { return std::max(a, std::max(b, c)); 
 // Per-particle arrays are padded to whole 4-particle lanes.
 std::size_t PaddedCount(int n) { return 4 * ((static_cast<std::size_t>(n) + 3) / 4); }
 
-
 }  // namespace
 
 PinchContact::PinchContact(const textile::FabricModel& patch, const ContactOptions& options)
@@ -177,6 +176,11 @@ void PinchContact::LocateParticles(const textile::FabricState& state, std::vecto
 }
 
 bool PinchContact::ClassifySamples() {
+  if (!(k_N_per_m_ > 0.0)) {  // a patch without area: no sample can hold a spring
+    active_ = maybe_active_ = false;
+    num_active_ = 0;
+    return false;
+  }
   // A triangle with no near particle holds no sample; one whose farthest corner is more than the
   // triangle's diameter outside a finger holds none (the distance changes no faster than the
   // point moves); one whose corners all lie deeper than the edge ramp in both fingers holds all
@@ -198,7 +202,10 @@ bool PinchContact::ClassifySamples() {
     bool candidate = near_[p0] || near_[p1] || near_[p2];
     const double far_t2 = Max3(d2_thumb_[p0], d2_thumb_[p1], d2_thumb_[p2]);
     const double far_i2 = Max3(d2_index_[p0], d2_index_[p1], d2_index_[p2]);
-    const bool deep = far_t2 < full_t2 && far_i2 < full_i2;
+    // Corner by corner, not from the maxima: std::max drops a NaN, and a NaN corner must not
+    // make its triangle deep (its samples would start at NaN points and spread them).
+    const bool deep = d2_thumb_[p0] < full_t2 && d2_thumb_[p1] < full_t2 && d2_thumb_[p2] < full_t2 &&
+                      d2_index_[p0] < full_i2 && d2_index_[p1] < full_i2 && d2_index_[p2] < full_i2;
     if (candidate && !deep) {
       const Eigen::Map<const Eigen::Vector3d> x0(&x_C_[4 * p0]), x1(&x_C_[4 * p1]), x2(&x_C_[4 * p2]);
       const double diam = std::sqrt(Max3((x1 - x0).squaredNorm(), (x2 - x0).squaredNorm(),

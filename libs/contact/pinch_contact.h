@@ -63,7 +63,7 @@ class PinchContact {
     bool sliding = false;
     Eigen::Vector2d ideal_C{Eigen::Vector2d::Zero()};
   };
-  int samples_per_triangle() const { return options_.pinch_samples_per_edge * options_.pinch_samples_per_edge; }
+  int samples_per_triangle() const { return per_triangle_; }
   int num_samples() const { return static_cast<int>(triangle_p_.size()) * per_triangle_; }
   SampleState sample(int i) const {
     const std::size_t l = Lane(i);

@@ -20,6 +20,11 @@ using textile::lanes::Transpose;
 using textile::lanes::V4;
 using textile::lanes::Where;
 
+// Sum of the four lanes of a count (masks subtracted: +1 per set lane).
+HAPTEX_LANES_INLINE int LaneCount(M4 count) {
+  return static_cast<int>((count[0] + count[1]) + (count[2] + count[3]));
+}
+
 HAPTEX_LANES_INLINE V4 Load(const double* p) {
   V4 v;
   __builtin_memcpy(&v, p, sizeof v);
@@ -36,8 +41,7 @@ HAPTEX_LANES_INLINE void StoreMask(M4 m, long long* p) { __builtin_memcpy(p, &m,
 HAPTEX_LANES_INLINE V4 Min(V4 a, V4 b) { return a < b ? a : b; }
 HAPTEX_LANES_INLINE V4 Max(V4 a, V4 b) { return a > b ? a : b; }
 
-// Squared distances of four points q (per axis) to a capsule axis: the clamped projection, as
-// PinchContact::AxisC::Distance2.
+// Squared distances of four points q (per axis) to a capsule axis: the clamped projection onto it.
 HAPTEX_LANES_INLINE V4 Distance2(const PinchAxis& axis, const V4 q[3]) {
   V4 aq[3];
   HAPTEX_UNROLL
@@ -90,8 +94,7 @@ HAPTEX_LANES_INLINE void LocateKernel(const PinchLocateInput& in, const PinchPar
 template <int kChunks>
 HAPTEX_LANES_INLINE PinchClassifyTotals ClassifyKernel(const PinchSampleLayout& layout,
                                                        const PinchClassifyInput& in,
-                                                       const PinchSampleArrays& s,
-                                                       PinchTriangleHold* hold) {
+                                                       const PinchSampleArrays& s, PinchTriangleHold* hold) {
   const int chunks = kChunks > 0 ? kChunks : layout.chunks;
   const double k_full = layout.k_full_N_per_m;
   const bool ramped = in.edge_ramp_m > 0.0;
@@ -106,8 +109,8 @@ HAPTEX_LANES_INLINE PinchClassifyTotals ClassifyKernel(const PinchSampleLayout& 
     V4 k_sum = Splat(0.0);
     M4 count = M4{0, 0, 0, 0};
     for (int c = 0; c < chunks; ++c) {
-      const std::size_t lane0 = 4 * (static_cast<std::size_t>(t) * static_cast<std::size_t>(chunks) +
-                                     static_cast<std::size_t>(c));
+      const std::size_t lane0 =
+          4 * (static_cast<std::size_t>(t) * static_cast<std::size_t>(chunks) + static_cast<std::size_t>(c));
       const double* wc = layout.w + 12 * c;
       const V4 w[3] = {Load(wc), Load(wc + 4), Load(wc + 8)};
       const V4 k_full_lanes = Load(layout.k_full_lanes + 4 * c);
@@ -152,15 +155,15 @@ HAPTEX_LANES_INLINE PinchClassifyTotals ClassifyKernel(const PinchSampleLayout& 
       hold[a] = PinchTriangleHold::kNone;
     }
   }
-  totals.active_not_full = static_cast<int>(active_count[0] + active_count[1] + active_count[2] + active_count[3]);
+  totals.active_not_full = LaneCount(active_count);
   return totals;
 }
 
 template <int kChunks>
 HAPTEX_LANES_INLINE PinchFrictionTotals FrictionKernel(const PinchSampleLayout& layout,
-                                               const PinchFrictionInput& in,
-                                               const PinchSampleArrays& s,
-                                               PinchParticleSums* sums, double* w_sums) {
+                                                       const PinchFrictionInput& in,
+                                                       const PinchSampleArrays& s, PinchParticleSums* sums,
+                                                       double* w_sums) {
   const double gps = in.normal_per_stiffness_m;
   const double mu_s = in.mu_static, mu_d = in.mu_dynamic;
   const bool loaded = gps > 0.0;
@@ -175,8 +178,8 @@ HAPTEX_LANES_INLINE PinchFrictionTotals FrictionKernel(const PinchSampleLayout& 
     // Per corner m, over the samples: w k (ideal - q) per axis, w k, and w.
     V4 d[3][3] = {}, wk_sum[3] = {}, w_sum[3] = {};
     for (int c = 0; c < chunks; ++c) {
-      const std::size_t lane0 = 4 * (static_cast<std::size_t>(t) * static_cast<std::size_t>(chunks) +
-                                     static_cast<std::size_t>(c));
+      const std::size_t lane0 =
+          4 * (static_cast<std::size_t>(t) * static_cast<std::size_t>(chunks) + static_cast<std::size_t>(c));
       const double* wc = layout.w + 12 * c;
       const V4 w[3] = {Load(wc), Load(wc + 4), Load(wc + 8)};
       V4 q[3];
@@ -235,7 +238,7 @@ HAPTEX_LANES_INLINE PinchFrictionTotals FrictionKernel(const PinchSampleLayout& 
   PinchFrictionTotals totals;
   totals.k_ideal_x_N = kx_ky[0];
   totals.k_ideal_y_N = kx_ky[1];
-  totals.sliding = static_cast<int>(sliding_count[0] + sliding_count[1] + sliding_count[2] + sliding_count[3]);
+  totals.sliding = LaneCount(sliding_count);
   return totals;
 }
 
@@ -247,7 +250,7 @@ PinchClassifyTotals ClassifyPortable(const PinchSampleLayout& layout, const Pinc
 }
 
 PinchFrictionTotals FrictionPortable(const PinchSampleLayout& layout, const PinchFrictionInput& in,
-                             const PinchSampleArrays& s, PinchParticleSums* sums, double* w_sums) {
+                                     const PinchSampleArrays& s, PinchParticleSums* sums, double* w_sums) {
   return layout.chunks == 1 ? FrictionKernel<1>(layout, in, s, sums, w_sums)
                             : FrictionKernel<0>(layout, in, s, sums, w_sums);
 }
@@ -258,15 +261,15 @@ __attribute__((target("avx2"))) void LocateAvx2(const PinchLocateInput& in, cons
   LocateKernel(in, out);
 }
 __attribute__((target("avx2"))) PinchClassifyTotals ClassifyAvx2(const PinchSampleLayout& layout,
-                                                                const PinchClassifyInput& in,
-                                                                const PinchSampleArrays& s,
-                                                                PinchTriangleHold* hold) {
+                                                                 const PinchClassifyInput& in,
+                                                                 const PinchSampleArrays& s,
+                                                                 PinchTriangleHold* hold) {
   return layout.chunks == 1 ? ClassifyKernel<1>(layout, in, s, hold) : ClassifyKernel<0>(layout, in, s, hold);
 }
 __attribute__((target("avx2"))) PinchFrictionTotals FrictionAvx2(const PinchSampleLayout& layout,
-                                                        const PinchFrictionInput& in,
-                                                        const PinchSampleArrays& s,
-                                                        PinchParticleSums* sums, double* w_sums) {
+                                                                 const PinchFrictionInput& in,
+                                                                 const PinchSampleArrays& s,
+                                                                 PinchParticleSums* sums, double* w_sums) {
   return layout.chunks == 1 ? FrictionKernel<1>(layout, in, s, sums, w_sums)
                             : FrictionKernel<0>(layout, in, s, sums, w_sums);
 }

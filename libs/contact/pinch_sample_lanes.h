@@ -3,10 +3,11 @@
 // which are active and with what spring, and Coulomb's law with the springs' lumping.
 //
 // A sample is active while it lies in both fingers (within their radius plus the fabric). Its
-// spring is the full one deeper than the edge ramp in both, ramped down to 0 at the edge. Each active sample has a spring k towards its ideal
-// position on the contact plane; it sticks while k |q - ideal| is within mu_s (mu_d once sliding)
-// of its share of the grip, else its ideal position trails the frictionless point q at mu_d of
-// that share. Its spring w_m k (ideal - q) reaches corner m of its triangle (q = sum_m w_m x_m).
+// spring is the full one deeper than the edge ramp in both, ramped down to 0 at the edge. Each
+// active sample has a spring k towards its ideal position on the contact plane; it sticks while
+// k |q - ideal| is within mu_s (mu_d once sliding) of its share of the grip, else its ideal
+// position trails the frictionless point q at mu_d of that share. Its spring w_m k (ideal - q) reaches corner
+// m of its triangle (q = sum_m w_m x_m).
 //
 // Samples are stored as structures of arrays, triangle-major, each triangle's samples padded to
 // whole 4-lane chunks (pad lanes have weight 0 and no spring). A lane is active when its spring
@@ -29,10 +30,10 @@ struct alignas(32) PinchParticleSums {
 
 /// The samples' weights and springs, fixed for a patch.
 struct PinchSampleLayout {
-  int chunks = 1;             ///< 4-lane chunks per triangle
-  const double* w = nullptr;  ///< [chunk][corner][lane]: barycentric weight of the lane's sample
+  int chunks = 1;                        ///< 4-lane chunks per triangle
+  const double* w = nullptr;             ///< [chunk][corner][lane]: barycentric weight of the lane's sample
   const double* k_full_lanes = nullptr;  ///< [chunk][lane]: the full spring [N/m] (0 on pad lanes)
-  const double* w_sum_full = nullptr;      ///< [corner]: sum of the weights over all samples
+  const double* w_sum_full = nullptr;    ///< [corner]: sum of the weights over all samples
   double k_full_N_per_m = 0.0;
 };
 
@@ -61,11 +62,11 @@ enum class PinchOwned : std::uint8_t { kNo = 0, kYes = 1, kExactTest = 2 };
 
 /// Per particle (arrays padded to a multiple of 4 particles; x_C 4 doubles per particle).
 struct PinchParticleArrays {
-  double* x_C_m = nullptr;  ///< position in C, (x, y, z, pad)
+  double* x_C_m = nullptr;        ///< position in C, (x, y, z, pad)
   double* d2_thumb_m2 = nullptr;  ///< squared distance to the thumb's axis
   double* d2_index_m2 = nullptr;
   std::uint8_t* near = nullptr;  ///< near the intersection (only its triangles can hold samples)
-  PinchOwned* owned = nullptr;  ///< kNo for particles not near
+  PinchOwned* owned = nullptr;   ///< kNo for particles not near
 };
 
 /// Fills the particle arrays.
@@ -75,7 +76,7 @@ void LocatePinchParticles(const PinchLocateInput& in, const PinchParticleArrays&
 struct PinchClassifyInput {
   const double* x_C_m = nullptr;  ///< 4 per particle: positions in C (PinchParticleArrays)
   const std::array<int, 3>* triangle_p = nullptr;
-  const int* triangles = nullptr;     ///< triangles to classify, ascending
+  const int* triangles = nullptr;      ///< triangles to classify, ascending
   const std::uint8_t* deep = nullptr;  ///< per entry: every corner deeper than the ramp in both
   int num_triangles = 0;
   PinchAxis thumb, index;
@@ -90,7 +91,7 @@ struct PinchClassifyInput {
 enum class PinchTriangleHold : std::uint8_t { kNone = 0, kSome = 1, kAllFull = 2 };
 
 struct PinchClassifyTotals {
-  int active_not_full = 0;        ///< active samples in triangles not all at the full spring
+  int active_not_full = 0;          ///< active samples in triangles not all at the full spring
   double k_not_full_N_per_m = 0.0;  ///< the sum of their springs
   int all_full_triangles = 0;
 };
@@ -99,10 +100,10 @@ struct PinchClassifyTotals {
 struct PinchFrictionInput {
   const double* x_C_m = nullptr;  ///< 4 per particle: positions in C (PinchParticleArrays)
   const std::array<int, 3>* triangle_p = nullptr;
-  const int* triangles = nullptr;         ///< triangles with an active sample, ascending
-  const std::uint8_t* full = nullptr;     ///< per entry: every sample active at the full spring
+  const int* triangles = nullptr;      ///< triangles with an active sample, ascending
+  const std::uint8_t* full = nullptr;  ///< per entry: every sample active at the full spring
   int num_triangles = 0;
-  double normal_per_stiffness_m = 0.0;    ///< a sample's share of the grip per N/m of its spring
+  double normal_per_stiffness_m = 0.0;       ///< a sample's share of the grip per N/m of its spring
   double mu_static = 0.0, mu_dynamic = 0.0;  ///< per sample: both faces grip (2 mu)
 };
 
@@ -110,8 +111,8 @@ struct PinchFrictionInput {
 struct PinchSampleArrays {
   double* ideal_x_C_m = nullptr;
   double* ideal_y_C_m = nullptr;
-  double* k_N_per_m = nullptr;  ///< this tick's spring; 0: inactive
-  long long* sliding = nullptr;       ///< -1 sliding, 0 sticking (kept while inactive)
+  double* k_N_per_m = nullptr;   ///< this tick's spring; 0: inactive
+  long long* sliding = nullptr;  ///< -1 sliding, 0 sticking (kept while inactive)
 };
 
 struct PinchFrictionTotals {

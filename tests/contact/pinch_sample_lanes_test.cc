@@ -2,14 +2,14 @@
 // against the portable one bit for bit.
 #include "libs/contact/pinch_sample_lanes.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
 #include <random>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "libs/textile/cpu_features.h"
 
@@ -75,94 +75,106 @@ bool SameBits(const std::vector<T>& a, const std::vector<T>& b) {
 }
 
 TEST(PinchSampleLanesTest, FrictionFollowsTheCoulombLawPerSample) {
-  for (int per : {1, 4, 9}) {
-    Fixture f(per, 7u + static_cast<unsigned>(per));
-    const Fixture before = f;
-    std::vector<int> triangles;
-    std::vector<std::uint8_t> full;
-    for (int t = 0; t < f.triangles; ++t) {
-      triangles.push_back(t);
-      full.push_back(0);
-    }
-    PinchFrictionInput in;
-    in.x_C_m = f.x_C.data();
-    in.triangle_p = f.triangle_p.data();
-    in.triangles = triangles.data();
-    in.full = full.data();
-    in.num_triangles = f.triangles;
-    in.normal_per_stiffness_m = 0.004;
-    in.mu_static = 0.8;
-    in.mu_dynamic = 0.4;
-    std::vector<PinchParticleSums> sums(static_cast<std::size_t>(f.particles));
-    std::vector<double> w_sums(static_cast<std::size_t>(f.particles), 0.0);
-    const PinchFrictionTotals totals =
-        ApplyPinchFriction(f.Layout(), in, f.Arrays(), sums.data(), w_sums.data(), false);
+  // Loaded (every fourth triangle at the full spring) and without grip (no friction).
+  for (const bool loaded : {true, false})
+    for (int per : {1, 4, 9}) {
+      Fixture f(per, 7u + static_cast<unsigned>(per));
+      const Fixture before = f;
+      std::vector<int> triangles;
+      std::vector<std::uint8_t> full;
+      for (int t = 0; t < f.triangles; ++t) {
+        triangles.push_back(t);
+        full.push_back(t % 4 == 0 ? 1 : 0);
+      }
+      PinchFrictionInput in;
+      in.x_C_m = f.x_C.data();
+      in.triangle_p = f.triangle_p.data();
+      in.triangles = triangles.data();
+      in.full = full.data();
+      in.num_triangles = f.triangles;
+      in.normal_per_stiffness_m = loaded ? 0.004 : 0.0;
+      in.mu_static = 0.8;
+      in.mu_dynamic = 0.4;
+      std::vector<PinchParticleSums> sums(static_cast<std::size_t>(f.particles));
+      std::vector<double> w_sums(static_cast<std::size_t>(f.particles), 0.0);
+      const PinchFrictionTotals totals =
+          ApplyPinchFriction(f.Layout(), in, f.Arrays(), sums.data(), w_sums.data(), false);
 
-    // The law sample by sample, and the sums.
-    std::vector<PinchParticleSums> ref(static_cast<std::size_t>(f.particles));
-    std::vector<double> ref_w(static_cast<std::size_t>(f.particles), 0.0);
-    double kix = 0.0, kiy = 0.0;
-    int sliding = 0, changed = 0, stuck = 0;
-    for (int t = 0; t < f.triangles; ++t) {
-      const auto& p = f.triangle_p[static_cast<std::size_t>(t)];
-      for (int j = 0; j < per; ++j) {
-        const std::size_t l = f.Lane(t, j);
-        const double k = before.k[l];
-        if (!(k > 0.0)) {
-          EXPECT_EQ(f.ideal_x[l], before.ideal_x[l]);
-          EXPECT_EQ(f.sliding[l], before.sliding[l]);
-          continue;
-        }
-        double q[3] = {0.0, 0.0, 0.0};
-        for (int i = 0; i < 3; ++i) {
-          for (int m = 0; m < 3; ++m) q[i] += f.W(j, m) * f.X(p[static_cast<std::size_t>(m)], i);
-        }
-        const double normal = in.normal_per_stiffness_m * k;
-        const double mu = before.sliding[l] ? in.mu_dynamic : in.mu_static;
-        const double sx = q[0] - before.ideal_x[l], sy = q[1] - before.ideal_y[l];
-        const double stretch = std::hypot(sx, sy);
-        double ix = before.ideal_x[l], iy = before.ideal_y[l];
-        if (k * stretch <= mu * normal) {
-          EXPECT_EQ(f.sliding[l], 0);
-          EXPECT_EQ(f.ideal_x[l], ix);
-          ++stuck;
-        } else {
-          // Trails q at mu_d of the load, along the stretch.
-          ix = q[0] - in.mu_dynamic * normal / k * sx / stretch;
-          iy = q[1] - in.mu_dynamic * normal / k * sy / stretch;
-          EXPECT_EQ(f.sliding[l], -1);
-          EXPECT_NEAR(f.ideal_x[l], ix, 1e-15);
-          EXPECT_NEAR(f.ideal_y[l], iy, 1e-15);
-          ++sliding;
-          ++changed;
-        }
-        kix += k * ix;
-        kiy += k * iy;
-        const double d[3] = {ix - q[0], iy - q[1], -q[2]};
-        for (int m = 0; m < 3; ++m) {
-          PinchParticleSums& r = ref[static_cast<std::size_t>(p[static_cast<std::size_t>(m)])];
-          const double wk = f.W(j, m) * k;
-          r.kd_x_N += wk * d[0];
-          r.kd_y_N += wk * d[1];
-          r.kd_z_N += wk * d[2];
-          r.k_N_per_m += wk;
-          ref_w[static_cast<std::size_t>(p[static_cast<std::size_t>(m)])] += f.W(j, m);
+      // The law sample by sample, and the sums.
+      std::vector<PinchParticleSums> ref(static_cast<std::size_t>(f.particles));
+      std::vector<double> ref_w(static_cast<std::size_t>(f.particles), 0.0);
+      double kix = 0.0, kiy = 0.0;
+      int sliding = 0, changed = 0, stuck = 0;
+      for (int t = 0; t < f.triangles; ++t) {
+        const auto& p = f.triangle_p[static_cast<std::size_t>(t)];
+        for (int j = 0; j < per; ++j) {
+          const std::size_t l = f.Lane(t, j);
+          const double k = full[static_cast<std::size_t>(t)] ? f.k_full : before.k[l];
+          if (!(k > 0.0)) {
+            EXPECT_EQ(f.ideal_x[l], before.ideal_x[l]);
+            EXPECT_EQ(f.sliding[l], before.sliding[l]);
+            continue;
+          }
+          double q[3] = {0.0, 0.0, 0.0};
+          for (int i = 0; i < 3; ++i) {
+            for (int m = 0; m < 3; ++m) q[i] += f.W(j, m) * f.X(p[static_cast<std::size_t>(m)], i);
+          }
+          const double normal = in.normal_per_stiffness_m * k;
+          const double mu = before.sliding[l] ? in.mu_dynamic : in.mu_static;
+          const double sx = q[0] - before.ideal_x[l], sy = q[1] - before.ideal_y[l];
+          const double stretch = std::hypot(sx, sy);
+          double ix = before.ideal_x[l], iy = before.ideal_y[l];
+          if (!loaded) {  // follows q, keeps its flag
+            ix = q[0];
+            iy = q[1];
+            EXPECT_EQ(f.ideal_x[l], ix);
+            EXPECT_EQ(f.ideal_y[l], iy);
+            EXPECT_EQ(f.sliding[l], before.sliding[l]);
+            sliding += before.sliding[l] ? 1 : 0;
+            ++changed;
+            ++stuck;
+          } else if (k * stretch <= mu * normal) {
+            EXPECT_EQ(f.sliding[l], 0);
+            EXPECT_EQ(f.ideal_x[l], ix);
+            EXPECT_EQ(f.ideal_y[l], iy);
+            ++stuck;
+          } else {
+            // Trails q at mu_d of the load, along the stretch.
+            ix = q[0] - in.mu_dynamic * normal / k * sx / stretch;
+            iy = q[1] - in.mu_dynamic * normal / k * sy / stretch;
+            EXPECT_EQ(f.sliding[l], -1);
+            EXPECT_NEAR(f.ideal_x[l], ix, 1e-15);
+            EXPECT_NEAR(f.ideal_y[l], iy, 1e-15);
+            ++sliding;
+            ++changed;
+          }
+          kix += k * ix;
+          kiy += k * iy;
+          const double d[3] = {ix - q[0], iy - q[1], -q[2]};
+          for (int m = 0; m < 3; ++m) {
+            PinchParticleSums& r = ref[static_cast<std::size_t>(p[static_cast<std::size_t>(m)])];
+            const double wk = f.W(j, m) * k;
+            r.kd_x_N += wk * d[0];
+            r.kd_y_N += wk * d[1];
+            r.kd_z_N += wk * d[2];
+            r.k_N_per_m += wk;
+            ref_w[static_cast<std::size_t>(p[static_cast<std::size_t>(m)])] += f.W(j, m);
+          }
         }
       }
+      EXPECT_GT(changed, 0) << per;  // the fixture exercises both branches
+      EXPECT_GT(stuck, 0) << per;
+      EXPECT_EQ(totals.sliding, sliding);
+      EXPECT_NEAR(totals.k_ideal_x_N, kix, 1e-14);
+      EXPECT_NEAR(totals.k_ideal_y_N, kiy, 1e-14);
+      for (std::size_t p = 0; p < ref.size(); ++p) {
+        EXPECT_NEAR(sums[p].kd_x_N, ref[p].kd_x_N, 1e-14);
+        EXPECT_NEAR(sums[p].kd_y_N, ref[p].kd_y_N, 1e-14);
+        EXPECT_NEAR(sums[p].kd_z_N, ref[p].kd_z_N, 1e-14);
+        EXPECT_NEAR(sums[p].k_N_per_m, ref[p].k_N_per_m, 1e-13);
+        EXPECT_NEAR(w_sums[p], ref_w[p], 1e-13);
+      }
     }
-    EXPECT_GT(changed, 0) << per;  // the fixture exercises both branches
-    EXPECT_GT(stuck, 0) << per;
-    EXPECT_EQ(totals.sliding, sliding);
-    EXPECT_NEAR(totals.k_ideal_x_N, kix, 1e-14);
-    EXPECT_NEAR(totals.k_ideal_y_N, kiy, 1e-14);
-    for (std::size_t p = 0; p < ref.size(); ++p) {
-      EXPECT_NEAR(sums[p].kd_x_N, ref[p].kd_x_N, 1e-14);
-      EXPECT_NEAR(sums[p].kd_y_N, ref[p].kd_y_N, 1e-14);
-      EXPECT_NEAR(sums[p].kd_z_N, ref[p].kd_z_N, 1e-14);
-      EXPECT_NEAR(sums[p].k_N_per_m, ref[p].k_N_per_m, 1e-13);
-      EXPECT_NEAR(w_sums[p], ref_w[p], 1e-13);
-    }
-  }
 }
 
 PinchAxis Axis(double ax, double ay, double az, double bx, double by, double bz) {
@@ -246,6 +258,7 @@ TEST(PinchSampleLanesTest, ClassificationGivesEachSampleItsRampedSpring) {
           EXPECT_EQ(f.sliding[l], 0);
         } else {
           EXPECT_EQ(f.ideal_x[l], before.ideal_x[l]);
+          EXPECT_EQ(f.ideal_y[l], before.ideal_y[l]);
           EXPECT_EQ(f.sliding[l], before.sliding[l]);
         }
         any = any || now;
@@ -312,8 +325,8 @@ TEST(PinchSampleLanesTest, Avx2AndPortableKernelsGiveTheSameBits) {
       di[v].assign(padded, 0.0);
       near[v].assign(padded, 0);
       owned[v].assign(padded, PinchOwned::kNo);
-      LocatePinchParticles(locate, {xc[v].data(), dt[v].data(), di[v].data(), near[v].data(), owned[v].data()},
-                           v == 1);
+      LocatePinchParticles(
+          locate, {xc[v].data(), dt[v].data(), di[v].data(), near[v].data(), owned[v].data()}, v == 1);
     }
     EXPECT_TRUE(SameBits(xc[0], xc[1]) && SameBits(dt[0], dt[1]) && SameBits(di[0], di[1]) &&
                 SameBits(near[0], near[1]) && SameBits(owned[0], owned[1]))
@@ -337,8 +350,10 @@ TEST(PinchSampleLanesTest, Avx2AndPortableKernelsGiveTheSameBits) {
     fin.mu_dynamic = 0.3;
     std::vector<PinchParticleSums> sa(static_cast<std::size_t>(a.particles)), sb = sa;
     std::vector<double> wa(static_cast<std::size_t>(a.particles), 0.0), wb = wa;
-    const PinchFrictionTotals fa = ApplyPinchFriction(a.Layout(), fin, a.Arrays(), sa.data(), wa.data(), false);
-    const PinchFrictionTotals fb = ApplyPinchFriction(b.Layout(), fin, b.Arrays(), sb.data(), wb.data(), true);
+    const PinchFrictionTotals fa =
+        ApplyPinchFriction(a.Layout(), fin, a.Arrays(), sa.data(), wa.data(), false);
+    const PinchFrictionTotals fb =
+        ApplyPinchFriction(b.Layout(), fin, b.Arrays(), sb.data(), wb.data(), true);
     EXPECT_EQ(std::memcmp(&fa.k_ideal_x_N, &fb.k_ideal_x_N, 2 * sizeof(double)), 0) << per;
     EXPECT_EQ(fa.sliding, fb.sliding) << per;
     EXPECT_EQ(std::memcmp(sa.data(), sb.data(), sa.size() * sizeof(PinchParticleSums)), 0) << per;
