@@ -368,10 +368,14 @@ bool RunGaussSeidelPcg(const FabricModel& model, const FabricState& state, const
   }
   const bool q_finite = std::isfinite(q_zero01[0]) && std::isfinite(q_zero01[1]) && std::isfinite(q_zero2);
   // In one pass: the reference size delta0 = s' M^-1 s (through z, t: scratch here), and
-  // r~ = (D_w + L)^-1 r0 with the first direction c = D_w r~, delta = r~'c (unused unless CG
-  // iterates).
-  double sizes[2];
-  gs.ForwardSolveDiagonalPair(a, scalars, v.s, &v.z, &v.t, v.q, &v.r, &v.c, sizes);
+  // r~ = (D_w + L)^-1 r0 with the first direction c = D_w r~, delta = r~'c. Only delta0 when CG
+  // cannot iterate (a zero or non-finite right-hand side: StartPcg ends there), as at rest.
+  double sizes[2] = {0.0, 0.0};
+  if (q_finite && std::isfinite(rhs_norm2) && rhs_norm2 != 0.0) {
+    gs.ForwardSolveDiagonalPair(a, scalars, v.s, &v.z, &v.t, v.q, &v.r, &v.c, sizes);
+  } else {
+    sizes[0] = gs.ForwardSolveDiagonal(a, scalars, v.s, &v.z, &v.t);
+  }
   const double delta0 = sizes[0];
   const PcgStart start = StartPcg(model, state, delta0, rhs_norm2, q_finite, ws, report);
   if (start != PcgStart::kIterate) return start == PcgStart::kBreakdown;

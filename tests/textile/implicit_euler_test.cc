@@ -80,6 +80,26 @@ TEST_F(ImplicitEulerTest, HangingFabricSettlesWithConvergedCg) {
   for (int p = 0; p < model.num_particles; ++p) EXPECT_LE(s.x(p).z(), 1e-9);
 }
 
+TEST_F(ImplicitEulerTest, FullyFixedFabricStepsWithoutIterating) {
+  // No free particle: a zero right-hand side, which CG does not iterate on (Gauss-Seidel's start
+  // then computes only its reference size).
+  const FabricModel model = MakeModel(9);
+  FabricState s = Hanging(model);
+  for (int p = 0; p < model.num_particles; ++p) s.Fix(p);
+  const FabricState initial = s;
+  StepOptions opt;
+  opt.preconditioner = Preconditioner::kGaussSeidel;
+  FabricStepper stepper(model, opt);
+  for (int i = 0; i < 3; ++i) {
+    const CgReport report = stepper.Step(&s).cg;
+    EXPECT_EQ(report.iterations, 0);
+    EXPECT_TRUE(report.converged);
+    EXPECT_TRUE(report.finite);
+  }
+  EXPECT_EQ(s.x_W_m, initial.x_W_m);
+  EXPECT_EQ(s.diagnostics.nan_events, 0);
+}
+
 TEST_F(ImplicitEulerTest, WarmedUpStepDoesNotAllocate) {
   if (!haptex::testing::AllocationCountingSupported()) GTEST_SKIP() << "allocation counting off";
   const FabricModel model = MakeModel(21);
