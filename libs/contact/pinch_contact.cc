@@ -48,21 +48,22 @@ PinchContact::PinchContact(const textile::FabricModel& patch, const ContactOptio
     k_N_per_m_ = options.pad_stiffness_N_per_m3 * area_m2 /
                  static_cast<double>(patch.triangles.size() * static_cast<std::size_t>(s * s));
   }
-  auto add = [&](double b1, double b2) { sample_w_.push_back({1.0 - b1 - b2, b1, b2}); };
+  std::vector<std::array<double, 3>> sample_w;  // barycentric weights of sample j of any triangle
+  auto add = [&](double b1, double b2) { sample_w.push_back({1.0 - b1 - b2, b1, b2}); };
   for (int i = 0; i < s; ++i) {
     for (int j = 0; i + j < s; ++j) {
       add((i + 1.0 / 3.0) / s, (j + 1.0 / 3.0) / s);
       if (i + j <= s - 2) add((i + 2.0 / 3.0) / s, (j + 2.0 / 3.0) / s);
     }
   }
-  per_triangle_ = static_cast<int>(sample_w_.size());
+  per_triangle_ = static_cast<int>(sample_w.size());
   const int chunks = (per_triangle_ + 3) / 4;
   lanes_per_triangle_ = 4 * chunks;
   lane_w_.assign(12 * static_cast<std::size_t>(chunks), 0.0);
   lane_k_full_.assign(4 * static_cast<std::size_t>(chunks), 0.0);
   w_sum_full_.assign(3, 0.0);
   for (int j = 0; j < per_triangle_; ++j) {
-    const auto& w = sample_w_[static_cast<std::size_t>(j)];
+    const auto& w = sample_w[static_cast<std::size_t>(j)];
     const int c = j / 4, lane = j % 4;
     for (int m = 0; m < 3; ++m) {
       lane_w_[static_cast<std::size_t>(12 * c + 4 * m + lane)] = w[static_cast<std::size_t>(m)];
@@ -70,6 +71,19 @@ PinchContact::PinchContact(const textile::FabricModel& patch, const ContactOptio
     }
     lane_k_full_[static_cast<std::size_t>(4 * c + lane)] = k_N_per_m_;
   }
+  // Thresholds on squared distances in C, with the margin of the fast classification.
+  const double rt2 = radius_thumb_m_ * radius_thumb_m_, ri2 = radius_index_m_ * radius_index_m_;
+  const double reach = std::min(radius_thumb_m_ + 0.5 * options_.thumb.length_m,
+                                radius_index_m_ + 0.5 * options_.index.length_m);
+  edge_ramp_m_ = std::max(options_.pinch_edge_ramp_m, 0.0);
+  const double full_t = radius_thumb_m_ - edge_ramp_m_, full_i = radius_index_m_ - edge_ramp_m_;
+  thresholds_.reach2_m2 = reach * reach;
+  thresholds_.in_thumb2 = rt2 * (1.0 - kMargin);
+  thresholds_.in_index2 = ri2 * (1.0 - kMargin);
+  thresholds_.out_thumb2 = rt2 * (1.0 + kMargin);
+  thresholds_.out_index2 = ri2 * (1.0 + kMargin);
+  thresholds_.full_thumb2 = full_t > 0.0 ? full_t * full_t * (1.0 - kMargin) : -1.0;
+  thresholds_.full_index2 = full_i > 0.0 ? full_i * full_i * (1.0 - kMargin) : -1.0;
   avx2_ = textile::internal::CpuHasAvx2();
   triangle_p_.reserve(patch.triangles.size());
   for (const auto& t : patch.triangles) triangle_p_.push_back(t.p);
@@ -145,9 +159,6 @@ bool PinchContact::Prepare(const FingerPose& thumb, const FingerPose& index, dou
 void PinchContact::LocateParticles(const textile::FabricState& state, std::vector<std::uint8_t>* owned) {
   // Particles: where they are in C, how far from each axis, which are near the intersection
   // (only their triangles can hold samples in it) and which lie in it (owned by the pinch).
-  const double reach = std::min(radius_thumb_m_ + 0.5 * options_.thumb.length_m,
-                                radius_index_m_ + 0.5 * options_.index.length_m);
-  const double rt2 = radius_thumb_m_ * radius_thumb_m_, ri2 = radius_index_m_ * radius_index_m_;
   internal::PinchLocateInput in;
   in.x_W_m = state.x_W_m.data();
   in.num_particles = patch_.num_particles;
@@ -157,11 +168,11 @@ void PinchContact::LocateParticles(const textile::FabricState& state, std::vecto
   }
   in.thumb = axis_thumb_C_;
   in.index = axis_index_C_;
-  in.reach2_m2 = reach * reach;
-  in.in_thumb2 = rt2 * (1.0 - kMargin);
-  in.in_index2 = ri2 * (1.0 - kMargin);
-  in.out_thumb2 = rt2 * (1.0 + kMargin);
-  in.out_index2 = ri2 * (1.0 + kMargin);
+  in.reach2_m2 = thresholds_.reach2_m2;
+  in.in_thumb2 = thresholds_.in_thumb2;
+  in.in_index2 = thresholds_.in_index2;
+  in.out_thumb2 = thresholds_.out_thumb2;
+  in.out_index2 = thresholds_.out_index2;
   internal::LocatePinchParticles(
       in, {x_C_.data(), d2_thumb_.data(), d2_index_.data(), near_.data(), particle_owned_.data()}, avx2_);
   for (int p = 0; p < patch_.num_particles; ++p) {
@@ -186,11 +197,7 @@ bool PinchContact::ClassifySamples() {
   // point moves); one whose corners all lie deeper than the edge ramp in both fingers holds all
   // at the full spring (the distance to a capsule's axis is convex); the rest are classified
   // sample by sample.
-  const double rt2 = radius_thumb_m_ * radius_thumb_m_, ri2 = radius_index_m_ * radius_index_m_;
-  const double ramp = std::max(options_.pinch_edge_ramp_m, 0.0);
-  const double full_t = radius_thumb_m_ - ramp, full_i = radius_index_m_ - ramp;
-  const double full_t2 = full_t > 0.0 ? full_t * full_t * (1.0 - kMargin) : -1.0;
-  const double full_i2 = full_i > 0.0 ? full_i * full_i * (1.0 - kMargin) : -1.0;
+  const double full_t2 = thresholds_.full_thumb2, full_i2 = thresholds_.full_index2;
   const int nt = static_cast<int>(triangle_p_.size());
   const std::size_t lanes = static_cast<std::size_t>(lanes_per_triangle_);
   candidates_.clear();
@@ -225,20 +232,17 @@ bool PinchContact::ClassifySamples() {
   }
 
   internal::PinchClassifyInput in;
-  in.x_C_m = x_C_.data();
-  in.triangle_p = triangle_p_.data();
-  in.triangles = candidates_.data();
+  in.list = Triangles(candidates_);
   in.deep = candidate_deep_.data();
-  in.num_triangles = static_cast<int>(candidates_.size());
   in.thumb = axis_thumb_C_;
   in.index = axis_index_C_;
   in.radius_thumb_m = radius_thumb_m_;
   in.radius_index_m = radius_index_m_;
-  in.edge_ramp_m = ramp;
+  in.edge_ramp_m = edge_ramp_m_;
   in.full_thumb2 = full_t2;
   in.full_index2 = full_i2;
-  in.out_thumb2 = rt2 * (1.0 + kMargin);
-  in.out_index2 = ri2 * (1.0 + kMargin);
+  in.out_thumb2 = thresholds_.out_thumb2;
+  in.out_index2 = thresholds_.out_index2;
   const internal::PinchClassifyTotals totals =
       internal::ClassifyPinchSamples(Layout(), in, SampleArrays(), hold_.data(), avx2_);
   active_triangles_.clear();
@@ -269,6 +273,10 @@ internal::PinchSampleLayout PinchContact::Layout() const {
   return layout;
 }
 
+internal::PinchTriangleList PinchContact::Triangles(const std::vector<int>& triangles) const {
+  return {x_C_.data(), triangle_p_.data(), triangles.data(), static_cast<int>(triangles.size())};
+}
+
 internal::PinchSampleArrays PinchContact::SampleArrays() {
   return {ideal_x_.data(), ideal_y_.data(), k_.data(), sliding_.data()};
 }
@@ -280,11 +288,8 @@ void PinchContact::ApplyFriction(const FrictionCoefficients& mu) {
   std::fill(touch_sums_.begin(), touch_sums_.end(), internal::PinchParticleSums{});
   std::fill(touch_w_.begin(), touch_w_.end(), 0.0);
   internal::PinchFrictionInput in;
-  in.x_C_m = x_C_.data();
-  in.triangle_p = triangle_p_.data();
-  in.triangles = active_triangles_.data();
+  in.list = Triangles(active_triangles_);
   in.full = active_full_.data();
-  in.num_triangles = static_cast<int>(active_triangles_.size());
   in.normal_per_stiffness_m = grip_N_ / weight_sum_;
   in.mu_static = 2.0 * mu.mu_static;
   in.mu_dynamic = 2.0 * mu.mu_dynamic;

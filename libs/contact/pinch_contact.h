@@ -100,6 +100,7 @@ class PinchContact {
   /// The per-particle sums as anchor springs.
   void LumpSprings(const textile::FabricState& state, AnchorAccumulator* springs);
   internal::PinchSampleLayout Layout() const;
+  internal::PinchTriangleList Triangles(const std::vector<int>& triangles) const;
   internal::PinchSampleArrays SampleArrays();
   bool InsideBoth(const Eigen::Vector3d& q) const { return DepthInBoth(q) > 0.0; }
 
@@ -107,11 +108,19 @@ class PinchContact {
   ContactOptions options_;
   double radius_thumb_m_, radius_index_m_;  ///< reach of the pinch: radius + 2 half thicknesses
   double k_N_per_m_;  ///< per sample (uniform mesh: triangle area / samples)
+  double edge_ramp_m_ = 0.0;  ///< the springs ramp in over this depth (options, at least 0)
+  /// Squared distances in C [m^2], margins for rounding included (kMargin): near the
+  /// intersection within reach2 of the origin; certainly inside a finger below in_*2, certainly
+  /// outside above out_*2, certainly deeper than the ramp below full_*2 (-1: never).
+  struct Thresholds {
+    double reach2_m2 = 0.0;
+    double in_thumb2 = 0.0, in_index2 = 0.0, out_thumb2 = 0.0, out_index2 = 0.0;
+    double full_thumb2 = -1.0, full_index2 = -1.0;
+  } thresholds_;
   int per_triangle_ = 1;  ///< samples per triangle
   int lanes_per_triangle_ = 4;  ///< per_triangle_ rounded up to whole 4-lane chunks
   bool avx2_ = false;  ///< the friction kernel's AVX2 build (same results)
   std::vector<std::array<int, 3>> triangle_p_;  ///< particles of each triangle (compact copy)
-  std::vector<std::array<double, 3>> sample_w_;  ///< barycentric weights of sample j of any triangle
   // Every candidate point, fixed at construction: per lane (pinch_sample_lanes.h), triangle-major.
   std::vector<double> ideal_x_, ideal_y_;  ///< ideal position on the contact plane, in C
   std::vector<double> k_;  ///< spring during the last step (ramps in near the edge); 0: inactive

@@ -89,6 +89,15 @@ HAPTEX_LANES_INLINE void LocateKernel(const PinchLocateInput& in, const PinchPar
   }
 }
 
+// Entry a of the list: its triangle, and its corners' positions in x.
+HAPTEX_LANES_INLINE int Corners(const PinchTriangleList& list, int a, const double* x[3]) {
+  const int t = list.triangles[a];
+  const std::array<int, 3>& p = list.triangle_p[t];
+  HAPTEX_UNROLL
+  for (int m = 0; m < 3; ++m) x[m] = list.x_C_m + 4 * p[static_cast<std::size_t>(m)];
+  return t;
+}
+
 // kChunks: the chunks per triangle as a constant (0: layout.chunks), so that one-chunk
 // triangles (the default, 2 samples per edge) keep every vector in a register.
 template <int kChunks>
@@ -100,10 +109,9 @@ HAPTEX_LANES_INLINE PinchClassifyTotals ClassifyKernel(const PinchSampleLayout& 
   const bool ramped = in.edge_ramp_m > 0.0;
   PinchClassifyTotals totals;
   M4 active_count = M4{0, 0, 0, 0};  // minus the sum of the active masks (not-full triangles)
-  for (int a = 0; a < in.num_triangles; ++a) {
-    const int t = in.triangles[a];
-    const std::array<int, 3>& p = in.triangle_p[t];
-    const double* x[3] = {in.x_C_m + 4 * p[0], in.x_C_m + 4 * p[1], in.x_C_m + 4 * p[2]};
+  for (int a = 0; a < in.list.num_triangles; ++a) {
+    const double* x[3];  // corners in C, broadcast where used
+    const int t = Corners(in.list, a, x);
     const bool deep = in.deep[a] != 0;
     M4 any_active = M4{0, 0, 0, 0}, all_full = ~M4{0, 0, 0, 0};
     V4 k_sum = Splat(0.0);
@@ -170,11 +178,11 @@ HAPTEX_LANES_INLINE PinchFrictionTotals FrictionKernel(const PinchSampleLayout& 
   const int chunks = kChunks > 0 ? kChunks : layout.chunks;
   V4 k_ideal_x = Splat(0.0), k_ideal_y = Splat(0.0);
   M4 sliding_count = M4{0, 0, 0, 0};  // minus the sum of the sliding masks
-  for (int a = 0; a < in.num_triangles; ++a) {
-    const int t = in.triangles[a];
-    const std::array<int, 3>& p = in.triangle_p[t];
+  for (int a = 0; a < in.list.num_triangles; ++a) {
+    const double* x[3];  // corners in C, broadcast where used
+    const int t = Corners(in.list, a, x);
+    const std::array<int, 3>& p = in.list.triangle_p[t];
     const bool full = in.full[a] != 0;
-    const double* x[3] = {in.x_C_m + 4 * p[0], in.x_C_m + 4 * p[1], in.x_C_m + 4 * p[2]};
     // Per corner m, over the samples: w k (ideal - q) per axis, w k, and w.
     V4 d[3][3] = {}, wk_sum[3] = {}, w_sum[3] = {};
     for (int c = 0; c < chunks; ++c) {

@@ -72,13 +72,18 @@ struct PinchParticleArrays {
 /// Fills the particle arrays.
 void LocatePinchParticles(const PinchLocateInput& in, const PinchParticleArrays& out, bool avx2);
 
+/// The triangles a kernel works on, and where their corners are.
+struct PinchTriangleList {
+  const double* x_C_m = nullptr;  ///< 4 per particle: positions in C (PinchParticleArrays)
+  const std::array<int, 3>* triangle_p = nullptr;  ///< corners of each triangle of the patch
+  const int* triangles = nullptr;  ///< the triangles, ascending
+  int num_triangles = 0;
+};
+
 /// What the classification needs this tick.
 struct PinchClassifyInput {
-  const double* x_C_m = nullptr;  ///< 4 per particle: positions in C (PinchParticleArrays)
-  const std::array<int, 3>* triangle_p = nullptr;
-  const int* triangles = nullptr;      ///< triangles to classify, ascending
+  PinchTriangleList list;              ///< the triangles to classify
   const std::uint8_t* deep = nullptr;  ///< per entry: every corner deeper than the ramp in both
-  int num_triangles = 0;
   PinchAxis thumb, index;
   double radius_thumb_m = 0.0, radius_index_m = 0.0;  ///< reach of the pinch
   double edge_ramp_m = 0.0;
@@ -98,11 +103,8 @@ struct PinchClassifyTotals {
 
 /// What the law needs this tick.
 struct PinchFrictionInput {
-  const double* x_C_m = nullptr;  ///< 4 per particle: positions in C (PinchParticleArrays)
-  const std::array<int, 3>* triangle_p = nullptr;
-  const int* triangles = nullptr;      ///< triangles with an active sample, ascending
+  PinchTriangleList list;              ///< the triangles with an active sample
   const std::uint8_t* full = nullptr;  ///< per entry: every sample active at the full spring
-  int num_triangles = 0;
   double normal_per_stiffness_m = 0.0;       ///< a sample's share of the grip per N/m of its spring
   double mu_static = 0.0, mu_dynamic = 0.0;  ///< per sample: both faces grip (2 mu)
 };

@@ -87,11 +87,11 @@ TEST(PinchSampleLanesTest, FrictionFollowsTheCoulombLawPerSample) {
         full.push_back(t % 4 == 0 ? 1 : 0);
       }
       PinchFrictionInput in;
-      in.x_C_m = f.x_C.data();
-      in.triangle_p = f.triangle_p.data();
-      in.triangles = triangles.data();
+      in.list.x_C_m = f.x_C.data();
+      in.list.triangle_p = f.triangle_p.data();
+      in.list.triangles = triangles.data();
       in.full = full.data();
-      in.num_triangles = f.triangles;
+      in.list.num_triangles = f.triangles;
       in.normal_per_stiffness_m = loaded ? 0.004 : 0.0;
       in.mu_static = 0.8;
       in.mu_dynamic = 0.4;
@@ -201,11 +201,11 @@ double DistanceToAxis(const PinchAxis& axis, const double q[3]) {
 PinchClassifyInput ClassifyInput(const Fixture& f, const std::vector<int>& triangles,
                                  const std::vector<std::uint8_t>& deep) {
   PinchClassifyInput in;
-  in.x_C_m = f.x_C.data();
-  in.triangle_p = f.triangle_p.data();
-  in.triangles = triangles.data();
+  in.list.x_C_m = f.x_C.data();
+  in.list.triangle_p = f.triangle_p.data();
+  in.list.triangles = triangles.data();
   in.deep = deep.data();
-  in.num_triangles = static_cast<int>(triangles.size());
+  in.list.num_triangles = static_cast<int>(triangles.size());
   in.thumb = Axis(-0.004, 0.0, 0.008, 0.004, 0.0, 0.008);  // capsules above and below the plane
   in.index = Axis(0.0, -0.004, -0.008, 0.0, 0.004, -0.008);
   in.radius_thumb_m = in.radius_index_m = 0.0125;
@@ -340,11 +340,11 @@ TEST(PinchSampleLanesTest, Avx2AndPortableKernelsGiveTheSameBits) {
     EXPECT_TRUE(SameBits(hold_a, hold_b));
 
     PinchFrictionInput fin;
-    fin.x_C_m = a.x_C.data();
-    fin.triangle_p = a.triangle_p.data();
-    fin.triangles = triangles.data();
+    fin.list.x_C_m = a.x_C.data();
+    fin.list.triangle_p = a.triangle_p.data();
+    fin.list.triangles = triangles.data();
     fin.full = full.data();
-    fin.num_triangles = a.triangles;
+    fin.list.num_triangles = a.triangles;
     fin.normal_per_stiffness_m = 0.003;
     fin.mu_static = 0.6;
     fin.mu_dynamic = 0.3;
