@@ -34,6 +34,7 @@ PinchContact::PinchContact(const textile::FabricModel& patch, const ContactOptio
       radius_index_m_(options.index.radius_m + 2.0 * options.fabric_half_thickness_m),
       k_N_per_m_(0.0),
       near_(PaddedCount(patch.num_particles), 0),
+      deep_(PaddedCount(patch.num_particles), 0),
       particle_owned_(PaddedCount(patch.num_particles), internal::PinchOwned::kNo),
       d2_thumb_(PaddedCount(patch.num_particles), 0.0),
       d2_index_(PaddedCount(patch.num_particles), 0.0),
@@ -173,8 +174,11 @@ void PinchContact::LocateParticles(const textile::FabricState& state, std::vecto
   in.in_index2 = thresholds_.in_index2;
   in.out_thumb2 = thresholds_.out_thumb2;
   in.out_index2 = thresholds_.out_index2;
+  in.full_thumb2 = thresholds_.full_thumb2;
+  in.full_index2 = thresholds_.full_index2;
   internal::LocatePinchParticles(
-      in, {x_C_.data(), d2_thumb_.data(), d2_index_.data(), near_.data(), particle_owned_.data()}, avx2_);
+      in, {x_C_.data(), d2_thumb_.data(), d2_index_.data(), near_.data(), deep_.data(), particle_owned_.data()},
+      avx2_);
   for (int p = 0; p < patch_.num_particles; ++p) {
     const std::size_t up = static_cast<std::size_t>(p);
     // Too close to call from the squared distances in C: the exact test.
@@ -206,14 +210,14 @@ bool PinchContact::ClassifySamples() {
     const auto& p = triangle_p_[static_cast<std::size_t>(t)];
     const std::size_t p0 = static_cast<std::size_t>(p[0]), p1 = static_cast<std::size_t>(p[1]),
                       p2 = static_cast<std::size_t>(p[2]);
-    bool candidate = near_[p0] || near_[p1] || near_[p2];
-    const double far_t2 = Max3(d2_thumb_[p0], d2_thumb_[p1], d2_thumb_[p2]);
-    const double far_i2 = Max3(d2_index_[p0], d2_index_[p1], d2_index_[p2]);
-    // Corner by corner, not from the maxima: std::max drops a NaN, and a NaN corner must not
-    // make its triangle deep (its samples would start at NaN points and spread them).
-    const bool deep = d2_thumb_[p0] < full_t2 && d2_thumb_[p1] < full_t2 && d2_thumb_[p2] < full_t2 &&
-                      d2_index_[p0] < full_i2 && d2_index_[p1] < full_i2 && d2_index_[p2] < full_i2;
+    bool candidate = (near_[p0] | near_[p1] | near_[p2]) != 0;
+    // Corner by corner (the particles' flags), not from the maxima: std::max drops a NaN, and a
+    // NaN corner must not make its triangle deep (its samples would start at NaN points and
+    // spread them).
+    const bool deep = (deep_[p0] & deep_[p1] & deep_[p2]) != 0;
     if (candidate && !deep) {
+      const double far_t2 = Max3(d2_thumb_[p0], d2_thumb_[p1], d2_thumb_[p2]);
+      const double far_i2 = Max3(d2_index_[p0], d2_index_[p1], d2_index_[p2]);
       const Eigen::Map<const Eigen::Vector3d> x0(&x_C_[4 * p0]), x1(&x_C_[4 * p1]), x2(&x_C_[4 * p2]);
       const double diam = std::sqrt(Max3((x1 - x0).squaredNorm(), (x2 - x0).squaredNorm(),
                                          (x2 - x1).squaredNorm()));

@@ -131,7 +131,7 @@ class PinchContact {
 
   // Per tick (sized at construction, so no allocation per tick).
   // Per particle, padded to whole 4-particle lanes (internal::PinchParticleArrays).
-  std::vector<std::uint8_t> near_;
+  std::vector<std::uint8_t> near_, deep_;
   std::vector<internal::PinchOwned> particle_owned_;
   std::vector<double> d2_thumb_, d2_index_;  ///< squared distance to each axis
   std::vector<double> x_C_;  ///< position in C (at Prepare), 4 doubles per particle

@@ -73,6 +73,7 @@ HAPTEX_LANES_INLINE void LocateKernel(const PinchLocateInput& in, const PinchPar
     const M4 near = rel[0] * rel[0] + rel[1] * rel[1] + rel[2] * rel[2] < in.reach2_m2;
     const M4 in_both = near & (dt2 < in.in_thumb2) & (di2 < in.in_index2);
     const M4 maybe = near & ~in_both & ~((dt2 > in.out_thumb2) | (di2 > in.out_index2));
+    const M4 deep = (dt2 < in.full_thumb2) & (di2 < in.full_index2);
     const std::size_t up = static_cast<std::size_t>(p0);
     Store(dt2, out.d2_thumb_m2 + up);
     Store(di2, out.d2_index_m2 + up);
@@ -83,6 +84,7 @@ HAPTEX_LANES_INLINE void LocateKernel(const PinchLocateInput& in, const PinchPar
     for (int j = 0; j < 4; ++j) {
       Store(xc[j], out.x_C_m + 4 * (up + static_cast<std::size_t>(j)));
       out.near[up + static_cast<std::size_t>(j)] = near[j] ? 1 : 0;
+      out.deep[up + static_cast<std::size_t>(j)] = deep[j] ? 1 : 0;
       out.owned[up + static_cast<std::size_t>(j)] =
           in_both[j] ? PinchOwned::kYes : (maybe[j] ? PinchOwned::kExactTest : PinchOwned::kNo);
     }

@@ -55,6 +55,9 @@ struct PinchLocateInput {
   double reach2_m2 = 0.0;  ///< near the intersection: within this squared distance of the origin
   // In the intersection for certain below both in_*2, certainly not above an out_*2.
   double in_thumb2 = 0.0, in_index2 = 0.0, out_thumb2 = 0.0, out_index2 = 0.0;
+  /// Deeper than the edge ramp in both fingers: below both (a triangle whose corners all are
+  /// holds all its samples at the full spring).
+  double full_thumb2 = 0.0, full_index2 = 0.0;
 };
 
 /// Whether a particle lies in both fingers.
@@ -66,6 +69,7 @@ struct PinchParticleArrays {
   double* d2_thumb_m2 = nullptr;  ///< squared distance to the thumb's axis
   double* d2_index_m2 = nullptr;
   std::uint8_t* near = nullptr;  ///< near the intersection (only its triangles can hold samples)
+  std::uint8_t* deep = nullptr;  ///< below both full_*2 (false for a NaN distance)
   PinchOwned* owned = nullptr;   ///< kNo for particles not near
 };
 

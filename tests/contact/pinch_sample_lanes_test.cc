@@ -315,22 +315,35 @@ TEST(PinchSampleLanesTest, Avx2AndPortableKernelsGiveTheSameBits) {
     locate.reach2_m2 = 1e-4;
     locate.in_thumb2 = locate.in_index2 = 1e-4;
     locate.out_thumb2 = locate.out_index2 = 2e-4;
+    locate.full_thumb2 = locate.full_index2 = 2e-4;
     const std::size_t padded = 4 * ((static_cast<std::size_t>(a.particles) + 3) / 4);
     std::vector<double> xc[2], dt[2], di[2];
-    std::vector<std::uint8_t> near[2];
+    std::vector<std::uint8_t> near[2], deep_particle[2];
     std::vector<PinchOwned> owned[2];
     for (int v = 0; v < 2; ++v) {
       xc[v].assign(4 * padded, 0.0);
       dt[v].assign(padded, 0.0);
       di[v].assign(padded, 0.0);
       near[v].assign(padded, 0);
+      deep_particle[v].assign(padded, 0);
       owned[v].assign(padded, PinchOwned::kNo);
-      LocatePinchParticles(
-          locate, {xc[v].data(), dt[v].data(), di[v].data(), near[v].data(), owned[v].data()}, v == 1);
+      LocatePinchParticles(locate,
+                           {xc[v].data(), dt[v].data(), di[v].data(), near[v].data(), deep_particle[v].data(),
+                            owned[v].data()},
+                           v == 1);
     }
     EXPECT_TRUE(SameBits(xc[0], xc[1]) && SameBits(dt[0], dt[1]) && SameBits(di[0], di[1]) &&
-                SameBits(near[0], near[1]) && SameBits(owned[0], owned[1]))
+                SameBits(near[0], near[1]) && SameBits(deep_particle[0], deep_particle[1]) &&
+                SameBits(owned[0], owned[1]))
         << per;
+    int deep_count = 0;
+    for (int p = 0; p < a.particles; ++p) {
+      const std::size_t up = static_cast<std::size_t>(p);
+      EXPECT_EQ(deep_particle[0][up] != 0, dt[0][up] < locate.full_thumb2 && di[0][up] < locate.full_index2) << p;
+      deep_count += deep_particle[0][up];
+    }
+    EXPECT_GT(deep_count, 0) << per;  // the flag is exercised both ways
+    EXPECT_LT(deep_count, a.particles) << per;
 
     std::vector<PinchTriangleHold> hold_a(triangles.size()), hold_b(triangles.size());
     const PinchClassifyTotals ca = ClassifyPinchSamples(a.Layout(), in, a.Arrays(), hold_a.data(), false);
