@@ -55,6 +55,50 @@ inline double* Solved(const SweepVectors& v) {
   return kKind == SweepKind::kEisenstatForward ? v.z : IsEisenstatBackward(kKind) ? v.t : v.y;
 }
 
+// Zeroes rows [r0, r1) of a padded vector, pads too.
+inline void ZeroRows(double* v, int r0, int r1) {
+  for (int r = r0; r < r1; ++r) {
+    double* row = v + 4 * r;
+    row[0] = row[1] = row[2] = row[3] = 0.0;
+  }
+}
+
+// A sweep skips the rows that are not free (rows [r0, r1) here) and zeroes what it writes
+// there instead. kEisenstatForward's w (kept in z) was zeroed there by the backward half just
+// before it, and kEisenstatBackwardUpdate's x is 0 there already (inputs must be).
+template <SweepKind kKind>
+inline void ZeroSkipped(const SweepVectors& v, int r0, int r1) {
+  if (kKind != SweepKind::kEisenstatForward) ZeroRows(Solved<kKind>(v), r0, r1);
+  if (kKind == SweepKind::kForwardDiagonal || IsEisenstatBackward(kKind)) ZeroRows(v.z, r0, r1);
+  if (kKind == SweepKind::kEisenstatForward) ZeroRows(v.y, r0, r1);
+}
+
+// Runs `row(r)` for the free rows in the sweep's order (forward: ascending), with
+// `skipped(r0, r1)` for each range of other rows in between.
+template <bool kForward, typename Row, typename Skipped>
+inline __attribute__((always_inline)) void ForEachFreeRow(const GaussSeidelSweepArgs& a, Row row,
+                                                           Skipped skipped) {
+  if constexpr (kForward) {
+    int done = 0;
+    for (int i = 0; i < a.num_runs; ++i) {
+      const int r0 = a.runs[2 * i], r1 = a.runs[2 * i + 1];
+      skipped(done, r0);
+      for (int r = r0; r < r1; ++r) row(r);
+      done = r1;
+    }
+    skipped(done, a.rows);
+  } else {
+    int done = a.rows;
+    for (int i = a.num_runs - 1; i >= 0; --i) {
+      const int r0 = a.runs[2 * i], r1 = a.runs[2 * i + 1];
+      skipped(r1, done);
+      for (int r = r1 - 1; r >= r0; --r) row(r);
+      done = r0;
+    }
+    skipped(0, done);
+  }
+}
+
 // y = D x for one row (its pad left as it is), returning x . y as (x_0 y_0 + x_1 y_1) + x_2 y_2.
 inline double DiagonalRowGeneric(const PaddedBlock& d, const double* x, double* y) {
   for (int i = 0; i < 3; ++i) y[i] = (d.col[0][i] * x[0] + d.col[1][i] * x[1]) + d.col[2][i] * x[2];
@@ -78,40 +122,42 @@ inline double RowGeneric(const GaussSeidelSweepArgs& a, int r, const SweepVector
     for (int i = 0; i < 4; ++i) v.x_update[4 * r + i] = v.s[4 * r + i] + v.beta * x[4 * r + i];
   }
   const double* in = kKind == SweepKind::kEisenstatForward ? v.z : x;
-  const internal::SweepRow& q = a.rows_info[r];
+  const internal::SweepRowData& row = a.row[r];
+  const internal::SweepRow& q = row.shape[kForward ? 0 : 1];
   double c[3][3] = {};
-  for (int k = q.g0; k < q.g1; ++k) {
-    const double* m = a.blocks[k + q.slot_offset].data();
-    const double* yc = solved + a.general_offset[k];
+  const int* offset = a.column_offset + q.offsets;
+  for (int k = 0; k < q.general; ++k) {
+    const double* m = a.blocks[q.first_slot + k].data();
+    const double* yc = solved + offset[k];
     for (int j = 0; j < 3; ++j) {
       for (int i = 0; i < 3; ++i) c[j][i] += m[3 * j + i] * yc[j];
     }
   }
   double sc[3] = {};
-  for (int k = q.s0; k < q.s1; ++k) {
-    const double* yc = solved + a.scalar_offset[k];
-    for (int i = 0; i < 3; ++i) sc[i] += a.scalars[k] * yc[i];
+  for (int k = 0; k < q.scalars; ++k) {
+    const double* yc = solved + offset[q.general + k];
+    for (int i = 0; i < 3; ++i) sc[i] += a.scalars[q.first_scalar + k] * yc[i];
   }
   double acc[3];
   for (int i = 0; i < 3; ++i) acc[i] = (in[4 * r + i] - ((c[0][i] + c[1][i]) + c[2][i])) - sc[i];
-  const PaddedBlock& inv = a.diag_inv[r];
+  const PaddedBlock& inv = row.diag_inv;
   double o[3];
   for (int i = 0; i < 3; ++i) {
     o[i] = (inv.col[0][i] * acc[0] + inv.col[1][i] * acc[1]) + inv.col[2][i] * acc[2];
   }
   if (q.adjacent) {
     const double* p = solved + 4 * (kForward ? r - 1 : r + 1);
-    const PaddedBlock& g = a.adjacent_scaled[r];
+    const PaddedBlock& g = row.adjacent_scaled[kForward ? 0 : 1];
     for (int i = 0; i < 3; ++i) o[i] -= (g.col[0][i] * p[0] + g.col[1][i] * p[1]) + g.col[2][i] * p[2];
   }
   for (int i = 0; i < 3; ++i) solved[4 * r + i] = o[i];
   if constexpr (IsEisenstatBackward(kKind)) {
-    const PaddedBlock& d = a.diag[r];
+    const PaddedBlock& d = row.diag;
     for (int i = 0; i < 3; ++i) {
       v.z[4 * r + i] = x[4 * r + i] - a.diag_excess * ((d.col[0][i] * o[0] + d.col[1][i] * o[1]) + d.col[2][i] * o[2]);
     }
   } else if constexpr (kKind == SweepKind::kForwardDiagonal) {
-    return DiagonalRowGeneric(a.diag[r], o, v.z + 4 * r);
+    return DiagonalRowGeneric(row.diag, o, v.z + 4 * r);
   } else if constexpr (kKind == SweepKind::kEisenstatForward) {
     double yr[3];
     for (int i = 0; i < 3; ++i) {
@@ -138,6 +184,68 @@ __attribute__((target("avx2"), always_inline)) inline double DiagonalRowAvx2(con
   return _mm_cvtsd_f64(_mm_add_sd(sum01, _mm256_extractf128_pd(p, 1)));
 }
 
+// For each of kSystems systems: c_j += column j of block m times y_j, j = 0, 1, 2 (lane 3: see
+// RowAvx2); m loaded once for all.
+template <int kSystems>
+__attribute__((target("avx2"), always_inline)) inline void GeneralBlockAvx2(const double* m, const double* const* y,
+                                                                            int offset, __m256d (*c)[3]) {
+  const __m256i three = _mm256_set_epi64x(0, -1, -1, -1);
+  const __m256d m0 = _mm256_loadu_pd(m), m1 = _mm256_loadu_pd(m + 3), m2 = _mm256_maskload_pd(m + 6, three);
+#pragma GCC unroll 2
+  for (int i = 0; i < kSystems; ++i) {
+    const double* yc = y[i] + offset;
+    c[i][0] = _mm256_add_pd(c[i][0], _mm256_mul_pd(m0, _mm256_broadcast_sd(yc)));
+    c[i][1] = _mm256_add_pd(c[i][1], _mm256_mul_pd(m1, _mm256_broadcast_sd(yc + 1)));
+    c[i][2] = _mm256_add_pd(c[i][2], _mm256_mul_pd(m2, _mm256_broadcast_sd(yc + 2)));
+  }
+}
+
+// A row's `count` general blocks from m in order, the k-th at column offset offset[k] of each
+// system's y: c = their sums (from 0). The counts a grid's rows have (1 and 3) get fixed-trip
+// code: no loop overhead, one well-predicted branch.
+template <int kSystems>
+__attribute__((target("avx2"), always_inline)) inline void GeneralBlocksAvx2(const Eigen::Matrix3d* m,
+                                                                             const int* offset, int count,
+                                                                             const double* const* y,
+                                                                             __m256d (*c)[3]) {
+#pragma GCC unroll 2
+  for (int i = 0; i < kSystems; ++i) c[i][0] = c[i][1] = c[i][2] = _mm256_setzero_pd();
+  if (count == 3) {
+    GeneralBlockAvx2<kSystems>(m[0].data(), y, offset[0], c);
+    GeneralBlockAvx2<kSystems>(m[1].data(), y, offset[1], c);
+    GeneralBlockAvx2<kSystems>(m[2].data(), y, offset[2], c);
+  } else if (count == 1) {
+    GeneralBlockAvx2<kSystems>(m[0].data(), y, offset[0], c);
+  } else {
+    for (int k = 0; k < count; ++k) GeneralBlockAvx2<kSystems>(m[k].data(), y, offset[k], c);
+  }
+}
+
+// For each of kSystems systems: sc += value times y's row at offset.
+template <int kSystems>
+__attribute__((target("avx2"), always_inline)) inline void ScalarBlockAvx2(const double* value, const double* const* y,
+                                                                           int offset, __m256d* sc) {
+  const __m256d v = _mm256_broadcast_sd(value);
+#pragma GCC unroll 2
+  for (int i = 0; i < kSystems; ++i) sc[i] = _mm256_add_pd(sc[i], _mm256_mul_pd(v, _mm256_load_pd(y[i] + offset)));
+}
+
+// Per system the sum (from 0) of a row's `count` scalar blocks times y at offset[k], in order;
+// 2 (most rows) fixed-trip.
+template <int kSystems>
+__attribute__((target("avx2"), always_inline)) inline void ScalarBlocksAvx2(const double* value, const int* offset,
+                                                                            int count, const double* const* y,
+                                                                            __m256d* sc) {
+#pragma GCC unroll 2
+  for (int i = 0; i < kSystems; ++i) sc[i] = _mm256_setzero_pd();
+  if (count == 2) {
+    ScalarBlockAvx2<kSystems>(value, y, offset[0], sc);
+    ScalarBlockAvx2<kSystems>(value + 1, y, offset[1], sc);
+  } else {
+    for (int k = 0; k < count; ++k) ScalarBlockAvx2<kSystems>(value + k, y, offset[k], sc);
+  }
+}
+
 // The row in 4-wide registers: lanes 0..2 are components 0..2. Lane 3 of the sums holds
 // garbage (a general block's column loads reach into its next column), which only lane 3 of
 // D_w^-1 (zero) multiplies: the row's pad is stored as 0. No FMA (target avx2 only): products
@@ -147,23 +255,16 @@ template <SweepKind kKind>
 __attribute__((target("avx2"), always_inline)) inline __m256d RowAvx2(const GaussSeidelSweepArgs& a, int r,
                                                                       const SweepVectors& v, __m256d prev,
                                                                       double* xy) {
+  constexpr int kDirection = IsForward(kKind) ? 0 : 1;
   double* solved = Solved<kKind>(v);
-  const internal::SweepRow& q = a.rows_info[r];
-  const __m256i three = _mm256_set_epi64x(0, -1, -1, -1);
-  __m256d c0 = _mm256_setzero_pd(), c1 = _mm256_setzero_pd(), c2 = _mm256_setzero_pd();
-  const Eigen::Matrix3d* blocks = a.blocks + q.slot_offset;
-  for (int k = q.g0; k < q.g1; ++k) {
-    const double* m = blocks[k].data();
-    const double* yc = solved + a.general_offset[k];
-    c0 = _mm256_add_pd(c0, _mm256_mul_pd(_mm256_loadu_pd(m), _mm256_broadcast_sd(yc)));
-    c1 = _mm256_add_pd(c1, _mm256_mul_pd(_mm256_loadu_pd(m + 3), _mm256_broadcast_sd(yc + 1)));
-    c2 = _mm256_add_pd(c2, _mm256_mul_pd(_mm256_maskload_pd(m + 6, three), _mm256_broadcast_sd(yc + 2)));
-  }
-  __m256d sc = _mm256_setzero_pd();
-  for (int k = q.s0; k < q.s1; ++k) {
-    sc = _mm256_add_pd(sc, _mm256_mul_pd(_mm256_broadcast_sd(a.scalars + k),
-                                         _mm256_load_pd(solved + a.scalar_offset[k])));
-  }
+  const internal::SweepRowData& row = a.row[r];
+  const internal::SweepRow& q = row.shape[kDirection];
+  __m256d c[1][3], sum[1];
+  const double* const y[1] = {solved};
+  const int* offset = a.column_offset + q.offsets;
+  GeneralBlocksAvx2<1>(a.blocks + q.first_slot, offset, q.general, y, c);
+  ScalarBlocksAvx2<1>(a.scalars + q.first_scalar, offset + q.general, q.scalars, y, sum);
+  const __m256d c0 = c[0][0], c1 = c[0][1], c2 = c[0][2], sc = sum[0];
   __m256d in;
   if constexpr (kKind == SweepKind::kEisenstatBackwardUpdate) {
     in = _mm256_add_pd(_mm256_load_pd(v.s + 4 * r), _mm256_mul_pd(_mm256_set1_pd(v.beta), _mm256_load_pd(v.x + 4 * r)));
@@ -172,13 +273,13 @@ __attribute__((target("avx2"), always_inline)) inline __m256d RowAvx2(const Gaus
     in = _mm256_load_pd((kKind == SweepKind::kEisenstatForward ? v.z : v.x) + 4 * r);
   }
   const __m256d acc = _mm256_sub_pd(_mm256_sub_pd(in, _mm256_add_pd(_mm256_add_pd(c0, c1), c2)), sc);
-  const PaddedBlock& inv = a.diag_inv[r];
+  const PaddedBlock& inv = row.diag_inv;
   __m256d o = _mm256_add_pd(
       _mm256_add_pd(_mm256_mul_pd(_mm256_load_pd(inv.col[0]), _mm256_permute4x64_pd(acc, 0x00)),
                     _mm256_mul_pd(_mm256_load_pd(inv.col[1]), _mm256_permute4x64_pd(acc, 0x55))),
       _mm256_mul_pd(_mm256_load_pd(inv.col[2]), _mm256_permute4x64_pd(acc, 0xAA)));
   if (q.adjacent) {
-    const PaddedBlock& g = a.adjacent_scaled[r];
+    const PaddedBlock& g = row.adjacent_scaled[kDirection];
     o = _mm256_sub_pd(
         o, _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(_mm256_load_pd(g.col[0]), _mm256_permute4x64_pd(prev, 0x00)),
                                        _mm256_mul_pd(_mm256_load_pd(g.col[1]), _mm256_permute4x64_pd(prev, 0x55))),
@@ -186,14 +287,14 @@ __attribute__((target("avx2"), always_inline)) inline __m256d RowAvx2(const Gaus
   }
   _mm256_store_pd(solved + 4 * r, o);
   if constexpr (IsEisenstatBackward(kKind)) {
-    const PaddedBlock& d = a.diag[r];
+    const PaddedBlock& d = row.diag;
     const __m256d dt = _mm256_add_pd(
         _mm256_add_pd(_mm256_mul_pd(_mm256_load_pd(d.col[0]), _mm256_permute4x64_pd(o, 0x00)),
                       _mm256_mul_pd(_mm256_load_pd(d.col[1]), _mm256_permute4x64_pd(o, 0x55))),
         _mm256_mul_pd(_mm256_load_pd(d.col[2]), _mm256_permute4x64_pd(o, 0xAA)));
     _mm256_store_pd(v.z + 4 * r, _mm256_sub_pd(in, _mm256_mul_pd(_mm256_set1_pd(a.diag_excess), dt)));
   } else if constexpr (kKind == SweepKind::kForwardDiagonal) {
-    *xy += DiagonalRowAvx2(a.diag[r], o, v.z + 4 * r);
+    *xy += DiagonalRowAvx2(row.diag, o, v.z + 4 * r);
   } else if constexpr (kKind == SweepKind::kEisenstatForward) {
     const __m256d yr = _mm256_add_pd(o, _mm256_load_pd(v.t + 4 * r));
     _mm256_store_pd(v.y + 4 * r, yr);
@@ -207,91 +308,109 @@ __attribute__((target("avx2"), always_inline)) inline __m256d RowAvx2(const Gaus
 // `a` by value: a local copy, kept in registers (the stores of __m256d may alias anything).
 template <SweepKind kKind>
 __attribute__((target("avx2"))) double SweepAvx2(GaussSeidelSweepArgs a, SweepVectors v) {
+  // ForEachFreeRow's order, written out (a lambda would not be built for AVX2). A run starts
+  // with prev = 0: the row before it is not free, so its adjacent block is 0.
   double xy = 0.0;
-  __m256d prev = _mm256_setzero_pd();
   if constexpr (IsForward(kKind)) {
-    for (int r = 0; r < a.rows; ++r) prev = RowAvx2<kKind>(a, r, v, prev, &xy);
+    int done = 0;
+    for (int i = 0; i < a.num_runs; ++i) {
+      const int r0 = a.runs[2 * i], r1 = a.runs[2 * i + 1];
+      ZeroSkipped<kKind>(v, done, r0);
+      __m256d prev = _mm256_setzero_pd();
+      for (int r = r0; r < r1; ++r) prev = RowAvx2<kKind>(a, r, v, prev, &xy);
+      done = r1;
+    }
+    ZeroSkipped<kKind>(v, done, a.rows);
   } else {
-    for (int r = a.rows - 1; r >= 0; --r) prev = RowAvx2<kKind>(a, r, v, prev, &xy);
+    int done = a.rows;
+    for (int i = a.num_runs - 1; i >= 0; --i) {
+      const int r0 = a.runs[2 * i], r1 = a.runs[2 * i + 1];
+      ZeroSkipped<kKind>(v, r1, done);
+      __m256d prev = _mm256_setzero_pd();
+      for (int r = r1 - 1; r >= r0; --r) prev = RowAvx2<kKind>(a, r, v, prev, &xy);
+      done = r0;
+    }
+    ZeroSkipped<kKind>(v, 0, done);
   }
   return xy;
 }
 
-// Two kForwardDiagonal sweeps (v[0], v[1]) in one pass: each block, D_w^-1, the adjacent
-// block and D_w loaded once for both; per system the operations of RowAvx2<kForwardDiagonal>
-// in its order, so the bits of two separate sweeps.
+// One row of two kForwardDiagonal sweeps (v0, v1): each block, D_w^-1, the adjacent block and
+// D_w loaded once for both; per system the operations of RowAvx2<kForwardDiagonal> in its
+// order, so the bits of two separate sweeps. prev0, prev1: as RowAvx2's prev, updated.
+__attribute__((target("avx2"), always_inline)) inline void PairRowAvx2(const GaussSeidelSweepArgs& a, int r,
+                                                                       const SweepVectors& v0, const SweepVectors& v1,
+                                                                       __m256d* prev0, __m256d* prev1, double* xy0,
+                                                                       double* xy1) {
+  const internal::SweepRowData& row = a.row[r];
+  const internal::SweepRow& q = row.shape[0];
+  __m256d c[2][3], sum[2];
+  const double* const y[2] = {v0.y, v1.y};
+  const int* offset = a.column_offset + q.offsets;
+  GeneralBlocksAvx2<2>(a.blocks + q.first_slot, offset, q.general, y, c);
+  ScalarBlocksAvx2<2>(a.scalars + q.first_scalar, offset + q.general, q.scalars, y, sum);
+  const __m256d c0 = c[0][0], c1 = c[0][1], c2 = c[0][2], sc = sum[0];
+  const __m256d e0 = c[1][0], e1 = c[1][1], e2 = c[1][2], se = sum[1];
+  const __m256d acc0 =
+      _mm256_sub_pd(_mm256_sub_pd(_mm256_load_pd(v0.x + 4 * r), _mm256_add_pd(_mm256_add_pd(c0, c1), c2)), sc);
+  const __m256d acc1 =
+      _mm256_sub_pd(_mm256_sub_pd(_mm256_load_pd(v1.x + 4 * r), _mm256_add_pd(_mm256_add_pd(e0, e1), e2)), se);
+  const PaddedBlock& inv = row.diag_inv;
+  const __m256d i0 = _mm256_load_pd(inv.col[0]), i1 = _mm256_load_pd(inv.col[1]), i2 = _mm256_load_pd(inv.col[2]);
+  __m256d o0 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(i0, _mm256_permute4x64_pd(acc0, 0x00)),
+                                           _mm256_mul_pd(i1, _mm256_permute4x64_pd(acc0, 0x55))),
+                             _mm256_mul_pd(i2, _mm256_permute4x64_pd(acc0, 0xAA)));
+  __m256d o1 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(i0, _mm256_permute4x64_pd(acc1, 0x00)),
+                                           _mm256_mul_pd(i1, _mm256_permute4x64_pd(acc1, 0x55))),
+                             _mm256_mul_pd(i2, _mm256_permute4x64_pd(acc1, 0xAA)));
+  if (q.adjacent) {
+    const PaddedBlock& g = row.adjacent_scaled[0];
+    const __m256d g0 = _mm256_load_pd(g.col[0]), g1 = _mm256_load_pd(g.col[1]), g2 = _mm256_load_pd(g.col[2]);
+    o0 = _mm256_sub_pd(o0, _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(g0, _mm256_permute4x64_pd(*prev0, 0x00)),
+                                                       _mm256_mul_pd(g1, _mm256_permute4x64_pd(*prev0, 0x55))),
+                                         _mm256_mul_pd(g2, _mm256_permute4x64_pd(*prev0, 0xAA))));
+    o1 = _mm256_sub_pd(o1, _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(g0, _mm256_permute4x64_pd(*prev1, 0x00)),
+                                                       _mm256_mul_pd(g1, _mm256_permute4x64_pd(*prev1, 0x55))),
+                                         _mm256_mul_pd(g2, _mm256_permute4x64_pd(*prev1, 0xAA))));
+  }
+  _mm256_store_pd(v0.y + 4 * r, o0);
+  _mm256_store_pd(v1.y + 4 * r, o1);
+  *xy0 += DiagonalRowAvx2(row.diag, o0, v0.z + 4 * r);
+  *xy1 += DiagonalRowAvx2(row.diag, o1, v1.z + 4 * r);
+  *prev0 = o0;
+  *prev1 = o1;
+}
+
+// Two kForwardDiagonal sweeps in one pass (PairRowAvx2), in ForEachFreeRow's order written out.
 __attribute__((target("avx2"))) void SweepForwardDiagonalPairAvx2(GaussSeidelSweepArgs a, SweepVectors v0,
                                                                    SweepVectors v1, double* xy) {
-  const __m256i three = _mm256_set_epi64x(0, -1, -1, -1);
-  __m256d prev0 = _mm256_setzero_pd(), prev1 = _mm256_setzero_pd();
   double xy0 = 0.0, xy1 = 0.0;
-  for (int r = 0; r < a.rows; ++r) {
-    const internal::SweepRow& q = a.rows_info[r];
-    __m256d c0 = _mm256_setzero_pd(), c1 = _mm256_setzero_pd(), c2 = _mm256_setzero_pd();
-    __m256d e0 = _mm256_setzero_pd(), e1 = _mm256_setzero_pd(), e2 = _mm256_setzero_pd();
-    const Eigen::Matrix3d* blocks = a.blocks + q.slot_offset;
-    for (int k = q.g0; k < q.g1; ++k) {
-      const double* m = blocks[k].data();
-      const __m256d m0 = _mm256_loadu_pd(m), m1 = _mm256_loadu_pd(m + 3), m2 = _mm256_maskload_pd(m + 6, three);
-      const double* yc = v0.y + a.general_offset[k];
-      const double* ye = v1.y + a.general_offset[k];
-      c0 = _mm256_add_pd(c0, _mm256_mul_pd(m0, _mm256_broadcast_sd(yc)));
-      c1 = _mm256_add_pd(c1, _mm256_mul_pd(m1, _mm256_broadcast_sd(yc + 1)));
-      c2 = _mm256_add_pd(c2, _mm256_mul_pd(m2, _mm256_broadcast_sd(yc + 2)));
-      e0 = _mm256_add_pd(e0, _mm256_mul_pd(m0, _mm256_broadcast_sd(ye)));
-      e1 = _mm256_add_pd(e1, _mm256_mul_pd(m1, _mm256_broadcast_sd(ye + 1)));
-      e2 = _mm256_add_pd(e2, _mm256_mul_pd(m2, _mm256_broadcast_sd(ye + 2)));
-    }
-    __m256d sc = _mm256_setzero_pd(), se = _mm256_setzero_pd();
-    for (int k = q.s0; k < q.s1; ++k) {
-      const __m256d value = _mm256_broadcast_sd(a.scalars + k);
-      sc = _mm256_add_pd(sc, _mm256_mul_pd(value, _mm256_load_pd(v0.y + a.scalar_offset[k])));
-      se = _mm256_add_pd(se, _mm256_mul_pd(value, _mm256_load_pd(v1.y + a.scalar_offset[k])));
-    }
-    const __m256d acc0 =
-        _mm256_sub_pd(_mm256_sub_pd(_mm256_load_pd(v0.x + 4 * r), _mm256_add_pd(_mm256_add_pd(c0, c1), c2)), sc);
-    const __m256d acc1 =
-        _mm256_sub_pd(_mm256_sub_pd(_mm256_load_pd(v1.x + 4 * r), _mm256_add_pd(_mm256_add_pd(e0, e1), e2)), se);
-    const PaddedBlock& inv = a.diag_inv[r];
-    const __m256d i0 = _mm256_load_pd(inv.col[0]), i1 = _mm256_load_pd(inv.col[1]), i2 = _mm256_load_pd(inv.col[2]);
-    __m256d o0 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(i0, _mm256_permute4x64_pd(acc0, 0x00)),
-                                             _mm256_mul_pd(i1, _mm256_permute4x64_pd(acc0, 0x55))),
-                               _mm256_mul_pd(i2, _mm256_permute4x64_pd(acc0, 0xAA)));
-    __m256d o1 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(i0, _mm256_permute4x64_pd(acc1, 0x00)),
-                                             _mm256_mul_pd(i1, _mm256_permute4x64_pd(acc1, 0x55))),
-                               _mm256_mul_pd(i2, _mm256_permute4x64_pd(acc1, 0xAA)));
-    if (q.adjacent) {
-      const PaddedBlock& g = a.adjacent_scaled[r];
-      const __m256d g0 = _mm256_load_pd(g.col[0]), g1 = _mm256_load_pd(g.col[1]), g2 = _mm256_load_pd(g.col[2]);
-      o0 = _mm256_sub_pd(o0, _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(g0, _mm256_permute4x64_pd(prev0, 0x00)),
-                                                         _mm256_mul_pd(g1, _mm256_permute4x64_pd(prev0, 0x55))),
-                                           _mm256_mul_pd(g2, _mm256_permute4x64_pd(prev0, 0xAA))));
-      o1 = _mm256_sub_pd(o1, _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(g0, _mm256_permute4x64_pd(prev1, 0x00)),
-                                                         _mm256_mul_pd(g1, _mm256_permute4x64_pd(prev1, 0x55))),
-                                           _mm256_mul_pd(g2, _mm256_permute4x64_pd(prev1, 0xAA))));
-    }
-    _mm256_store_pd(v0.y + 4 * r, o0);
-    _mm256_store_pd(v1.y + 4 * r, o1);
-    xy0 += DiagonalRowAvx2(a.diag[r], o0, v0.z + 4 * r);
-    xy1 += DiagonalRowAvx2(a.diag[r], o1, v1.z + 4 * r);
-    prev0 = o0;
-    prev1 = o1;
+  int done = 0;
+  for (int i = 0; i < a.num_runs; ++i) {
+    const int r0 = a.runs[2 * i], r1 = a.runs[2 * i + 1];
+    ZeroSkipped<SweepKind::kForwardDiagonal>(v0, done, r0);
+    ZeroSkipped<SweepKind::kForwardDiagonal>(v1, done, r0);
+    __m256d prev0 = _mm256_setzero_pd(), prev1 = _mm256_setzero_pd();
+    for (int r = r0; r < r1; ++r) PairRowAvx2(a, r, v0, v1, &prev0, &prev1, &xy0, &xy1);
+    done = r1;
   }
+  ZeroSkipped<SweepKind::kForwardDiagonal>(v0, done, a.rows);
+  ZeroSkipped<SweepKind::kForwardDiagonal>(v1, done, a.rows);
   xy[0] = xy0;
   xy[1] = xy1;
 }
 
 // y = D_w x per row and the sum of the rows' x . y.
-__attribute__((target("avx2"))) double MultiplyDiagonalAvx2(const PaddedBlock* diag, int rows,
+__attribute__((target("avx2"))) double MultiplyDiagonalAvx2(const internal::SweepRowData* row, int rows,
                                                             const double* x, double* y) {
   double xy = 0.0;
-  for (int r = 0; r < rows; ++r) xy += DiagonalRowAvx2(diag[r], _mm256_load_pd(x + 4 * r), y + 4 * r);
+  for (int r = 0; r < rows; ++r) xy += DiagonalRowAvx2(row[r].diag, _mm256_load_pd(x + 4 * r), y + 4 * r);
   return xy;
 }
 
 // CG's step (StepResidual), row by row.
 template <bool kYZero>
-__attribute__((target("avx2"))) double StepResidualAvx2(const PaddedBlock* diag, int rows, double alpha,
+__attribute__((target("avx2"))) double StepResidualAvx2(const internal::SweepRowData* row, int rows, double alpha,
                                                         const double* t, const double* q, double* y,
                                                         double* r, double* s) {
   const __m256d a = _mm256_set1_pd(alpha);
@@ -301,7 +420,7 @@ __attribute__((target("avx2"))) double StepResidualAvx2(const PaddedBlock* diag,
     _mm256_store_pd(y + i, _mm256_add_pd(y0, _mm256_mul_pd(a, _mm256_load_pd(t + i))));
     const __m256d ri = _mm256_sub_pd(_mm256_load_pd(r + i), _mm256_mul_pd(a, _mm256_load_pd(q + i)));
     _mm256_store_pd(r + i, ri);
-    xy += DiagonalRowAvx2(diag[i / 4], ri, s + i);
+    xy += DiagonalRowAvx2(row[i / 4].diag, ri, s + i);
   }
   return xy;
 }
@@ -313,7 +432,8 @@ double Sweep(const GaussSeidelSweepArgs& a, const SweepVectors& v) {
   if (a.avx2) return SweepAvx2<kKind>(a, v);
 #endif
   double xy = 0.0;
-  for (int i = 0; i < a.rows; ++i) xy += RowGeneric<kKind>(a, IsForward(kKind) ? i : a.rows - 1 - i, v);
+  ForEachFreeRow<IsForward(kKind)>(
+      a, [&](int r) { xy += RowGeneric<kKind>(a, r, v); }, [&](int r0, int r1) { ZeroSkipped<kKind>(v, r0, r1); });
   return xy;
 }
 
@@ -324,10 +444,16 @@ void SweepForwardDiagonalPair(const GaussSeidelSweepArgs& a, const SweepVectors&
   if (a.avx2) return SweepForwardDiagonalPairAvx2(a, v0, v1, xy);
 #endif
   double xy0 = 0.0, xy1 = 0.0;
-  for (int i = 0; i < a.rows; ++i) {
-    xy0 += RowGeneric<SweepKind::kForwardDiagonal>(a, i, v0);
-    xy1 += RowGeneric<SweepKind::kForwardDiagonal>(a, i, v1);
-  }
+  ForEachFreeRow<true>(
+      a,
+      [&](int r) {
+        xy0 += RowGeneric<SweepKind::kForwardDiagonal>(a, r, v0);
+        xy1 += RowGeneric<SweepKind::kForwardDiagonal>(a, r, v1);
+      },
+      [&](int r0, int r1) {
+        ZeroSkipped<SweepKind::kForwardDiagonal>(v0, r0, r1);
+        ZeroSkipped<SweepKind::kForwardDiagonal>(v1, r0, r1);
+      });
   xy[0] = xy0;
   xy[1] = xy1;
 }
@@ -390,18 +516,13 @@ inline __attribute__((always_inline)) bool RowBlocksKernel(const Eigen::Matrix3d
 
 // What UpdateRows reads and writes.
 struct RowUpdate {
-  const internal::SweepRow* forward;
-  const internal::SweepRow* backward;
-  const int* general_diag;
+  const int* diag_slot;
   const unsigned char* free;
   const Eigen::Matrix3d* blocks;
   double omega;
   double inv_omega;  // 1 / omega
   int rows;
-  PaddedBlock* diag;
-  PaddedBlock* diag_inv;
-  PaddedBlock* lower;
-  PaddedBlock* upper;
+  internal::SweepRowData* row;
 };
 
 // Each row's blocks (RowBlocksKernel) where the row is free, zeros elsewhere; the adjacent
@@ -410,24 +531,25 @@ struct RowUpdate {
 inline __attribute__((always_inline)) bool RowUpdatesKernel(const RowUpdate& u) {
   bool ok = true;
   for (int r = 0; r < u.rows; ++r) {
+    internal::SweepRowData& d = u.row[r];
     const bool free = u.free[r] != 0;
-    const bool lower = u.forward[r].adjacent && free && u.free[r - 1];
-    const bool upper = u.backward[r].adjacent && free && u.free[r + 1];
-    if (!lower) u.lower[r].SetZero();
-    if (!upper) u.upper[r].SetZero();
+    const bool lower = d.shape[0].adjacent && free && u.free[r - 1];
+    const bool upper = d.shape[1].adjacent && free && u.free[r + 1];
+    if (!lower) d.adjacent_scaled[0].SetZero();
+    if (!upper) d.adjacent_scaled[1].SetZero();
     if (!free) {
-      u.diag[r].SetZero();
-      u.diag_inv[r].SetZero();
+      d.diag.SetZero();
+      d.diag_inv.SetZero();
       continue;
     }
-    // Slot of general index k: k + slot_offset; the row's neighbours r -+ 1 are next to its diagonal.
-    const Eigen::Matrix3d* a = u.blocks + u.forward[r].slot_offset + u.general_diag[r];
-    if (!RowBlocksKernel(*a, u.omega, u.inv_omega, lower ? a - 1 : nullptr, upper ? a + 1 : nullptr, &u.diag[r],
-                         &u.diag_inv[r], &u.lower[r], &u.upper[r])) {
-      u.diag[r].SetZero();
-      u.diag_inv[r].SetZero();
-      u.lower[r].SetZero();
-      u.upper[r].SetZero();
+    // The row's neighbours r -+ 1 are next to its diagonal.
+    const Eigen::Matrix3d* a = u.blocks + u.diag_slot[r];
+    if (!RowBlocksKernel(*a, u.omega, u.inv_omega, lower ? a - 1 : nullptr, upper ? a + 1 : nullptr, &d.diag,
+                         &d.diag_inv, &d.adjacent_scaled[0], &d.adjacent_scaled[1])) {
+      d.diag.SetZero();
+      d.diag_inv.SetZero();
+      d.adjacent_scaled[0].SetZero();
+      d.adjacent_scaled[1].SetZero();
       ok = false;
     }
   }
@@ -472,9 +594,8 @@ bool SetRowBlocks(const Eigen::Matrix3d& a, double omega, const Eigen::Matrix3d*
 GaussSeidelPreconditioner::GaussSeidelPreconditioner(const SplitRows& split) {
   avx2_ = internal::CpuHasAvx2();
   const int rows = static_cast<int>(split.general_start.size()) - 1;
-  general_diag_.assign(static_cast<std::size_t>(rows), 0);
-  forward_rows_.resize(static_cast<std::size_t>(rows));
-  backward_rows_.resize(static_cast<std::size_t>(rows));
+  diag_slot_.assign(static_cast<std::size_t>(rows), 0);
+  row_data_.assign(static_cast<std::size_t>(rows), internal::SweepRowData{});
   for (int r = 0; r < rows; ++r) {
     const auto row = static_cast<std::size_t>(r);
     int diag = -1;
@@ -486,7 +607,9 @@ GaussSeidelPreconditioner::GaussSeidelPreconditioner(const SplitRows& split) {
       if (c == r) diag = k;
     }
     HAPTEX_TEXTILE_DEMAND(diag >= 0);
-    general_diag_[row] = diag;
+    // Slot of general index k: k + slot_offset.
+    const int slot_offset = split.general_first_slot[row] - split.general_start[row];
+    diag_slot_[row] = slot_offset + diag;
     // Couplings to rows r - 1 and r + 1 through a general block: the sweeps apply them last.
     const int lower_adjacent =
         diag > split.general_start[row] && split.general_col[static_cast<std::size_t>(diag) - 1] == r - 1;
@@ -500,43 +623,43 @@ GaussSeidelPreconditioner::GaussSeidelPreconditioner(const SplitRows& split) {
       }
       if (split.scalar_col[static_cast<std::size_t>(k)] < r) upper = k + 1;
     }
-    const int slot_offset = split.general_first_slot[row] - split.general_start[row];
-    forward_rows_[row] = {split.general_start[row], diag - lower_adjacent, split.scalar_start[row], upper,
-                          slot_offset, lower_adjacent};
-    backward_rows_[row] = {diag + 1 + upper_adjacent, split.general_start[row + 1], upper,
-                           split.scalar_start[row + 1], slot_offset, upper_adjacent};
+    // Forward: general blocks [g0, diag - lower_adjacent) and scalar blocks [s0, upper);
+    // backward: [diag + 1 + upper_adjacent, g1) and [upper, s1).
+    const auto shape = [&](int g0, int g1, int s0, int s1, int adjacent) {
+      const internal::SweepRow q{slot_offset + g0, g1 - g0, s0, s1 - s0, static_cast<int>(column_offset_.size()),
+                                 adjacent};
+      for (int k = g0; k < g1; ++k) column_offset_.push_back(4 * split.general_col[static_cast<std::size_t>(k)]);
+      for (int k = s0; k < s1; ++k) column_offset_.push_back(4 * split.scalar_col[static_cast<std::size_t>(k)]);
+      return q;
+    };
+    row_data_[row].shape[0] =
+        shape(split.general_start[row], diag - lower_adjacent, split.scalar_start[row], upper, lower_adjacent);
+    row_data_[row].shape[1] = shape(diag + 1 + upper_adjacent, split.general_start[row + 1], upper,
+                                    split.scalar_start[row + 1], upper_adjacent);
   }
-  for (int c : split.general_col) general_offset_.push_back(4 * c);
-  for (int c : split.scalar_col) scalar_offset_.push_back(4 * c);
   row_free_.assign(static_cast<std::size_t>(rows), 0);
-  diag_.assign(static_cast<std::size_t>(rows), internal::PaddedBlock{});
-  diag_inv_ = diag_;
-  adjacent_lower_scaled_ = diag_;
-  adjacent_upper_scaled_ = diag_;
+  runs_.assign(2 * static_cast<std::size_t>(rows / 2 + 1), 0);  // at most every other row starts a run
 }
 
 bool GaussSeidelPreconditioner::UpdateRows(const std::vector<Eigen::Matrix3d>& blocks, double omega) {
   diag_excess_ = 2.0 - omega;
-  const RowUpdate u{forward_rows_.data(), backward_rows_.data(), general_diag_.data(), row_free_.data(),
-                    blocks.data(), omega, 1.0 / omega, rows(), diag_.data(), diag_inv_.data(),
-                    adjacent_lower_scaled_.data(), adjacent_upper_scaled_.data()};
+  const RowUpdate u{diag_slot_.data(), row_free_.data(), blocks.data(), omega, 1.0 / omega, rows(),
+                    row_data_.data()};
 #ifdef HAPTEX_TEXTILE_X86_KERNELS
   if (avx2_) return RowUpdatesAvx2(u);
 #endif
   return RowUpdatesGeneric(u);
 }
 
-internal::GaussSeidelSweepArgs GaussSeidelPreconditioner::Args(bool forward, const std::vector<Eigen::Matrix3d>& blocks,
+internal::GaussSeidelSweepArgs GaussSeidelPreconditioner::Args(const std::vector<Eigen::Matrix3d>& blocks,
                                                                const std::vector<double>& scalars) const {
-  return {forward ? forward_rows_.data() : backward_rows_.data(),
-          general_offset_.data(),
-          scalar_offset_.data(),
-          diag_.data(),
-          diag_inv_.data(),
-          forward ? adjacent_lower_scaled_.data() : adjacent_upper_scaled_.data(),
+  return {row_data_.data(),
+          column_offset_.data(),
           blocks.data(),
           scalars.data(),
           rows(),
+          runs_.data(),
+          num_runs_,
           diag_excess_,
           avx2_};
 }
@@ -550,7 +673,7 @@ void GaussSeidelPreconditioner::ForwardSolve(const std::vector<Eigen::Matrix3d>&
                                              PaddedVector* y) const {
   DemandRows(x, rows());
   DemandRows(*y, rows());
-  Sweep<SweepKind::kForward>(Args(true, blocks, scalars),
+  Sweep<SweepKind::kForward>(Args(blocks, scalars),
                              {x.data(), y->data(), nullptr, nullptr, nullptr, 0.0});
 }
 
@@ -561,7 +684,7 @@ double GaussSeidelPreconditioner::ForwardSolveDiagonal(const std::vector<Eigen::
   DemandRows(*y, rows());
   DemandRows(*w, rows());
   return Sweep<SweepKind::kForwardDiagonal>(
-      Args(true, blocks, scalars), {x.data(), y->data(), nullptr, w->data(), nullptr, 0.0});
+      Args(blocks, scalars), {x.data(), y->data(), nullptr, w->data(), nullptr, 0.0});
 }
 
 void GaussSeidelPreconditioner::ForwardSolveDiagonalPair(const std::vector<Eigen::Matrix3d>& blocks,
@@ -573,7 +696,7 @@ void GaussSeidelPreconditioner::ForwardSolveDiagonalPair(const std::vector<Eigen
                                 &x1, static_cast<const PaddedVector*>(y1), static_cast<const PaddedVector*>(w1)}) {
     DemandRows(*v, rows());
   }
-  SweepForwardDiagonalPair(Args(true, blocks, scalars), {x0.data(), y0->data(), nullptr, w0->data(), nullptr, 0.0},
+  SweepForwardDiagonalPair(Args(blocks, scalars), {x0.data(), y0->data(), nullptr, w0->data(), nullptr, 0.0},
                            {x1.data(), y1->data(), nullptr, w1->data(), nullptr, 0.0}, yw);
 }
 
@@ -582,7 +705,7 @@ void GaussSeidelPreconditioner::BackwardSolve(const std::vector<Eigen::Matrix3d>
                                               PaddedVector* y) const {
   DemandRows(x, rows());
   DemandRows(*y, rows());
-  Sweep<SweepKind::kBackward>(Args(false, blocks, scalars),
+  Sweep<SweepKind::kBackward>(Args(blocks, scalars),
                               {x.data(), y->data(), nullptr, nullptr, nullptr, 0.0});
 }
 
@@ -594,8 +717,8 @@ double GaussSeidelPreconditioner::MultiplySplit(const std::vector<Eigen::Matrix3
     DemandRows(*v, rows());
   }
   const SweepVectors v{x.data(), y->data(), t->data(), z->data(), nullptr, 0.0};
-  Sweep<SweepKind::kEisenstatBackward>(Args(false, blocks, scalars), v);
-  return Sweep<SweepKind::kEisenstatForward>(Args(true, blocks, scalars), v);
+  Sweep<SweepKind::kEisenstatBackward>(Args(blocks, scalars), v);
+  return Sweep<SweepKind::kEisenstatForward>(Args(blocks, scalars), v);
 }
 
 double GaussSeidelPreconditioner::UpdateMultiplySplit(const std::vector<Eigen::Matrix3d>& blocks,
@@ -607,8 +730,8 @@ double GaussSeidelPreconditioner::UpdateMultiplySplit(const std::vector<Eigen::M
     DemandRows(*v, rows());
   }
   const SweepVectors v{x->data(), y->data(), t->data(), z->data(), s.data(), beta, x->data()};
-  Sweep<SweepKind::kEisenstatBackwardUpdate>(Args(false, blocks, scalars), v);
-  return Sweep<SweepKind::kEisenstatForward>(Args(true, blocks, scalars), v);
+  Sweep<SweepKind::kEisenstatBackwardUpdate>(Args(blocks, scalars), v);
+  return Sweep<SweepKind::kEisenstatForward>(Args(blocks, scalars), v);
 }
 
 double GaussSeidelPreconditioner::MultiplyDiagonal(const PaddedVector& x, PaddedVector* y) const {
@@ -618,10 +741,12 @@ double GaussSeidelPreconditioner::MultiplyDiagonal(const PaddedVector& x, Padded
   const double* xp = x.data();
   double* yp = y->data();
 #ifdef HAPTEX_TEXTILE_X86_KERNELS
-  if (avx2_) return MultiplyDiagonalAvx2(diag_.data(), rows, xp, yp);
+  if (avx2_) return MultiplyDiagonalAvx2(row_data_.data(), rows, xp, yp);
 #endif
   double xy = 0.0;
-  for (int r = 0; r < rows; ++r) xy += DiagonalRowGeneric(diag_[static_cast<std::size_t>(r)], xp + 4 * r, yp + 4 * r);
+  for (int r = 0; r < rows; ++r) {
+    xy += DiagonalRowGeneric(row_data_[static_cast<std::size_t>(r)].diag, xp + 4 * r, yp + 4 * r);
+  }
   return xy;
 }
 
@@ -640,8 +765,8 @@ double GaussSeidelPreconditioner::StepResidual(double alpha, const PaddedVector&
   double* sp = s->data();
 #ifdef HAPTEX_TEXTILE_X86_KERNELS
   if (avx2_) {
-    return y_zero ? StepResidualAvx2<true>(diag_.data(), rows, alpha, tp, qp, yp, rp, sp)
-                  : StepResidualAvx2<false>(diag_.data(), rows, alpha, tp, qp, yp, rp, sp);
+    return y_zero ? StepResidualAvx2<true>(row_data_.data(), rows, alpha, tp, qp, yp, rp, sp)
+                  : StepResidualAvx2<false>(row_data_.data(), rows, alpha, tp, qp, yp, rp, sp);
   }
 #endif
   double xy = 0.0;
@@ -650,7 +775,7 @@ double GaussSeidelPreconditioner::StepResidual(double alpha, const PaddedVector&
       yp[i + k] = (y_zero ? 0.0 : yp[i + k]) + alpha * tp[i + k];
       rp[i + k] -= alpha * qp[i + k];
     }
-    xy += DiagonalRowGeneric(diag_[static_cast<std::size_t>(i / 4)], rp + i, sp + i);
+    xy += DiagonalRowGeneric(row_data_[static_cast<std::size_t>(i / 4)].diag, rp + i, sp + i);
   }
   return xy;
 }

@@ -35,26 +35,38 @@ struct PaddedBlock {
   }
 };
 
-/// Where one row of a sweep sums (fixed per model, one record per row and direction): general
-/// blocks [g0, g1) and scalar blocks [s0, s1) on the sweep's side of the diagonal, except the
-/// block coupling to the row solved just before (r - 1 forward, r + 1 backward) when `adjacent`:
-/// that one is applied last, premultiplied by D_w^-1, so the dependency from row to row is one
-/// 3x3 product. General index k is slot k + slot_offset.
+/// Where one row of a sweep sums (fixed per model, one record per row and direction): `general`
+/// blocks from slot first_slot on and `scalars` scalar blocks from scalar index first_scalar on,
+/// those on the sweep's side of the diagonal, except the block coupling to the row solved just
+/// before (r - 1 forward, r + 1 backward) when `adjacent`: that one is applied last,
+/// premultiplied by D_w^-1, so the dependency from row to row is one 3x3 product. Their
+/// columns' offsets in a padded vector (4 x column), general then scalar, are at `offsets` in
+/// GaussSeidelSweepArgs::column_offset: one index and one array for both (fewer registers).
 struct SweepRow {
-  int g0, g1, s0, s1, slot_offset, adjacent;
+  int first_slot, general, first_scalar, scalars, offsets, adjacent;
+};
+
+/// What the sweeps read of one row, together: one pointer walks them (index 0: forward, 1: backward).
+struct SweepRowData {
+  PaddedBlock diag_inv;  ///< D_w^-1 (zero for rows that are not free)
+  /// D_w^-1 A(r, r - 1) and D_w^-1 A(r, r + 1) where those blocks exist (zero elsewhere, and
+  /// for rows or neighbours that are not free).
+  PaddedBlock adjacent_scaled[2];
+  PaddedBlock diag;  ///< D_w (zero for rows that are not free)
+  SweepRow shape[2];
 };
 
 /// What one triangular sweep reads (gauss_seidel_preconditioner.cc).
 struct GaussSeidelSweepArgs {
-  const SweepRow* rows_info;  ///< per row, for this sweep's direction
-  const int* general_offset;  ///< per general block: 4 x its column (its row's offset in a padded vector)
-  const int* scalar_offset;   ///< likewise per scalar block
-  const PaddedBlock* diag;
-  const PaddedBlock* diag_inv;
-  const PaddedBlock* adjacent_scaled;  ///< this direction's
+  const SweepRowData* row;    ///< per row
+  const int* column_offset;   ///< SweepRow::offsets's array
   const Eigen::Matrix3d* blocks;
   const double* scalars;
   int rows;
+  /// The free rows as runs [runs[2i], runs[2i + 1]), i < num_runs, ascending: the sweeps skip
+  /// the other rows (zeroing their outputs), and a run's first row has no solved neighbour.
+  const int* runs;
+  int num_runs;
   double diag_excess;
   bool avx2;  ///< the AVX2 kernel (else the portable one: same results)
 };
@@ -99,7 +111,8 @@ class GaussSeidelPreconditioner {
   void ForwardSolveDiagonalPair(const std::vector<Eigen::Matrix3d>& blocks, const std::vector<double>& scalars,
                                 const PaddedVector& x0, PaddedVector* y0, PaddedVector* w0, const PaddedVector& x1,
                                 PaddedVector* y1, PaddedVector* w1, double yw[2]) const;
-  /// x = s + beta x (CG's new direction), then MultiplySplit(x, t, z, y). Never allocates.
+  /// x = s + beta x (CG's new direction) over the free rows (x stays 0 elsewhere), then
+  /// MultiplySplit(x, t, z, y). Never allocates.
   double UpdateMultiplySplit(const std::vector<Eigen::Matrix3d>& blocks, const std::vector<double>& scalars,
                              const PaddedVector& s, double beta, PaddedVector* x, PaddedVector* t,
                              PaddedVector* z, PaddedVector* y) const;
@@ -113,26 +126,22 @@ class GaussSeidelPreconditioner {
   /// portable one anyway (tests compare the two).
   void UsePortableKernel() { avx2_ = false; }
   /// Rows it was built for (0: default-constructed).
-  int rows() const { return static_cast<int>(general_diag_.size()); }
+  int rows() const { return static_cast<int>(diag_slot_.size()); }
   bool uses_avx2() const { return avx2_; }
 
  private:
-  std::vector<int> general_diag_;  ///< per row: index (into general_col) of its diagonal block
-  /// The split's general_col and scalar_col times 4: padded offsets, no scaling in the sweeps.
-  std::vector<int> general_offset_, scalar_offset_;
-  std::vector<internal::SweepRow> forward_rows_, backward_rows_;
-  internal::GaussSeidelSweepArgs Args(bool forward, const std::vector<Eigen::Matrix3d>& blocks,
+  std::vector<int> diag_slot_;      ///< per row: slot of its diagonal block
+  std::vector<int> column_offset_;  ///< GaussSeidelSweepArgs::column_offset
+  internal::GaussSeidelSweepArgs Args(const std::vector<Eigen::Matrix3d>& blocks,
                                       const std::vector<double>& scalars) const;
 
-  std::vector<internal::PaddedBlock> diag_;      ///< D_w per row (zero for rows that are not free)
-  /// D_w^-1 A(r, r - 1) and D_w^-1 A(r, r + 1) where those blocks exist (zero elsewhere, and
-  /// for rows or neighbours that are not free).
-  std::vector<internal::PaddedBlock> adjacent_lower_scaled_, adjacent_upper_scaled_;
-  std::vector<internal::PaddedBlock> diag_inv_;  ///< D_w^-1 per row (zero for rows that are not free)
+  std::vector<internal::SweepRowData> row_data_;  ///< per row
   bool avx2_ = false;
   double diag_excess_ = 0.0;               ///< (2 D_w - D) = diag_excess_ D_w: 2 - omega
 
   std::vector<unsigned char> row_free_;  ///< Update's: which rows are free
+  std::vector<int> runs_;                ///< Update's: the free rows' runs (GaussSeidelSweepArgs)
+  int num_runs_ = 0;
   /// Update for the rows row_free_ marks (one pass, the kernel picked once).
   bool UpdateRows(const std::vector<Eigen::Matrix3d>& blocks, double omega);
 };
@@ -140,7 +149,19 @@ class GaussSeidelPreconditioner {
 template <typename RowFree>
 bool GaussSeidelPreconditioner::Update(const std::vector<Eigen::Matrix3d>& blocks, double omega,
                                        RowFree row_free) {
-  for (int r = 0; r < rows(); ++r) row_free_[static_cast<std::size_t>(r)] = row_free(r) ? 1 : 0;
+  // Which rows are free, and their runs (a run starts where a free row follows one that is not).
+  num_runs_ = 0;
+  bool in_run = false;
+  for (int r = 0; r < rows(); ++r) {
+    const bool free = row_free(r);
+    row_free_[static_cast<std::size_t>(r)] = free ? 1 : 0;
+    if (free != in_run) {
+      runs_[2 * static_cast<std::size_t>(num_runs_) + (free ? 0 : 1)] = r;
+      num_runs_ += free ? 0 : 1;
+      in_run = free;
+    }
+  }
+  if (in_run) runs_[2 * static_cast<std::size_t>(num_runs_++) + 1] = rows();
   return UpdateRows(blocks, omega);
 }
 
