@@ -227,7 +227,11 @@ bool PinchContact::ClassifySamples() {
     }
     if (candidate) {
       candidates_.push_back(t);
-      candidate_deep_.push_back(deep ? 1 : 0);
+      // Deep now and all at the full spring from the last tick: nothing for the kernel to change.
+      constexpr auto kAllFull = static_cast<std::uint8_t>(internal::PinchTriangleHold::kAllFull);
+      const bool unchanged = triangle_held_[static_cast<std::size_t>(t)] == kAllFull;
+      candidate_deep_.push_back(!deep ? internal::kPinchNotDeep
+                                      : (unchanged ? internal::kPinchDeepUnchanged : internal::kPinchDeep));
     } else if (triangle_held_[static_cast<std::size_t>(t)]) {
       triangle_held_[static_cast<std::size_t>(t)] = 0;
       std::fill_n(k_.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(t) * lanes),
@@ -254,7 +258,7 @@ bool PinchContact::ClassifySamples() {
   for (std::size_t e = 0; e < candidates_.size(); ++e) {
     const int t = candidates_[e];
     const bool held = hold_[e] != internal::PinchTriangleHold::kNone;
-    triangle_held_[static_cast<std::size_t>(t)] = held ? 1 : 0;
+    triangle_held_[static_cast<std::size_t>(t)] = static_cast<std::uint8_t>(hold_[e]);
     if (!held) continue;
     active_triangles_.push_back(t);
     active_full_.push_back(hold_[e] == internal::PinchTriangleHold::kAllFull ? 1 : 0);

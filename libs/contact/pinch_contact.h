@@ -77,7 +77,9 @@ class PinchContact {
     ideal_x_[l] = state.ideal_C.x();
     ideal_y_[l] = state.ideal_C.y();
     maybe_active_ = maybe_active_ || state.active;
-    if (state.active) triangle_held_[static_cast<std::size_t>(i / per_triangle_)] = 1;
+    // Held, and no longer known to be all at the full spring.
+    std::uint8_t& held = triangle_held_[static_cast<std::size_t>(i / per_triangle_)];
+    if (state.active || held != 0) held = static_cast<std::uint8_t>(internal::PinchTriangleHold::kSome);
   }
 
  private:
@@ -126,7 +128,9 @@ class PinchContact {
   std::vector<double> k_;  ///< spring during the last step (ramps in near the edge); 0: inactive
   std::vector<long long> sliding_;  ///< -1 sliding, 0 sticking
   std::vector<double> lane_w_, lane_k_full_, w_sum_full_;  ///< internal::PinchSampleLayout's arrays
-  std::vector<std::uint8_t> triangle_held_;  ///< per triangle: 0 if none of its samples is active
+  /// Per triangle, a PinchTriangleHold: kNone if none of its samples is active, kAllFull if the
+  /// last classification left every sample at the full spring (and nothing changed them since).
+  std::vector<std::uint8_t> triangle_held_;
   bool maybe_active_ = false;  ///< some sample may be active (Reset has work to do)
 
   // Per tick (sized at construction, so no allocation per tick).

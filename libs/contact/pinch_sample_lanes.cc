@@ -112,9 +112,14 @@ HAPTEX_LANES_INLINE PinchClassifyTotals ClassifyKernel(const PinchSampleLayout& 
   PinchClassifyTotals totals;
   M4 active_count = M4{0, 0, 0, 0};  // minus the sum of the active masks (not-full triangles)
   for (int a = 0; a < in.list.num_triangles; ++a) {
+    if (in.deep[a] == kPinchDeepUnchanged) {  // its springs stay, none starts
+      hold[a] = PinchTriangleHold::kAllFull;
+      ++totals.all_full_triangles;
+      continue;
+    }
     const double* x[3];  // corners in C, broadcast where used
     const int t = Corners(in.list, a, x);
-    const bool deep = in.deep[a] != 0;
+    const bool deep = in.deep[a] != kPinchNotDeep;
     M4 any_active = M4{0, 0, 0, 0}, all_full = ~M4{0, 0, 0, 0};
     V4 k_sum = Splat(0.0);
     M4 count = M4{0, 0, 0, 0};

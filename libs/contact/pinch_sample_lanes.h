@@ -84,10 +84,15 @@ struct PinchTriangleList {
   int num_triangles = 0;
 };
 
+/// A triangle's entry in PinchClassifyInput::deep: deep means every corner lies deeper than the
+/// ramp in both fingers (all samples at the full spring); unchanged, that its samples already are
+/// all at the full spring (the last classification's kAllFull), so the kernel only counts it.
+constexpr std::uint8_t kPinchNotDeep = 0, kPinchDeep = 1, kPinchDeepUnchanged = 2;
+
 /// What the classification needs this tick.
 struct PinchClassifyInput {
   PinchTriangleList list;              ///< the triangles to classify
-  const std::uint8_t* deep = nullptr;  ///< per entry: every corner deeper than the ramp in both
+  const std::uint8_t* deep = nullptr;  ///< per entry: kPinchNotDeep, kPinchDeep or kPinchDeepUnchanged
   PinchAxis thumb, index;
   double radius_thumb_m = 0.0, radius_index_m = 0.0;  ///< reach of the pinch
   double edge_ramp_m = 0.0;

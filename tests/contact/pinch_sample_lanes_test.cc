@@ -286,6 +286,48 @@ TEST(PinchSampleLanesTest, ClassificationGivesEachSampleItsRampedSpring) {
   }
 }
 
+// A deep triangle that the last classification left all at the full spring, marked unchanged, is
+// only counted: its samples come out as a full classification leaves them, bit for bit.
+TEST(PinchSampleLanesTest, UnchangedDeepTrianglesAreCountedAndLeftAsTheyAre) {
+  for (const bool avx2 : {false, true}) {
+    if (avx2 && !textile::internal::CpuHasAvx2()) continue;
+    for (int per : {1, 4, 9}) {
+      Fixture f(per, 11u + static_cast<unsigned>(per));
+      std::vector<int> triangles;
+      std::vector<std::uint8_t> deep;
+      for (int t = 0; t < f.triangles; ++t) {
+        triangles.push_back(t);
+        deep.push_back(t % 3 == 0 ? kPinchDeep : kPinchNotDeep);
+      }
+      std::vector<PinchTriangleHold> hold(triangles.size());
+      ClassifyPinchSamples(f.Layout(), ClassifyInput(f, triangles, deep), f.Arrays(), hold.data(), avx2);
+      // The next tick: the same geometry, the deep triangles left all full marked unchanged.
+      Fixture full = f, skipped = f;
+      std::vector<std::uint8_t> marked = deep;
+      int unchanged = 0;
+      for (std::size_t e = 0; e < deep.size(); ++e) {
+        if (deep[e] == kPinchDeep && hold[e] == PinchTriangleHold::kAllFull) {
+          marked[e] = kPinchDeepUnchanged;
+          ++unchanged;
+        }
+      }
+      ASSERT_GT(unchanged, 0) << per;
+      std::vector<PinchTriangleHold> hold_full(triangles.size()), hold_skipped(triangles.size());
+      const PinchClassifyTotals a = ClassifyPinchSamples(full.Layout(), ClassifyInput(full, triangles, deep),
+                                                         full.Arrays(), hold_full.data(), avx2);
+      const PinchClassifyTotals b = ClassifyPinchSamples(skipped.Layout(), ClassifyInput(skipped, triangles, marked),
+                                                         skipped.Arrays(), hold_skipped.data(), avx2);
+      EXPECT_TRUE(SameBits(full.k, skipped.k) && SameBits(full.ideal_x, skipped.ideal_x) &&
+                  SameBits(full.ideal_y, skipped.ideal_y) && SameBits(full.sliding, skipped.sliding))
+          << per;
+      EXPECT_TRUE(SameBits(hold_full, hold_skipped)) << per;
+      EXPECT_EQ(a.all_full_triangles, b.all_full_triangles);
+      EXPECT_EQ(a.active_not_full, b.active_not_full);
+      EXPECT_EQ(std::memcmp(&a.k_not_full_N_per_m, &b.k_not_full_N_per_m, sizeof(double)), 0);
+    }
+  }
+}
+
 TEST(PinchSampleLanesTest, Avx2AndPortableKernelsGiveTheSameBits) {
   if (!textile::internal::CpuHasAvx2()) GTEST_SKIP() << "no AVX2 on this CPU: nothing to compare";
   for (int per : {1, 4, 9}) {
