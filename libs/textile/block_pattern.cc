@@ -140,9 +140,19 @@ double RangeGeneric(const SplitRows& split, const Eigen::Matrix3d* blocks, const
 }
 
 #ifdef HAPTEX_TEXTILE_X86_KERNELS
-// The same sums, one 4-wide multiply and add per block column: column 0 and 1 are loaded from
-// m and m + 3 (lanes 0..2 are rows 0..2), column 2 from m + 5 (lanes 1..3 are rows 0..2), so no
-// load leaves the block. No FMA: the products round as in RangeGeneric.
+// One block's columns times x_c's entries, added to (c0, c1, c2): column 0 and 1 are loaded
+// from m and m + 3 (lanes 0..2 are rows 0..2), column 2 from m + 5 (lanes 1..3 are rows 0..2),
+// so no load leaves the block. No FMA: the products round as in RangeGeneric.
+__attribute__((target("avx"), always_inline)) inline void BlockAvx(const double* m, const double* xc, __m256d* c0,
+                                                                   __m256d* c1, __m256d* c2) {
+  *c0 = _mm256_add_pd(*c0, _mm256_mul_pd(_mm256_loadu_pd(m), _mm256_broadcast_sd(xc)));
+  *c1 = _mm256_add_pd(*c1, _mm256_mul_pd(_mm256_loadu_pd(m + 3), _mm256_broadcast_sd(xc + 1)));
+  *c2 = _mm256_add_pd(*c2, _mm256_mul_pd(_mm256_loadu_pd(m + 5), _mm256_broadcast_sd(xc + 2)));
+}
+
+// The same sums, one 4-wide multiply and add per block column (BlockAvx). The counts of a
+// grid's interior rows (9 general, 4 scalar blocks) get fixed-trip code behind one
+// well-predicted branch each: variable-trip loops mispredict at each row's end.
 __attribute__((target("avx"))) double RangeAvx(const SplitRows& split,
                                                const Eigen::Matrix3d* blocks,
                                                const double* scalars, const double* x, double* y,
@@ -153,6 +163,7 @@ __attribute__((target("avx"))) double RangeAvx(const SplitRows& split,
   const int* s_start = split.scalar_start.data();
   const int* s_col = split.scalar_col.data();
   const __m256i three = _mm256_set_epi64x(0, -1, -1, -1);
+  const int last_row = static_cast<int>(split.general_start.size()) - 2;
   double xy = 0.0;
   for (int r = r0; r < r1; ++r) {
     // Even and odd blocks in separate accumulators: six independent chains of adds.
@@ -161,22 +172,20 @@ __attribute__((target("avx"))) double RangeAvx(const SplitRows& split,
     const double* m = blocks[g_first[r]].data();
     const int* col = g_col + g_start[r];
     const int count = g_start[r + 1] - g_start[r];
-    int k = 0;
-    for (; k + 1 < count; k += 2, m += 18) {
-      const double* xc = x + 3 * col[k];
-      const double* xd = x + 3 * col[k + 1];
-      c0 = _mm256_add_pd(c0, _mm256_mul_pd(_mm256_loadu_pd(m), _mm256_broadcast_sd(xc)));
-      c1 = _mm256_add_pd(c1, _mm256_mul_pd(_mm256_loadu_pd(m + 3), _mm256_broadcast_sd(xc + 1)));
-      c2 = _mm256_add_pd(c2, _mm256_mul_pd(_mm256_loadu_pd(m + 5), _mm256_broadcast_sd(xc + 2)));
-      d0 = _mm256_add_pd(d0, _mm256_mul_pd(_mm256_loadu_pd(m + 9), _mm256_broadcast_sd(xd)));
-      d1 = _mm256_add_pd(d1, _mm256_mul_pd(_mm256_loadu_pd(m + 12), _mm256_broadcast_sd(xd + 1)));
-      d2 = _mm256_add_pd(d2, _mm256_mul_pd(_mm256_loadu_pd(m + 14), _mm256_broadcast_sd(xd + 2)));
-    }
-    if (k < count) {
-      const double* xc = x + 3 * col[k];
-      c0 = _mm256_add_pd(c0, _mm256_mul_pd(_mm256_loadu_pd(m), _mm256_broadcast_sd(xc)));
-      c1 = _mm256_add_pd(c1, _mm256_mul_pd(_mm256_loadu_pd(m + 3), _mm256_broadcast_sd(xc + 1)));
-      c2 = _mm256_add_pd(c2, _mm256_mul_pd(_mm256_loadu_pd(m + 5), _mm256_broadcast_sd(xc + 2)));
+    if (count == 9) {
+#pragma GCC unroll 4
+      for (int k = 0; k < 8; k += 2) {
+        BlockAvx(m + 9 * k, x + 3 * col[k], &c0, &c1, &c2);
+        BlockAvx(m + 9 * k + 9, x + 3 * col[k + 1], &d0, &d1, &d2);
+      }
+      BlockAvx(m + 72, x + 3 * col[8], &c0, &c1, &c2);
+    } else {
+      int k = 0;
+      for (; k + 1 < count; k += 2, m += 18) {
+        BlockAvx(m, x + 3 * col[k], &c0, &c1, &c2);
+        BlockAvx(m + 9, x + 3 * col[k + 1], &d0, &d1, &d2);
+      }
+      if (k < count) BlockAvx(m, x + 3 * col[k], &c0, &c1, &c2);
     }
     const __m256d s01 = _mm256_add_pd(_mm256_add_pd(c0, d0), _mm256_add_pd(c1, d1));
     const __m256d s2 = _mm256_add_pd(c2, d2);
@@ -185,9 +194,19 @@ __attribute__((target("avx"))) double RangeAvx(const SplitRows& split,
     __m256d acc = _mm256_add_pd(s01, _mm256_shuffle_pd(s2, s2_high, 0x5));
     // FinishRow's sums in its order, lane i for component i (x's rows read 3 wide: the last
     // row has no 4th entry).
-    for (int j = s_start[r]; j < s_start[r + 1]; ++j) {
-      acc = _mm256_add_pd(acc, _mm256_mul_pd(_mm256_broadcast_sd(scalars + j),
-                                             _mm256_maskload_pd(x + 3 * s_col[j], three)));
+    const int j0 = s_start[r], scalar_count = s_start[r + 1] - j0;
+    const double* v = scalars + j0;
+    const int* s_c = s_col + j0;
+    if (scalar_count == 4 && s_c[3] < last_row) {
+      // Columns sorted: none is the last row, so 4-wide loads stay inside x (lane 3 as above).
+#pragma GCC unroll 4
+      for (int j = 0; j < 4; ++j) {
+        acc = _mm256_add_pd(acc, _mm256_mul_pd(_mm256_broadcast_sd(v + j), _mm256_loadu_pd(x + 3 * s_c[j])));
+      }
+    } else {
+      for (int j = 0; j < scalar_count; ++j) {
+        acc = _mm256_add_pd(acc, _mm256_mul_pd(_mm256_broadcast_sd(v + j), _mm256_maskload_pd(x + 3 * s_c[j], three)));
+      }
     }
     const __m128d acc01 = _mm256_castpd256_pd128(acc), acc2 = _mm256_extractf128_pd(acc, 1);
     _mm_storeu_pd(y + 3 * r, acc01);

@@ -408,20 +408,30 @@ __attribute__((target("avx2"))) double MultiplyDiagonalAvx2(const internal::Swee
   return xy;
 }
 
-// CG's step (StepResidual), row by row.
+// CG's step (StepResidual) over the rows of runs [runs[2i], runs[2i + 1]), ascending; with
+// kYZero y = 0 in the rows between. The row record is walked by pointer (no index arithmetic
+// per row).
 template <bool kYZero>
-__attribute__((target("avx2"))) double StepResidualAvx2(const internal::SweepRowData* row, int rows, double alpha,
-                                                        const double* t, const double* q, double* y,
-                                                        double* r, double* s) {
+__attribute__((target("avx2"))) double StepResidualAvx2(const internal::SweepRowData* row, const int* runs,
+                                                        int num_runs, int rows, double alpha, const double* t,
+                                                        const double* q, double* y, double* r, double* s) {
   const __m256d a = _mm256_set1_pd(alpha);
   double xy = 0.0;
-  for (int i = 0; i < 4 * rows; i += 4) {
-    const __m256d y0 = kYZero ? _mm256_setzero_pd() : _mm256_load_pd(y + i);
-    _mm256_store_pd(y + i, _mm256_add_pd(y0, _mm256_mul_pd(a, _mm256_load_pd(t + i))));
-    const __m256d ri = _mm256_sub_pd(_mm256_load_pd(r + i), _mm256_mul_pd(a, _mm256_load_pd(q + i)));
-    _mm256_store_pd(r + i, ri);
-    xy += DiagonalRowAvx2(row[i / 4].diag, ri, s + i);
+  int done = 0;
+  for (int run = 0; run < num_runs; ++run) {
+    const int r0 = runs[2 * run], r1 = runs[2 * run + 1];
+    if constexpr (kYZero) ZeroRows(y, done, r0);
+    const internal::SweepRowData* d = row + r0;
+    for (int i = 4 * r0; i < 4 * r1; i += 4, ++d) {
+      const __m256d y0 = kYZero ? _mm256_setzero_pd() : _mm256_load_pd(y + i);
+      _mm256_store_pd(y + i, _mm256_add_pd(y0, _mm256_mul_pd(a, _mm256_load_pd(t + i))));
+      const __m256d ri = _mm256_sub_pd(_mm256_load_pd(r + i), _mm256_mul_pd(a, _mm256_load_pd(q + i)));
+      _mm256_store_pd(r + i, ri);
+      xy += DiagonalRowAvx2(d->diag, ri, s + i);
+    }
+    done = r1;
   }
+  if constexpr (kYZero) ZeroRows(y, done, rows);
   return xy;
 }
 #endif
@@ -523,29 +533,38 @@ struct RowUpdate {
   double inv_omega;  // 1 / omega
   int rows;
   internal::SweepRowData* row;
+  unsigned char* zero;  // per row: its four blocks are all 0 (kept by the kernel)
 };
 
 // Each row's blocks (RowBlocksKernel) where the row is free, zeros elsewhere; the adjacent
 // blocks only where the neighbour is free too. Returns false if a free row's failed (its blocks
-// zeroed).
-inline __attribute__((always_inline)) bool RowUpdatesKernel(const RowUpdate& u) {
+// zeroed). A row that is not free is zeroed only if it is not all 0 already (the rows fixed
+// tick after tick cost one test).
+inline __attribute__((always_inline)) bool RowUpdatesKernel(const RowUpdate& in) {
+  const RowUpdate u = in;  // a local copy, kept in registers (the stores may alias `in`)
   bool ok = true;
   for (int r = 0; r < u.rows; ++r) {
     internal::SweepRowData& d = u.row[r];
-    const bool free = u.free[r] != 0;
-    const bool lower = d.shape[0].adjacent && free && u.free[r - 1];
-    const bool upper = d.shape[1].adjacent && free && u.free[r + 1];
-    if (!lower) d.adjacent_scaled[0].SetZero();
-    if (!upper) d.adjacent_scaled[1].SetZero();
-    if (!free) {
-      d.diag.SetZero();
-      d.diag_inv.SetZero();
+    if (u.free[r] == 0) {
+      if (u.zero[r] == 0) {
+        d.diag.SetZero();
+        d.diag_inv.SetZero();
+        d.adjacent_scaled[0].SetZero();
+        d.adjacent_scaled[1].SetZero();
+        u.zero[r] = 1;
+      }
       continue;
     }
+    const bool lower = d.shape[0].adjacent && u.free[r - 1];
+    const bool upper = d.shape[1].adjacent && u.free[r + 1];
+    if (!lower) d.adjacent_scaled[0].SetZero();
+    if (!upper) d.adjacent_scaled[1].SetZero();
     // The row's neighbours r -+ 1 are next to its diagonal.
     const Eigen::Matrix3d* a = u.blocks + u.diag_slot[r];
-    if (!RowBlocksKernel(*a, u.omega, u.inv_omega, lower ? a - 1 : nullptr, upper ? a + 1 : nullptr, &d.diag,
-                         &d.diag_inv, &d.adjacent_scaled[0], &d.adjacent_scaled[1])) {
+    const bool row_ok = RowBlocksKernel(*a, u.omega, u.inv_omega, lower ? a - 1 : nullptr, upper ? a + 1 : nullptr,
+                                        &d.diag, &d.diag_inv, &d.adjacent_scaled[0], &d.adjacent_scaled[1]);
+    u.zero[r] = row_ok ? 0 : 1;
+    if (!row_ok) {
       d.diag.SetZero();
       d.diag_inv.SetZero();
       d.adjacent_scaled[0].SetZero();
@@ -638,13 +657,14 @@ GaussSeidelPreconditioner::GaussSeidelPreconditioner(const SplitRows& split) {
                                     split.scalar_start[row + 1], upper_adjacent);
   }
   row_free_.assign(static_cast<std::size_t>(rows), 0);
+  row_zero_.assign(static_cast<std::size_t>(rows), 1);  // row_data_ starts all 0
   runs_.assign(2 * static_cast<std::size_t>(rows / 2 + 1), 0);  // at most every other row starts a run
 }
 
 bool GaussSeidelPreconditioner::UpdateRows(const std::vector<Eigen::Matrix3d>& blocks, double omega) {
   diag_excess_ = 2.0 - omega;
   const RowUpdate u{diag_slot_.data(), row_free_.data(), blocks.data(), omega, 1.0 / omega, rows(),
-                    row_data_.data()};
+                    row_data_.data(), row_zero_.data()};
 #ifdef HAPTEX_TEXTILE_X86_KERNELS
   if (avx2_) return RowUpdatesAvx2(u);
 #endif
@@ -763,20 +783,32 @@ double GaussSeidelPreconditioner::StepResidual(double alpha, const PaddedVector&
   double* yp = y->data();
   double* rp = r->data();
   double* sp = s->data();
+  // The free rows' runs; all rows for a non-finite alpha (0 x alpha is not 0 then).
+  const int all[2] = {0, rows};
+  const bool every_row = !std::isfinite(alpha);
+  const int* runs = every_row ? all : runs_.data();
+  const int num_runs = every_row ? 1 : num_runs_;
 #ifdef HAPTEX_TEXTILE_X86_KERNELS
   if (avx2_) {
-    return y_zero ? StepResidualAvx2<true>(row_data_.data(), rows, alpha, tp, qp, yp, rp, sp)
-                  : StepResidualAvx2<false>(row_data_.data(), rows, alpha, tp, qp, yp, rp, sp);
+    return y_zero ? StepResidualAvx2<true>(row_data_.data(), runs, num_runs, rows, alpha, tp, qp, yp, rp, sp)
+                  : StepResidualAvx2<false>(row_data_.data(), runs, num_runs, rows, alpha, tp, qp, yp, rp, sp);
   }
 #endif
   double xy = 0.0;
-  for (int i = 0; i < 4 * rows; i += 4) {
-    for (int k = 0; k < 4; ++k) {
-      yp[i + k] = (y_zero ? 0.0 : yp[i + k]) + alpha * tp[i + k];
-      rp[i + k] -= alpha * qp[i + k];
+  int done = 0;
+  for (int run = 0; run < num_runs; ++run) {
+    const int r0 = runs[2 * run], r1 = runs[2 * run + 1];
+    if (y_zero) ZeroRows(yp, done, r0);
+    for (int i = 4 * r0; i < 4 * r1; i += 4) {
+      for (int k = 0; k < 4; ++k) {
+        yp[i + k] = (y_zero ? 0.0 : yp[i + k]) + alpha * tp[i + k];
+        rp[i + k] -= alpha * qp[i + k];
+      }
+      xy += DiagonalRowGeneric(row_data_[static_cast<std::size_t>(i / 4)].diag, rp + i, sp + i);
     }
-    xy += DiagonalRowGeneric(row_data_[static_cast<std::size_t>(i / 4)].diag, rp + i, sp + i);
+    done = r1;
   }
+  if (y_zero) ZeroRows(yp, done, rows);
   return xy;
 }
 

@@ -116,8 +116,11 @@ class GaussSeidelPreconditioner {
   double UpdateMultiplySplit(const std::vector<Eigen::Matrix3d>& blocks, const std::vector<double>& scalars,
                              const PaddedVector& s, double beta, PaddedVector* x, PaddedVector* t,
                              PaddedVector* z, PaddedVector* y) const;
-  /// CG's step: y += alpha t, r -= alpha q (all entries, pads too), then MultiplyDiagonal(*r, s).
-  /// With y_zero, y is taken as 0 (not read: y = 0 + alpha t). Never allocates.
+  /// CG's step over the free rows: y += alpha t, r -= alpha q (pads too), then s = D_w r as
+  /// MultiplyDiagonal; returns r . s. With y_zero, y is taken as 0 (not read: y = 0 + alpha t).
+  /// The other rows are skipped (y = +0 there with y_zero): CG keeps t, q, r, s and y +0 there
+  /// (pads too), which updating them would leave as they are, so the results are those of
+  /// updating all rows. A non-finite alpha (0 x alpha is NaN) updates all rows. Never allocates.
   double StepResidual(double alpha, const PaddedVector& t, const PaddedVector& q, bool y_zero, PaddedVector* y,
                       PaddedVector* r, PaddedVector* s) const;
 
@@ -140,6 +143,7 @@ class GaussSeidelPreconditioner {
   double diag_excess_ = 0.0;               ///< (2 D_w - D) = diag_excess_ D_w: 2 - omega
 
   std::vector<unsigned char> row_free_;  ///< Update's: which rows are free
+  std::vector<unsigned char> row_zero_;  ///< per row: its row_data_ blocks are all 0 (UpdateRows skips them)
   std::vector<int> runs_;                ///< Update's: the free rows' runs (GaussSeidelSweepArgs)
   int num_runs_ = 0;
   /// Update for the rows row_free_ marks (one pass, the kernel picked once).

@@ -507,6 +507,81 @@ TEST(GaussSeidelPreconditionerTest, SkippedRowsAreZeroedAndRunsSolveExactly) {
   }
 }
 
+// StepResidual updates only the free rows: with the zeros CG keeps in the others (t, q, r, s,
+// and y after its first step) that gives the bits of updating all rows, and with y_zero it
+// writes y's zeros there over stale values; a non-finite alpha updates all rows.
+TEST(GaussSeidelPreconditionerTest, StepResidualSkipsRowsThatAreNotFree) {
+  const FabricModel model = DenimModel(7, 0.006);
+  FabricState s = MakeRestState(model);
+  for (int p : {1, 4, 5, 9, 10, 11, 20, 30, 31, 47}) s.Fix(p);
+  const System a = Assemble(model, &s);
+  const int n = model.num_particles;
+  const auto free = [&](int r) { return s.mode[static_cast<std::size_t>(r)] == ParticleMode::kFree; };
+  for (bool portable : {false, true}) {
+    GaussSeidelPreconditioner gs(model.product_rows);
+    if (portable) gs.UsePortableKernel();
+    ASSERT_TRUE(gs.Update(a.blocks, 1.3, free));
+    std::mt19937 rng(19);
+    const PaddedVector t = Padded(RandomFree(model, s, &rng)), q = Padded(RandomFree(model, s, &rng));
+    const PaddedVector r0 = Padded(RandomFree(model, s, &rng)), y0 = Padded(RandomFree(model, s, &rng));
+    for (double alpha : {0.7, std::numeric_limits<double>::infinity()}) {
+      for (bool y_zero : {false, true}) {
+        PaddedVector y = y0, r = r0, sv(n), y_ref = y0, r_ref = r0, s_ref(n);
+        if (y_zero) {
+          y.vec().setConstant(std::numeric_limits<double>::quiet_NaN());  // stale: not read
+          y_ref.SetZero();
+        }
+        const double xy = gs.StepResidual(alpha, t, q, y_zero, &y, &r, &sv);
+        y_ref.vec() += alpha * t.vec();
+        r_ref.vec() -= alpha * q.vec();
+        const double xy_ref = gs.MultiplyDiagonal(r_ref, &s_ref);
+        EXPECT_EQ(Bits(xy), Bits(xy_ref)) << portable << y_zero << alpha;
+        EXPECT_TRUE(SameRowBits(y, y_ref)) << portable << y_zero << alpha;
+        EXPECT_TRUE(SameRowBits(r, r_ref)) << portable << y_zero << alpha;
+        EXPECT_TRUE(SameRowBits(sv, s_ref)) << portable << y_zero << alpha;
+      }
+    }
+  }
+}
+
+// Update after an Update with other free rows gives a fresh preconditioner's bits (rows no
+// longer free are zeroed, rows still not free are left zero).
+TEST(GaussSeidelPreconditionerTest, UpdateWithOtherFreeRowsMatchesAFreshOne) {
+  const FabricModel model = DenimModel(7, 0.006);
+  FabricState s = MakeRestState(model);
+  for (int p : {1, 4, 5, 9, 10}) s.Fix(p);
+  const System first = Assemble(model, &s);
+  for (int p : {11, 20, 30, 31, 47}) s.Fix(p);
+  const System a = Assemble(model, &s);
+  const int n = model.num_particles;
+  const auto free = [&](int r) { return s.mode[static_cast<std::size_t>(r)] == ParticleMode::kFree; };
+  const auto all_but_4 = [](int r) { return r != 4; };
+  for (bool portable : {false, true}) {
+    GaussSeidelPreconditioner reused(model.product_rows), fresh(model.product_rows);
+    if (portable) {
+      reused.UsePortableKernel();
+      fresh.UsePortableKernel();
+    }
+    ASSERT_TRUE(reused.Update(first.blocks, 1.3, all_but_4));
+    ASSERT_TRUE(reused.Update(first.blocks, 1.3, [&](int r) { return r > 2 && r != 9 && r != 10; }));
+    ASSERT_TRUE(reused.Update(a.blocks, 1.3, free));
+    ASSERT_TRUE(fresh.Update(a.blocks, 1.3, free));
+    std::mt19937 rng(23);
+    const PaddedVector x = Padded(RandomFree(model, s, &rng));
+    PaddedVector t1(n), z1(n), y1(n), t2(n), z2(n), y2(n);
+    EXPECT_EQ(Bits(reused.MultiplySplit(a.blocks, a.scalars, x, &t1, &z1, &y1)),
+              Bits(fresh.MultiplySplit(a.blocks, a.scalars, x, &t2, &z2, &y2)))
+        << portable;
+    EXPECT_TRUE(SameRowBits(y1, y2)) << portable;
+    EXPECT_TRUE(SameRowBits(t1, t2)) << portable;
+    // D_w times a vector with no zero rows: D_w must be 0 in the rows that are not free.
+    PaddedVector full(n);
+    for (int i = 0; i < 4 * n; ++i) full.data()[i] = i % 4 == 3 ? 0.0 : 1.0 + i;
+    EXPECT_EQ(Bits(reused.MultiplyDiagonal(full, &z1)), Bits(fresh.MultiplyDiagonal(full, &z2))) << portable;
+    EXPECT_TRUE(SameRowBits(z1, z2)) << portable;
+  }
+}
+
 TEST(GaussSeidelPreconditionerTest, OmegaOutsideZeroTwoIsRefused) {
   StepOptions o;
   o.preconditioner = Preconditioner::kGaussSeidel;
