@@ -4,6 +4,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <vector>
 
@@ -71,10 +72,10 @@ HAPTEX_LANES_INLINE V4 Weight(const TriangleElement* const el[kLanes],
   return V4{(el[0]->*weights)[k], (el[1]->*weights)[k], (el[2]->*weights)[k],
             (el[3]->*weights)[k]};
 }
-// *p += a for 4 doubles at p (a Matrix3d's data: 8-byte aligned only).
-HAPTEX_LANES_INLINE void AddTo(V4 a, double* p) {
+// *p = *from + a for 4 doubles (a Matrix3d's data: 8-byte aligned only).
+HAPTEX_LANES_INLINE void AddTo(V4 a, const double* from, double* p) {
   V4 b;
-  std::memcpy(&b, p, sizeof b);
+  std::memcpy(&b, from, sizeof b);
   b += a;
   std::memcpy(p, &b, sizeof b);
 }
@@ -107,37 +108,50 @@ HAPTEX_LANES_INLINE void ScatterToCorners(const V4 v[3][3], const int corner[3][
   }
 }
 
+// Where a group's triangles add their blocks: system blocks by slot (slots[j] for lane j), and
+// the blocks that lane j's first additions start from (base; system itself when the sink has no
+// base), first[j] the bits of FabricModel::triangle_first_blocks.
+struct BlockTarget {
+  const std::array<std::int32_t, 9>* offsets;  // FabricModel::triangle_block_offsets
+  const unsigned* first;
+  Eigen::Matrix3d* system;
+  const Eigen::Matrix3d* base;
+};
+
+// Block = from + m, m the block entries of lane j, at slot index kl: two 4-wide and one scalar
+// add. `from` is the block itself or, for its first addition, its base: a select, no branch.
+HAPTEX_LANES_INLINE void AddBlock(const BlockTarget& t, int j, int kl, V4 lo, V4 hi, double m8) {
+  const std::ptrdiff_t offset = t.offsets[j][static_cast<std::size_t>(kl)];
+  auto* block = reinterpret_cast<double*>(reinterpret_cast<char*>(t.system) + offset);
+  const auto* based = reinterpret_cast<const double*>(reinterpret_cast<const char*>(t.base) + offset);
+  const double* from = (t.first[j] >> kl) & 1u ? based : block;
+  AddTo(lo, from, block);
+  AddTo(hi, from + 4, block + 4);
+  block[8] = from[8] + m8;
+}
+
 // Adds block entries m (entry e of lanes 0..3) to the block at slot index kl of each lane's
-// triangle: two 4-wide and one scalar add per block.
-HAPTEX_LANES_INLINE void AddBlocks(const V4 m[9], const std::array<int, 9>* slots, int lanes,
-                                   int kl, Eigen::Matrix3d* system) {
+// triangle.
+HAPTEX_LANES_INLINE void AddBlocks(const V4 m[9], const BlockTarget& t, int lanes, int kl) {
   V4 lo[kLanes], hi[kLanes];
   Transpose(m, lo);
   Transpose(m + 4, hi);
   HAPTEX_UNROLL
   for (int j = 0; j < kLanes; ++j) {  // unrolled as in ScatterToCorners
     if (j == lanes) break;
-    double* block = system[static_cast<std::size_t>(slots[j][static_cast<std::size_t>(kl)])].data();
-    AddTo(lo[j], block);
-    AddTo(hi[j], block + 4);
-    block[8] += m[8][j];
+    AddBlock(t, j, kl, lo[j], hi[j], m[8][j]);
   }
 }
 
 // AddBlocks of m at slot index kl, then of its transpose at lk. The transposed lanes come from
 // the untransposed ones: (m0 m3 m6 m1) and (m4 m7 m2 m5) are (m0..m3) and (m4..m7) permuted
 // (0 3 2 1) with entries 2 swapped: four shuffles a lane instead of two more transposes.
-HAPTEX_LANES_INLINE void AddBlockPair(const V4 m[9], const std::array<int, 9>* slots, int lanes,
-                                      int kl, int lk, Eigen::Matrix3d* system) {
+HAPTEX_LANES_INLINE void AddBlockPair(const V4 m[9], const BlockTarget& t, int lanes, int kl, int lk) {
   V4 lo[kLanes], hi[kLanes];
   Transpose(m, lo);
   Transpose(m + 4, hi);
   const auto add = [&](int j, int slot_index, V4 first, V4 second) HAPTEX_LANES_LAMBDA {
-    double* block =
-        system[static_cast<std::size_t>(slots[j][static_cast<std::size_t>(slot_index)])].data();
-    AddTo(first, block);
-    AddTo(second, block + 4);
-    block[8] += m[8][j];
+    AddBlock(t, j, slot_index, first, second, m[8][j]);
   };
   HAPTEX_UNROLL
   for (int j = 0; j < kLanes; ++j) {  // unrolled as in ScatterToCorners
@@ -280,6 +294,10 @@ HAPTEX_LANES_INLINE V4 StiffnessEntry(const DirectionLanes& d, int i, int j) {
   return i == j ? e + d.alpha : e;
 }
 
+// The order TriangleKernel adds a group's blocks k*3+l in (its add_pair and add_negated_pair
+// calls), each to all lanes before the next: TriangleFirstBlocks follows it.
+constexpr std::array<int, 9> kTriangleBlockOrder = {0, 1, 3, 4, 2, 6, 5, 7, 8};
+
 // Tensile (warp, weft), shear and quadratic drag of every triangle; each of its 9 system blocks
 // is one sum of rank-one terms, written once.
 HAPTEX_LANES_INLINE void TriangleKernel(const FabricModel& model, const double* xp,
@@ -296,9 +314,14 @@ HAPTEX_LANES_INLINE void TriangleKernel(const FabricModel& model, const double* 
   double* fp = sink->force_N->data();
   double* dfv = jac ? sink->dfdx_v->data() : nullptr;
   Eigen::Matrix3d* system = jac ? sink->system->data() : nullptr;
+  const Eigen::Matrix3d* base = jac && sink->system_base != nullptr ? sink->system_base : system;
   // Model data in locals: the force stores could alias it, so it would be reloaded.
   const TriangleElement* triangles = model.triangles.data();
   const std::size_t num_triangles = model.triangles.size();
+  HAPTEX_TEXTILE_DEMAND(model.triangle_block_offsets.size() == num_triangles);
+  const std::array<std::int32_t, 9>* offsets_all = model.triangle_block_offsets.data();
+  HAPTEX_TEXTILE_DEMAND(model.triangle_first_blocks.size() == num_triangles);
+  const std::uint16_t* first_blocks = model.triangle_first_blocks.data();
   // One group of four triangles from t0; `lanes` of them real. The tail group repeats its last
   // triangle in the unused lanes (computed, never scattered).
   const auto group = [&](std::size_t t0, int lanes) HAPTEX_LANES_LAMBDA {
@@ -450,7 +473,10 @@ HAPTEX_LANES_INLINE void TriangleKernel(const FabricModel& model, const double* 
       for (int i = 0; i < 3; ++i) shear_p[k][i] = shear_sys * g[k][i];
     }
     const bool drag_active = Any(dq != 0.0);
-    const std::array<int, 9>* slots = &model.triangle_slots[t0];
+    unsigned first[kLanes];
+    HAPTEX_UNROLL
+    for (int j = 0; j < kLanes; ++j) first[j] = first_blocks[t0 + static_cast<std::size_t>(std::min(j, lanes - 1))];
+    const BlockTarget target{&offsets_all[t0], first, system, base};
     const auto membrane = [&](int k, int l, V4 m[9]) HAPTEX_LANES_LAMBDA {
       const V4 aa = a[k] * a[l], bb = b[k] * b[l];
       HAPTEX_UNROLL
@@ -470,9 +496,9 @@ HAPTEX_LANES_INLINE void TriangleKernel(const FabricModel& model, const double* 
         if (k == l) mirror(m);
       }
       if (l == k) {
-        AddBlocks(m, slots, lanes, k * 3 + l, system);
+        AddBlocks(m, target, lanes, k * 3 + l);
       } else {
-        AddBlockPair(m, slots, lanes, k * 3 + l, l * 3 + k, system);
+        AddBlockPair(m, target, lanes, k * 3 + l, l * 3 + k);
       }
     };
     // -s (plus drag) as drag - s: one operation per entry either way.
@@ -480,7 +506,7 @@ HAPTEX_LANES_INLINE void TriangleKernel(const FabricModel& model, const double* 
       V4 m[9];
       HAPTEX_UNROLL
       for (int e = 0; e < 9; ++e) m[e] = (drag_active ? k_drag[e] : Splat(0.0)) - s[e];
-      AddBlockPair(m, slots, lanes, k * 3 + l, l * 3 + k, system);
+      AddBlockPair(m, target, lanes, k * 3 + l, l * 3 + k);
     };
     V4 s0[9], s1[9];
     {
@@ -763,6 +789,24 @@ void internal::AccumulateForces(const FabricModel& model, const FabricState& sta
 void AddConstantJacobians(const FabricModel& model, ForceSink* sink) {
   AddBendingBlocks(model, sink);
   AddLinearDragBlocks(model, sink);
+}
+
+std::vector<std::uint16_t> internal::TriangleFirstBlocks(const std::vector<std::array<int, 9>>& triangle_slots,
+                                                         int num_blocks) {
+  std::vector<std::uint16_t> first(triangle_slots.size(), 0);
+  std::vector<unsigned char> seen(static_cast<std::size_t>(num_blocks), 0);
+  for (std::size_t t0 = 0; t0 < triangle_slots.size(); t0 += kLanes) {
+    const std::size_t end = std::min(t0 + kLanes, triangle_slots.size());
+    for (int kl : kTriangleBlockOrder) {
+      for (std::size_t t = t0; t < end; ++t) {
+        const auto slot = static_cast<std::size_t>(triangle_slots[t][static_cast<std::size_t>(kl)]);
+        if (seen[slot]) continue;
+        seen[slot] = 1;
+        first[t] = static_cast<std::uint16_t>(first[t] | (1u << kl));
+      }
+    }
+  }
+  return first;
 }
 
 }  // namespace haptex::textile

@@ -1,6 +1,10 @@
 #pragma once
 // Sum of every force acting on the fabric.
 
+#include <array>
+#include <cstdint>
+#include <vector>
+
 #include "libs/textile/fabric_model.h"
 #include "libs/textile/fabric_state.h"
 #include "libs/textile/force_sink.h"
@@ -8,7 +12,8 @@
 namespace haptex::textile {
 
 /// Adds tensile, shear, bending, damping, drag, gravity and applied loads into `sink` (which the
-/// caller zeroes). One pass per element: each system block is written once. Never allocates.
+/// caller zeroes; the blocks triangles touch may instead start from `sink->system_base`). One
+/// pass per element: each system block is written once. Never allocates.
 void AccumulateForces(const FabricModel& model, const FabricState& state, ForceSink* sink);
 
 /// Adds the state-independent Jacobian blocks (bending with its damping, linear drag) into
@@ -21,6 +26,11 @@ namespace internal {
 /// portable build: the two give the same bits, which tests check.
 void AccumulateForces(const FabricModel& model, const FabricState& state, bool avx2,
                       ForceSink* sink);
+/// FabricModel::triangle_first_blocks for triangles with these block slots (num_blocks slots):
+/// per triangle, the blocks k*3+l whose addition is the first to their slot in the triangle
+/// kernel's order.
+std::vector<std::uint16_t> TriangleFirstBlocks(const std::vector<std::array<int, 9>>& triangle_slots,
+                                               int num_blocks);
 }  // namespace internal
 
 }  // namespace haptex::textile

@@ -1,11 +1,15 @@
 #include "libs/textile/fabric_model.h"
 
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <utility>
 
 #include <Eigen/Dense>
+
+#include "libs/textile/check.h"
+#include "libs/textile/fabric_forces.h"
 
 namespace haptex::textile {
 namespace {
@@ -56,7 +60,7 @@ std::array<int, 9> Slots(const BlockPattern& pattern, const std::array<int, 3>& 
 FabricModel BuildFabricModel(const FabricMaterial& material, const GridSpec& grid,
                              const ModelOptions& options) {
   ValidateInputs(material, options);
-  FabricModel model{GridMesh(grid), material, options, 0, {}, {}, {}, {}, {}, {}, {}, {}};
+  FabricModel model{GridMesh(grid), material, options, 0, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}};
   const GridMesh& mesh = model.mesh;
   const int n = mesh.num_particles();
   model.num_particles = n;
@@ -135,6 +139,26 @@ FabricModel BuildFabricModel(const FabricMaterial& material, const GridSpec& gri
   for (const auto& e : model.triangles) model.triangle_slots.push_back(Slots(model.pattern, e.p));
   for (const auto& e : model.bends) model.bend_slots.push_back(Slots(model.pattern, e.p));
   model.product_rows = SplitRows::FromPattern(model.pattern, is_scalar);
+  for (const auto& slots : model.triangle_slots) {
+    std::array<std::int32_t, 9> offsets{};
+    for (std::size_t k = 0; k < 9; ++k) {
+      HAPTEX_TEXTILE_DEMAND(slots[k] <= INT32_MAX / static_cast<int>(sizeof(Eigen::Matrix3d)));
+      offsets[k] = slots[k] * static_cast<std::int32_t>(sizeof(Eigen::Matrix3d));
+    }
+    model.triangle_block_offsets.push_back(offsets);
+  }
+  model.triangle_first_blocks = internal::TriangleFirstBlocks(model.triangle_slots, model.pattern.num_blocks());
+  std::vector<unsigned char> touched(static_cast<std::size_t>(model.pattern.num_blocks()), 0);
+  for (const auto& slots : model.triangle_slots) {
+    for (int slot : slots) touched[static_cast<std::size_t>(slot)] = 1;
+  }
+  const SplitRows& split = model.product_rows;
+  for (std::size_t r = 0; r < static_cast<std::size_t>(n); ++r) {
+    const int first = split.general_first_slot[r];
+    for (int slot = first; slot < first + split.general_start[r + 1] - split.general_start[r]; ++slot) {
+      if (!touched[static_cast<std::size_t>(slot)]) model.general_slots_without_triangles.push_back(slot);
+    }
+  }
   return model;
 }
 

@@ -3,6 +3,7 @@
 // element weights and the fixed matrix pattern (MuJoCo's mjModel, in spirit).
 
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include <Eigen/Core>
@@ -62,6 +63,14 @@ struct FabricModel {
   BlockPattern pattern;
   std::vector<std::array<int, 9>> triangle_slots;  ///< block slot of (p_k, p_l), k*3+l
   std::vector<std::array<int, 9>> bend_slots;
+  /// triangle_slots as byte offsets (slot x sizeof(Matrix3d)): the triangle kernel's addresses.
+  std::vector<std::array<std::int32_t, 9>> triangle_block_offsets;
+  /// Per triangle, bit k*3+l set when its block (p_k, p_l) is the first addition the triangle
+  /// kernel makes to that slot in a pass (internal::TriangleFirstBlocks): a step's kernel reads
+  /// that block from the constant part of the system instead of resetting it first.
+  std::vector<std::uint16_t> triangle_first_blocks;
+  /// General slots (product_rows) no triangle touches: a step resets these itself.
+  std::vector<int> general_slots_without_triangles;
   /// The pattern split for the system product: blocks only bending couples (two particles apart
   /// on a grid line) are a constant scalar times I.
   SplitRows product_rows;

@@ -12,7 +12,6 @@ FabricWorkspace::FabricWorkspace(const FabricModel& model, Preconditioner precon
   }
   system.assign(static_cast<std::size_t>(model.pattern.num_blocks()), Eigen::Matrix3d::Zero());
   system_base = system;
-  system_base_general_scalars.reserve(system.size());
   system_scalars.assign(model.product_rows.scalar_slot.size(), 0.0);
   stiffness_row = Eigen::VectorXd::Zero(model.num_particles);
   if (preconditioner == Preconditioner::kGaussSeidel) {

@@ -22,16 +22,12 @@ struct FabricWorkspace {
   std::vector<Eigen::Matrix3d> system;   ///< blocks of M - h df/dv - h^2 df/dx (model.pattern)
   std::vector<Eigen::Matrix3d> precond;  ///< inverted diagonal blocks
   /// Constant part of `system` (mass, bending, linear drag) for step system_base_dt_s of
-  /// system_base_model; rebuilt when either changes.
+  /// system_base_model; rebuilt when either changes. A step's triangle kernel starts the blocks
+  /// it touches from these (ForceSink::system_base): no step resets `system` whole.
   std::vector<Eigen::Matrix3d> system_base;
   /// Values of the scalar blocks of `system_base` (model.product_rows order): the product reads
   /// them instead of the 3x3 blocks (no step changes them).
   std::vector<double> system_scalars;
-  /// When every general block of `system_base` is a scalar times the identity (so far always:
-  /// mass, bending and linear drag act per axis), those scalars by slot: a step resets the
-  /// general blocks of `system` from them and leaves its scalar blocks, which no step changes,
-  /// as they are. Empty otherwise: a step copies `system_base` whole.
-  std::vector<double> system_base_general_scalars;
   double system_base_dt_s = 0.0;
   const FabricModel* system_base_model = nullptr;
   /// 3n CG vectors. dv0: the initial guess, copied only for block Jacobi and multilevel

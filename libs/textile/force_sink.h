@@ -18,6 +18,10 @@ struct ForceSink {
   /// AccumulateForces only: the constant Jacobian blocks (bending, linear drag) are already in
   /// `system` (AddConstantJacobians), so it adds only the state-dependent ones.
   bool constant_jacobians_added = false;
+  /// AccumulateForces only: when set (blocks like `system`), the triangle kernel's first
+  /// addition to each block (FabricModel::triangle_first_blocks) is to this block instead of
+  /// `system`'s, stored in `system`: the caller need not reset the blocks triangles touch.
+  const Eigen::Matrix3d* system_base = nullptr;
 
   bool wants_jacobians() const { return system != nullptr; }
 

@@ -8,12 +8,7 @@
 
 #include "libs/textile/anchor_spring_force.h"
 #include "libs/textile/check.h"
-#include "libs/textile/cpu_features.h"
 #include "libs/textile/fabric_forces.h"
-
-#ifdef HAPTEX_TEXTILE_X86_KERNELS
-#include <immintrin.h>
-#endif
 
 namespace haptex::textile {
 namespace {
@@ -58,107 +53,22 @@ void Precondition(const FabricModel& model, const FabricState& state, const Step
   }
 }
 
-// f(slot) for each general block of row r (contiguous slots).
-template <typename Fn>
-void ForEachGeneralSlot(const SplitRows& split, int r, Fn f) {
-  const auto row = static_cast<std::size_t>(r);
-  const int first = split.general_first_slot[row];
-  const int count = split.general_start[row + 1] - split.general_start[row];
-  for (int k = 0; k < count; ++k) f(static_cast<std::size_t>(first + k));
-}
-
-// What ResetStep writes: the general blocks d I (d = scalars[slot]; rows' general slots
-// [first_slot[r], first_slot[r] + start[r + 1] - start[r])), and two 3n vectors zeroed.
-struct StepReset {
-  const int* first_slot;
-  const int* start;
-  const double* scalars;
-  double* blocks;  // 9 per slot
-  double* force;
-  double* dfdx_v;
-  int rows;
-};
-
-// One pass over the rows (the vectors' rows zeroed with the blocks: no memset pass). A block
-// d I column-major is (d, 0, 0, 0), (d, 0, 0, 0), d.
-void ResetStepGeneric(const StepReset& u) {
-  static_assert(sizeof(Eigen::Matrix3d) == 9 * sizeof(double));  // blocks 9 apart
-  const V2 zero = {0.0, 0.0};
-  for (int r = 0; r < u.rows; ++r) {
-    const int first = u.first_slot[r];
-    const int count = u.start[r + 1] - u.start[r];
-    const double* scalars = u.scalars + first;
-    double* b = u.blocks + 9 * static_cast<std::ptrdiff_t>(first);
-    for (int k = 0; k < count; ++k, b += 9) {
-      const V2 d0 = {scalars[k], 0.0};
-      std::memcpy(b, &d0, sizeof d0);
-      std::memcpy(b + 2, &zero, sizeof zero);
-      std::memcpy(b + 4, &d0, sizeof d0);
-      std::memcpy(b + 6, &zero, sizeof zero);
-      std::memcpy(b + 8, &d0, sizeof(double));
-    }
-    for (double* v : {u.force + 3 * r, u.dfdx_v + 3 * r}) {
-      std::memcpy(v, &zero, sizeof zero);
-      v[2] = 0.0;
-    }
+// A step's accumulators before the forces are added: force_N = 0, dfdx_v = 0, and system =
+// system_base where the forces do not start from it themselves (the triangle kernel's first
+// addition to a block reads system_base: the sink's; the scalar blocks never change). Only the
+// general blocks no triangle touches are copied.
+void ResetStep(const FabricModel& model, FabricWorkspace* ws, ForceSink* sink) {
+  ws->force_N.setZero();
+  ws->dfdx_v.setZero();
+  for (int slot : model.general_slots_without_triangles) {
+    ws->system[static_cast<std::size_t>(slot)] = ws->system_base[static_cast<std::size_t>(slot)];
   }
-}
-
-#ifdef HAPTEX_TEXTILE_X86_KERNELS
-// The same stores 4 wide; a vector row's 4-wide zero reaches into the next row (zeroed next),
-// so the last row is zeroed 3 wide. `u` by value and the pointers restrict: kept in registers.
-__attribute__((target("avx"))) void ResetStepAvx(StepReset u) {
-  const int* __restrict first_slot = u.first_slot;
-  const int* __restrict start = u.start;
-  const double* __restrict all_scalars = u.scalars;
-  double* __restrict blocks = u.blocks;
-  double* __restrict force = u.force;
-  double* __restrict dfdx_v = u.dfdx_v;
-  const __m256d zero = _mm256_setzero_pd();
-  const int last = u.rows - 1;
-  for (int r = 0; r <= last; ++r) {
-    const int first = first_slot[r];
-    const double* scalars = all_scalars + first;
-    const double* end = all_scalars + first + (start[r + 1] - start[r]);
-    double* b = blocks + 9 * static_cast<std::ptrdiff_t>(first);
-    for (; scalars != end; ++scalars, b += 9) {
-      const __m256d d0 = _mm256_set_pd(0.0, 0.0, 0.0, *scalars);  // one load
-      _mm256_storeu_pd(b, d0);
-      _mm256_storeu_pd(b + 4, d0);
-      _mm_store_sd(b + 8, _mm256_castpd256_pd128(d0));
-    }
-    if (r < last) {
-      _mm256_storeu_pd(force + 3 * r, zero);
-      _mm256_storeu_pd(dfdx_v + 3 * r, zero);
-    } else {
-      for (double* v : {force + 3 * r, dfdx_v + 3 * r}) v[0] = v[1] = v[2] = 0.0;
-    }
-  }
-}
-#endif
-
-// A step's accumulators before the forces are added: system = system_base (only the general
-// blocks, from their scalars, where the workspace has them: the scalar blocks never change),
-// force_N = 0, dfdx_v = 0.
-void ResetStep(const SplitRows& split, int n, FabricWorkspace* ws) {
-  if (ws->system_base_general_scalars.empty()) {
-    ws->system = ws->system_base;
-    ws->force_N.setZero();
-    ws->dfdx_v.setZero();
-    return;
-  }
-  const StepReset u{split.general_first_slot.data(), split.general_start.data(),
-                    ws->system_base_general_scalars.data(), reinterpret_cast<double*>(ws->system.data()),
-                    ws->force_N.data(), ws->dfdx_v.data(), n};
-#ifdef HAPTEX_TEXTILE_X86_KERNELS
-  if (internal::CpuHasAvx()) return ResetStepAvx(u);
-#endif
-  ResetStepGeneric(u);
+  sink->system_base = ws->system_base.data();
 }
 
 // The constant part of the system (mass, bending, linear drag) for step h (the sink's scales)
-// into ws->system_base, the values of its scalar blocks, and what ResetStep needs; `sink` is
-// the step's, aimed at ws->system again on return.
+// into ws->system_base and the values of its scalar blocks; `sink` is the step's, aimed at
+// ws->system again on return.
 void BuildSystemBase(const FabricModel& model, double h, ForceSink* sink, FabricWorkspace* ws) {
   const int n = model.num_particles;
   for (auto& b : ws->system_base) b.setZero();
@@ -178,16 +88,6 @@ void BuildSystemBase(const FabricModel& model, double h, ForceSink* sink, Fabric
   ws->system_base_model = &model;
   ws->system_base_dt_s = h;
   ws->system = ws->system_base;
-  ws->system_base_general_scalars.assign(ws->system_base.size(), 0.0);
-  bool all_scalar = true;
-  for (int r = 0; r < n; ++r) {
-    ForEachGeneralSlot(split, r, [&](std::size_t slot) {
-      const Eigen::Matrix3d& b = ws->system_base[slot];
-      all_scalar = all_scalar && b == b(0, 0) * Eigen::Matrix3d::Identity();
-      ws->system_base_general_scalars[slot] = b(0, 0);
-    });
-  }
-  if (!all_scalar) ws->system_base_general_scalars.clear();  // steps copy whole blocks
 }
 
 // Block-Jacobi preconditioner: the inverted diagonal blocks of the system.
@@ -429,7 +329,7 @@ CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options,
   sink.dfdx_v = &ws->dfdx_v;
   sink.v = &state->v_W_m_per_s;
   if (ws->system_base_model != &model || ws->system_base_dt_s != h) BuildSystemBase(model, h, &sink, ws);
-  ResetStep(model.product_rows, n, ws);
+  ResetStep(model, ws, &sink);
   sink.constant_jacobians_added = true;
   AccumulateForces(model, *state, &sink);
   AddAnchorSpringForces(model, *state, &sink);

@@ -1,6 +1,8 @@
 #include "libs/textile/fabric_forces.h"
 
+#include <cmath>
 #include <cstring>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -181,6 +183,72 @@ TEST(FabricForcesTest, Avx2AndPortableKernelsGiveTheSameBits) {
       EXPECT_TRUE(same_bits(portable.system, avx2.system)) << "stretch " << stretch;
     }
   }
+}
+
+// With sink.system_base the triangle kernel starts each block it touches from the base (its
+// first addition per FabricModel::triangle_first_blocks) instead of the system's block: the
+// same bits as the base copied in and added to, whatever the blocks held (NaN here), in both
+// builds; each touched slot has exactly one first addition.
+void ExpectFirstAdditionsStartFromTheBase(const FabricModel& model, const char* what) {
+  std::vector<int> firsts(static_cast<std::size_t>(model.pattern.num_blocks()), 0);
+  for (std::size_t t = 0; t < model.triangles.size(); ++t) {
+    for (std::size_t kl = 0; kl < 9; ++kl) {
+      if ((model.triangle_first_blocks[t] >> kl) & 1u) ++firsts[static_cast<std::size_t>(model.triangle_slots[t][kl])];
+    }
+  }
+  for (const auto& slots : model.triangle_slots) {
+    for (int slot : slots) EXPECT_EQ(firsts[static_cast<std::size_t>(slot)], 1) << what << " slot " << slot;
+  }
+  EXPECT_TRUE(model.general_slots_without_triangles.empty()) << what;
+  FabricState s = MakeRestState(model);
+  testing::Perturb(&s, 2e-3, 0.3, 7);
+  // A base with -0 and +0 entries: 0 + (-0) is +0, which the start from the base must keep.
+  std::vector<Eigen::Matrix3d> base(static_cast<std::size_t>(model.pattern.num_blocks()));
+  for (std::size_t k = 0; k < base.size(); ++k) {
+    base[k] = (k % 3 == 0 ? -0.0 : 0.25 * static_cast<double>(k)) * Eigen::Matrix3d::Identity();
+  }
+  const auto same_bits = [](const auto& a, const auto& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof a[0]) == 0;
+  };
+  for (const bool avx2 : {false, true}) {
+    if (avx2 && !internal::CpuHasAvx2()) continue;
+    Assembled added = Empty(model), started = Empty(model);
+    added.system = base;
+    started.system.assign(base.size(), Eigen::Matrix3d::Constant(std::nan("")));
+    ForceSink as = SinkFor(&added, s), ss = SinkFor(&started, s);
+    ss.system_base = base.data();
+    internal::AccumulateForces(model, s, avx2, &as);
+    internal::AccumulateForces(model, s, avx2, &ss);
+    EXPECT_TRUE(same_bits(added.f, started.f)) << what << " avx2 " << avx2;
+    EXPECT_TRUE(same_bits(added.dfdx_v, started.dfdx_v)) << what << " avx2 " << avx2;
+    for (std::size_t k = 0; k < base.size(); ++k) {
+      if (firsts[k] == 0) continue;  // blocks no triangle touches: the caller's
+      EXPECT_EQ(std::memcmp(added.system[k].data(), started.system[k].data(), sizeof(Eigen::Matrix3d)), 0)
+          << what << " avx2 " << avx2 << " slot " << k;
+    }
+  }
+}
+
+TEST(FabricForcesTest, FirstAdditionsStartFromTheBase) {
+  FabricModel model = BuildFabricModel(MaterialFromKes(testing::CompositeDenim()), {0.03, 0.03, 6, 6});
+  ASSERT_NE(model.triangles.size() % 4, 0u);  // a tail group
+  ExpectFirstAdditionsStartFromTheBase(model, "grid");
+  // Corners 0 and 1 of every other triangle swapped (the same element): a quad's two triangles
+  // then reach their new shared slot as blocks 2 and 3, so the kernel's block order decides
+  // which addition is first (in the grid's own order either order gives the same).
+  for (std::size_t t = 1; t < model.triangles.size(); t += 2) {
+    TriangleElement& e = model.triangles[t];
+    std::swap(e.p[0], e.p[1]);
+    std::swap(e.a[0], e.a[1]);
+    std::swap(e.b[0], e.b[1]);
+    for (std::size_t kl = 0; kl < 9; ++kl) {
+      const int slot = model.pattern.Slot(e.p[kl / 3], e.p[kl % 3]);
+      model.triangle_slots[t][kl] = slot;
+      model.triangle_block_offsets[t][kl] = slot * static_cast<int>(sizeof(Eigen::Matrix3d));
+    }
+  }
+  model.triangle_first_blocks = internal::TriangleFirstBlocks(model.triangle_slots, model.pattern.num_blocks());
+  ExpectFirstAdditionsStartFromTheBase(model, "swapped");
 }
 
 }  // namespace
