@@ -18,20 +18,9 @@ bool CpuHasAvx2() {
   }();
   return has;
 }
-
-// GCC's check reads the OS's XCR0 too, so a CPU whose OS does not save the 512-bit state
-// reports false.
-bool CpuHasAvx512() {
-  static const bool has = [] {
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx512f") != 0 && __builtin_cpu_supports("avx512vl") != 0;
-  }();
-  return has;
-}
 #else
 bool CpuHasAvx() { return false; }
 bool CpuHasAvx2() { return false; }
-bool CpuHasAvx512() { return false; }
 #endif
 
 }  // namespace haptex::textile::internal

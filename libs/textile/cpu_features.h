@@ -12,8 +12,5 @@ namespace haptex::textile::internal {
 
 bool CpuHasAvx();   ///< false where HAPTEX_TEXTILE_X86_KERNELS is not defined
 bool CpuHasAvx2();  ///< likewise
-/// AVX-512 F (512-bit registers, 32 of them) with VL (the same instructions on 256-bit
-/// registers), enabled by the OS; likewise.
-bool CpuHasAvx512();
 
 }  // namespace haptex::textile::internal
