@@ -15,6 +15,20 @@
 namespace haptex::textile {
 namespace {
 
+// Random blocks for every slot of `pattern` (the scalar ones a multiple of I) and the values of
+// the scalar blocks in split's order.
+void RandomBlocks(const BlockPattern& pattern, const SplitRows& split, const std::vector<unsigned char>& is_scalar,
+                  std::mt19937* rng, std::vector<Eigen::Matrix3d>* blocks, std::vector<double>* scalars) {
+  std::normal_distribution<double> normal;
+  blocks->assign(pattern.cols.size(), Eigen::Matrix3d::Zero());
+  for (std::size_t k = 0; k < blocks->size(); ++k) {
+    for (int i = 0; i < 9; ++i) (*blocks)[k](i / 3, i % 3) = normal(*rng);
+    if (is_scalar[k]) (*blocks)[k] = (*blocks)[k](0, 0) * Eigen::Matrix3d::Identity();
+  }
+  scalars->clear();
+  for (int slot : split.scalar_slot) scalars->push_back((*blocks)[static_cast<std::size_t>(slot)](0, 0));
+}
+
 TEST(BlockPatternTest, SymmetricSortedWithDiagonal) {
   const BlockPattern dut = BlockPattern::FromPairs(4, {{0, 2}, {2, 3}, {0, 2}});
   EXPECT_EQ(dut.rows(), 4);
@@ -60,13 +74,9 @@ TEST(BlockPatternTest, MovedBlocksGoToTheRowEndsAndTheSplitProductAgrees) {
   const SplitRows split = SplitRows::FromPattern(dut, is_scalar);
   std::mt19937 rng(3);
   std::normal_distribution<double> normal;
-  std::vector<Eigen::Matrix3d> blocks(dut.cols.size());
+  std::vector<Eigen::Matrix3d> blocks;
   std::vector<double> scalars;
-  for (std::size_t k = 0; k < blocks.size(); ++k) {
-    for (int i = 0; i < 9; ++i) blocks[k](i / 3, i % 3) = normal(rng);
-    if (is_scalar[k]) blocks[k] = blocks[k](0, 0) * Eigen::Matrix3d::Identity();
-  }
-  for (int slot : split.scalar_slot) scalars.push_back(blocks[static_cast<std::size_t>(slot)](0, 0));
+  RandomBlocks(dut, split, is_scalar, &rng, &blocks, &scalars);
   Eigen::VectorXd x(12), y_ref(12), y(12);
   for (int i = 0; i < 12; ++i) x[i] = normal(rng);
   const auto active = [](int r) { return r != 1; };
@@ -137,13 +147,9 @@ TEST(BlockPatternTest, GridRowShapesGiveThePortableBits) {
   EXPECT_EQ(interior, (kSide - 4) * (kSide - 4));
   std::mt19937 rng(11);
   std::normal_distribution<double> normal;
-  std::vector<Eigen::Matrix3d> blocks(dut.cols.size());
+  std::vector<Eigen::Matrix3d> blocks;
   std::vector<double> scalars;
-  for (std::size_t k = 0; k < blocks.size(); ++k) {
-    for (int i = 0; i < 9; ++i) blocks[k](i / 3, i % 3) = normal(rng);
-    if (is_scalar[k]) blocks[k] = blocks[k](0, 0) * Eigen::Matrix3d::Identity();
-  }
-  for (int slot : split.scalar_slot) scalars.push_back(blocks[static_cast<std::size_t>(slot)](0, 0));
+  RandomBlocks(dut, split, is_scalar, &rng, &blocks, &scalars);
   Eigen::VectorXd x(3 * kRows), y_ref(3 * kRows), y(3 * kRows);
   for (int i = 0; i < 3 * kRows; ++i) x[i] = normal(rng);
   const auto active = [](int r) { return r % 5 != 2; };
