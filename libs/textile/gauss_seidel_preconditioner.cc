@@ -185,12 +185,13 @@ __attribute__((target("avx2"), always_inline)) inline double DiagonalRowAvx2(con
 }
 
 // For each of kSystems systems: c_j += column j of block m times y_j, j = 0, 1, 2 (lane 3: see
-// RowAvx2); m loaded once for all.
-template <int kSystems>
+// RowAvx2); m loaded once for all. Column 2 is a masked load (extra uops) only where no block
+// follows m in memory (kLast): elsewhere its lane 3 is the next block's entry 0.
+template <int kSystems, bool kLast>
 __attribute__((target("avx2"), always_inline)) inline void GeneralBlockAvx2(const double* m, const double* const* y,
                                                                             int offset, __m256d (*c)[3]) {
-  const __m256i three = _mm256_set_epi64x(0, -1, -1, -1);
-  const __m256d m0 = _mm256_loadu_pd(m), m1 = _mm256_loadu_pd(m + 3), m2 = _mm256_maskload_pd(m + 6, three);
+  const __m256d m0 = _mm256_loadu_pd(m), m1 = _mm256_loadu_pd(m + 3),
+                m2 = kLast ? _mm256_maskload_pd(m + 6, _mm256_set_epi64x(0, -1, -1, -1)) : _mm256_loadu_pd(m + 6);
 #pragma GCC unroll 2
   for (int i = 0; i < kSystems; ++i) {
     const double* yc = y[i] + offset;
@@ -201,8 +202,8 @@ __attribute__((target("avx2"), always_inline)) inline void GeneralBlockAvx2(cons
 }
 
 // A row's `count` general blocks from m in order, the k-th at column offset offset[k] of each
-// system's y: c = their sums (from 0). The counts a grid's rows have (1 and 3) get fixed-trip
-// code: no loop overhead, one well-predicted branch.
+// system's y: c = their sums (from 0); the last may be the system's last block. The counts a
+// grid's rows have (1 and 3) get fixed-trip code: no loop overhead, one well-predicted branch.
 template <int kSystems>
 __attribute__((target("avx2"), always_inline)) inline void GeneralBlocksAvx2(const Eigen::Matrix3d* m,
                                                                              const int* offset, int count,
@@ -211,13 +212,14 @@ __attribute__((target("avx2"), always_inline)) inline void GeneralBlocksAvx2(con
 #pragma GCC unroll 2
   for (int i = 0; i < kSystems; ++i) c[i][0] = c[i][1] = c[i][2] = _mm256_setzero_pd();
   if (count == 3) {
-    GeneralBlockAvx2<kSystems>(m[0].data(), y, offset[0], c);
-    GeneralBlockAvx2<kSystems>(m[1].data(), y, offset[1], c);
-    GeneralBlockAvx2<kSystems>(m[2].data(), y, offset[2], c);
+    GeneralBlockAvx2<kSystems, false>(m[0].data(), y, offset[0], c);
+    GeneralBlockAvx2<kSystems, false>(m[1].data(), y, offset[1], c);
+    GeneralBlockAvx2<kSystems, true>(m[2].data(), y, offset[2], c);
   } else if (count == 1) {
-    GeneralBlockAvx2<kSystems>(m[0].data(), y, offset[0], c);
-  } else {
-    for (int k = 0; k < count; ++k) GeneralBlockAvx2<kSystems>(m[k].data(), y, offset[k], c);
+    GeneralBlockAvx2<kSystems, true>(m[0].data(), y, offset[0], c);
+  } else if (count > 1) {
+    for (int k = 0; k < count - 1; ++k) GeneralBlockAvx2<kSystems, false>(m[k].data(), y, offset[k], c);
+    GeneralBlockAvx2<kSystems, true>(m[count - 1].data(), y, offset[count - 1], c);
   }
 }
 

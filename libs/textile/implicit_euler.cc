@@ -212,8 +212,9 @@ void ComputeRhs(double h, FabricWorkspace* ws) { ws->rhs = h * (ws->force_N + h 
 // guess in ws->dv: A y = r0 = filter(rhs - A dv), y~ = (D_w + U) y from 0, then dv += y. The
 // tolerance is on r' M^-1 r relative to rhs' M^-1 rhs (M: the SSOR preconditioner), as RunPcg
 // measures in its preconditioner's norm. The split system's vectors are padded (ws->split).
-// Computes ws->rhs (h the step). Returns true on a breakdown (dv left at the guess); sets
-// *add_y when the caller is to finish with dv += y (ws->split.y).
+// Leaves ws->rhs stale (only the fallback's RunPcg reads it: ComputeRhs). Returns true on a
+// breakdown (dv left at the guess); sets *add_y when the caller is to finish with dv += y
+// (ws->split.y).
 bool RunGaussSeidelPcg(const FabricModel& model, const FabricState& state, const StepOptions& options,
                        FabricWorkspace* ws, CgReport* report, bool* add_y) {
   *add_y = false;
@@ -223,8 +224,8 @@ bool RunGaussSeidelPcg(const FabricModel& model, const FabricState& state, const
   const std::vector<Eigen::Matrix3d>& a = ws->system;
   const std::vector<double>& scalars = ws->system_scalars;
   FabricWorkspace::SplitVectors& v = ws->split;
-  // rhs; s = filter(rhs); q = filter(rhs - A dv), padded; in one pass. q_zero stays 0 while q
-  // is finite (0 x inf is NaN): its finiteness check.
+  // s = filter(rhs); q = filter(rhs - A dv), padded; in one pass. q_zero stays 0 while q is
+  // finite (0 x inf is NaN): its finiteness check.
   FilteredMultiply(model, state, *ws, ws->dv, &ws->q);
   // Component by component the operations of h (f + h dfdx_v), rhs - A dv, |rhs|^2 as
   // (x^2 + y^2) + z^2.
@@ -235,7 +236,6 @@ bool RunGaussSeidelPcg(const FabricModel& model, const FabricState& state, const
   const double* force = ws->force_N.data();
   const double* dfdx_v = ws->dfdx_v.data();
   const double* a_dv = ws->q.data();
-  double* rhs_all = ws->rhs.data();
   double* s_rows = v.s.data();
   double* q_rows = v.q.data();
   const V2 zero = {0.0, 0.0};
@@ -244,8 +244,6 @@ bool RunGaussSeidelPcg(const FabricModel& model, const FabricState& state, const
     const double* d = dfdx_v + 3 * p;
     const V2 rhs01 = h * (Load2(f) + h * Load2(d));
     const double rhs2 = h * (f[2] + h * d[2]);
-    Store2(rhs_all + 3 * p, rhs01);
-    rhs_all[3 * p + 2] = rhs2;
     double* s_row = s_rows + 4 * p;
     double* q_row = q_rows + 4 * p;
     if (mode[p] == ParticleMode::kFree) {
@@ -334,18 +332,29 @@ CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options,
   AccumulateForces(model, *state, &sink);
   AddAnchorSpringForces(model, *state, &sink);
 
-  // Initial guess carries the prescribed velocity change (z).
-  for (int p = 0; p < n; ++p) {
-    if (IsFree(*state, p)) {
-      // Warm start: the previous step's velocity change is a good guess for a smooth motion.
-      if (!options.cg_warm_start) ws->dv.segment<3>(3 * p).setZero();
-    } else {
-      ws->dv.segment<3>(3 * p) = state->prescribed_v_W_m_per_s.segment<3>(3 * p) -
-                                 state->v_W_m_per_s.segment<3>(3 * p);
+  // Initial guess carries the prescribed velocity change (z). Data in locals: the stores to dv
+  // could alias the containers, so their pointers would be reloaded every particle.
+  const ParticleMode* mode = state->mode.data();
+  {
+    double* guess = ws->dv.data();
+    const double* prescribed = state->prescribed_v_W_m_per_s.data();
+    const double* v = state->v_W_m_per_s.data();
+    const bool zero_free = !options.cg_warm_start;
+    for (int p = 0; p < n; ++p) {
+      double* d = guess + 3 * p;
+      if (mode[p] == ParticleMode::kFree) {
+        // Warm start: the previous step's velocity change is a good guess for a smooth motion.
+        if (zero_free) {
+          Store2(d, V2{0.0, 0.0});
+          d[2] = 0.0;
+        }
+      } else {
+        Store2(d, Load2(prescribed + 3 * p) - Load2(v + 3 * p));
+        d[2] = prescribed[3 * p + 2] - v[3 * p + 2];
+      }
     }
   }
 
-  const ParticleMode* mode = state->mode.data();
   bool gauss_seidel_ok = true;
   if (options.preconditioner == Preconditioner::kMultilevel) {
     ws->multilevel.Update(model, *state, ws->system);
@@ -372,7 +381,7 @@ CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options,
   if (breakdown && pc != Preconditioner::kBlockJacobi) {
     report.preconditioner_fallback = true;
     if (gs) {
-      if (!gauss_seidel_ok) ComputeRhs(h, ws);  // else RunGaussSeidelPcg's
+      ComputeRhs(h, ws);
     } else {
       ws->dv = ws->dv0;
     }
