@@ -119,10 +119,12 @@ void ContactSolver::Prepare(const FingerInput& thumb, const FingerInput& index, 
 
   for (int f = 0; f < 2; ++f) {
     if (input_[static_cast<std::size_t>(f)].present) {
-      // Outside the pinch area a pinched fabric slides freely over the finger (paper 5.4).
+      // Outside the pinch area a pinched fabric slides freely over the finger (paper 5.4). The
+      // pinch's reach contains the finger's own (one more half thickness): beyond it, no contact.
+      const std::uint8_t excluded = kPinchOwnedBit | (f == kThumb ? kPinchBeyondThumbBit : kPinchBeyondIndexBit);
       finger_fabric_[static_cast<std::size_t>(f)].Prepare(
           input_[static_cast<std::size_t>(f)].pose, *state, pinch_owned_,
-          pinching_ ? kNoFriction : options_.finger_fabric, &springs_);
+          pinching_ ? kNoFriction : options_.finger_fabric, &springs_, excluded);
     } else {
       finger_fabric_[static_cast<std::size_t>(f)].Reset();
     }

@@ -32,7 +32,8 @@ int FingerFabricContact::num_active() const {
 
 void FingerFabricContact::Prepare(const FingerPose& pose, const textile::FabricState& state,
                                   const std::vector<std::uint8_t>& excluded,
-                                  const FrictionCoefficients& mu, AnchorAccumulator* springs) {
+                                  const FrictionCoefficients& mu, AnchorAccumulator* springs,
+                                  std::uint8_t excluded_bits) {
   const Segment seg = CapsuleSegment(shape_, pose);
   const Eigen::Vector3d pad_normal = pose.R_WF.col(2);
   const double reach = radius_eff_m_ + 0.5 * shape_.length_m;
@@ -69,7 +70,7 @@ void FingerFabricContact::Prepare(const FingerPose& pose, const textile::FabricS
   const double reach2 = reach * reach;
   for (int p = 0; p < n; ++p) {
     ParticleContact& c = particles_[static_cast<std::size_t>(p)];
-    if (skip[p] != 0 || mode[p] != textile::ParticleMode::kFree) {
+    if ((skip[p] & excluded_bits) != 0 || mode[p] != textile::ParticleMode::kFree) {
       c.active = false;
       continue;
     }

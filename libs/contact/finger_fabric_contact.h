@@ -53,12 +53,13 @@ class FingerFabricContact {
   /// particles inside the finger, drops those now outside, applies Coulomb's law to the finger
   /// (the held points moved with it; with the particles where the last step left them, the finger
   /// sticks or its held points slide along the curved surface) and adds a spring per contact
-  /// particle to `springs`. Particles with `excluded[p]` (the pinch owns them) and prescribed
-  /// particles are skipped. The finger slides if any of its contacts is marked sliding (all are
-  /// marked alike, so a patch hand-off that copies ParticleContact keeps the finger's state).
+  /// particle to `springs`. Particles with `excluded[p] & excluded_bits` (the pinch owns them, or
+  /// they are certainly out of the finger's reach) and prescribed particles have no contact. The
+  /// finger slides if any of its contacts is marked sliding (all are marked alike, so a patch
+  /// hand-off that copies ParticleContact keeps the finger's state).
   void Prepare(const FingerPose& pose, const textile::FabricState& state,
                const std::vector<std::uint8_t>& excluded, const FrictionCoefficients& mu,
-               AnchorAccumulator* springs);
+               AnchorAccumulator* springs, std::uint8_t excluded_bits = 0xff);
 
   /// After the step: the force on the finger from the springs as the step applied them, the
   /// per-particle normal forces for the next step's friction, and where the finger touches.

@@ -36,6 +36,7 @@ PinchContact::PinchContact(const textile::FabricModel& patch, const ContactOptio
       near_(PaddedCount(patch.num_particles), 0),
       deep_(PaddedCount(patch.num_particles), 0),
       particle_owned_(PaddedCount(patch.num_particles), internal::PinchOwned::kNo),
+      beyond_(PaddedCount(patch.num_particles), 0),
       d2_thumb_(PaddedCount(patch.num_particles), 0.0),
       d2_index_(PaddedCount(patch.num_particles), 0.0),
       x_C_(4 * PaddedCount(patch.num_particles), 0.0),
@@ -72,6 +73,8 @@ PinchContact::PinchContact(const textile::FabricModel& patch, const ContactOptio
     }
     lane_k_full_[static_cast<std::size_t>(4 * c + lane)] = k_N_per_m_;
   }
+  lane_wk_full_.assign(lane_w_.size(), 0.0);
+  for (std::size_t i = 0; i < lane_w_.size(); ++i) lane_wk_full_[i] = lane_w_[i] * lane_k_full_[4 * (i / 12) + i % 4];
   // Thresholds on squared distances in C, with the margin of the fast classification.
   const double rt2 = radius_thumb_m_ * radius_thumb_m_, ri2 = radius_index_m_ * radius_index_m_;
   const double reach = std::min(radius_thumb_m_ + 0.5 * options_.thumb.length_m,
@@ -85,6 +88,18 @@ PinchContact::PinchContact(const textile::FabricModel& patch, const ContactOptio
   thresholds_.out_index2 = ri2 * (1.0 + kMargin);
   thresholds_.full_thumb2 = full_t > 0.0 ? full_t * full_t * (1.0 - kMargin) : -1.0;
   thresholds_.full_index2 = full_i > 0.0 ? full_i * full_i * (1.0 - kMargin) : -1.0;
+  // For any e > 0, (r + d)^2 <= (1 + e) r^2 + (1 + 1 / e) d^2, tight at d = e r: e from the rest
+  // triangles' size (any e is safe). The margin covers the rounding, as above.
+  double largest_area_m2 = 0.0;
+  for (const auto& t : patch.triangles) largest_area_m2 = std::max(largest_area_m2, t.area_m2);
+  const double diam_m = 2.0 * std::sqrt(largest_area_m2);  // a right isosceles triangle's
+  auto far = [&](double r, double* r2_part, double* diam_part) {
+    const double e = diam_m / r > 0.0 && std::isfinite(diam_m / r) ? diam_m / r : 1.0;
+    *r2_part = (1.0 + e) * r * r * (1.0 + kMargin);
+    *diam_part = (1.0 + 1.0 / e) * (1.0 + kMargin);
+  };
+  far(radius_thumb_m_, &thresholds_.far_thumb_r2, &thresholds_.far_thumb_diam);
+  far(radius_index_m_, &thresholds_.far_index_r2, &thresholds_.far_index_diam);
   avx2_ = textile::internal::CpuHasAvx2();
   triangle_p_.reserve(patch.triangles.size());
   for (const auto& t : patch.triangles) triangle_p_.push_back(t.p);
@@ -94,11 +109,13 @@ PinchContact::PinchContact(const textile::FabricModel& patch, const ContactOptio
   k_.assign(lanes, 0.0);
   sliding_.assign(lanes, 0);
   triangle_held_.assign(patch.triangles.size(), 0);
-  active_triangles_.reserve(patch.triangles.size());
-  candidates_.reserve(patch.triangles.size());
-  candidate_deep_.reserve(patch.triangles.size());
+  active_triangles_.resize(patch.triangles.size());
+  candidates_.resize(patch.triangles.size());
+  candidate_unchanged_.resize(patch.triangles.size());
+  classify_.resize(patch.triangles.size());
+  classify_deep_.resize(patch.triangles.size());
   hold_.resize(patch.triangles.size());
-  active_full_.reserve(patch.triangles.size());
+  active_full_.resize(patch.triangles.size());
   touched_.reserve(static_cast<std::size_t>(patch.num_particles));
 }
 
@@ -176,17 +193,20 @@ void PinchContact::LocateParticles(const textile::FabricState& state, std::vecto
   in.out_index2 = thresholds_.out_index2;
   in.full_thumb2 = thresholds_.full_thumb2;
   in.full_index2 = thresholds_.full_index2;
-  internal::LocatePinchParticles(
-      in, {x_C_.data(), d2_thumb_.data(), d2_index_.data(), near_.data(), deep_.data(), particle_owned_.data()},
-      avx2_);
+  internal::LocatePinchParticles(in,
+                                 {x_C_.data(), d2_thumb_.data(), d2_index_.data(), near_.data(), deep_.data(),
+                                  particle_owned_.data(), beyond_.data()},
+                                 avx2_);
+  static_assert(kPinchBeyondThumbBit == 2 && kPinchBeyondIndexBit == 4);  // beyond_'s bits, shifted
   for (int p = 0; p < patch_.num_particles; ++p) {
     const std::size_t up = static_cast<std::size_t>(p);
+    std::uint8_t bits = static_cast<std::uint8_t>(beyond_[up] << 1);
+    if (particle_owned_[up] == internal::PinchOwned::kYes) bits |= kPinchOwnedBit;
     // Too close to call from the squared distances in C: the exact test.
-    if (particle_owned_[up] == internal::PinchOwned::kYes ||
-        (particle_owned_[up] == internal::PinchOwned::kExactTest &&
-         InsideBoth(state.x_W_m.segment<3>(3 * p)))) {
-      (*owned)[up] = 1;
+    if (particle_owned_[up] == internal::PinchOwned::kExactTest && InsideBoth(state.x_W_m.segment<3>(3 * p))) {
+      bits |= kPinchOwnedBit;
     }
+    (*owned)[up] = bits;
   }
 }
 
@@ -199,49 +219,55 @@ bool PinchContact::ClassifySamples() {
   // A triangle with no near particle holds no sample; one whose farthest corner is more than the
   // triangle's diameter outside a finger holds none (the distance changes no faster than the
   // point moves); one whose corners all lie deeper than the edge ramp in both fingers holds all
-  // at the full spring (the distance to a capsule's axis is convex); the rest are classified
-  // sample by sample.
+  // at the full spring (the distance to a capsule's axis is convex), and if it did so last tick
+  // too nothing changes; the rest are classified sample by sample.
   const double full_t2 = thresholds_.full_thumb2, full_i2 = thresholds_.full_index2;
   const int nt = static_cast<int>(triangle_p_.size());
   const std::size_t lanes = static_cast<std::size_t>(lanes_per_triangle_);
-  candidates_.clear();
-  candidate_deep_.clear();
+  constexpr auto kAllFull = static_cast<std::uint8_t>(internal::PinchTriangleHold::kAllFull);
+  // Appended without branches: each entry is written, then kept or not.
+  int* const candidate = candidates_.data();
+  std::uint8_t* const unchanged = candidate_unchanged_.data();
+  int* const classify = classify_.data();
+  std::uint8_t* const classify_deep = classify_deep_.data();
+  int num_candidates = 0, num_classify = 0;
   for (int t = 0; t < nt; ++t) {
     const auto& p = triangle_p_[static_cast<std::size_t>(t)];
     const std::size_t p0 = static_cast<std::size_t>(p[0]), p1 = static_cast<std::size_t>(p[1]),
                       p2 = static_cast<std::size_t>(p[2]);
-    bool candidate = (near_[p0] | near_[p1] | near_[p2]) != 0;
+    bool is_candidate = (near_[p0] | near_[p1] | near_[p2]) != 0;
     // Corner by corner (the particles' flags), not from the maxima: std::max drops a NaN, and a
     // NaN corner must not make its triangle deep (its samples would start at NaN points and
     // spread them).
     const bool deep = (deep_[p0] & deep_[p1] & deep_[p2]) != 0;
-    if (candidate && !deep) {
+    if (is_candidate && !deep) {
+      // (radius + diam)^2 <= far_*_r2 + far_*_diam diam^2 (thresholds_): no square root.
       const double far_t2 = Max3(d2_thumb_[p0], d2_thumb_[p1], d2_thumb_[p2]);
       const double far_i2 = Max3(d2_index_[p0], d2_index_[p1], d2_index_[p2]);
-      const Eigen::Map<const Eigen::Vector3d> x0(&x_C_[4 * p0]), x1(&x_C_[4 * p1]), x2(&x_C_[4 * p2]);
-      const double diam = std::sqrt(Max3((x1 - x0).squaredNorm(), (x2 - x0).squaredNorm(),
-                                         (x2 - x1).squaredNorm()));
-      const double out_t = (radius_thumb_m_ + diam) * (1.0 + kMargin);
-      const double out_i = (radius_index_m_ + diam) * (1.0 + kMargin);
-      candidate = !(far_t2 > out_t * out_t || far_i2 > out_i * out_i);
+      const Eigen::Map<const Eigen::Vector4d> x0(&x_C_[4 * p0]), x1(&x_C_[4 * p1]), x2(&x_C_[4 * p2]);
+      const double diam2 = Max3((x1 - x0).squaredNorm(), (x2 - x0).squaredNorm(), (x2 - x1).squaredNorm());
+      is_candidate = !(far_t2 > thresholds_.far_thumb_r2 + thresholds_.far_thumb_diam * diam2 ||
+                       far_i2 > thresholds_.far_index_r2 + thresholds_.far_index_diam * diam2);
     }
-    if (candidate) {
-      candidates_.push_back(t);
+    std::uint8_t& held = triangle_held_[static_cast<std::size_t>(t)];
+    if (is_candidate) {
       // Deep now and all at the full spring from the last tick: nothing for the kernel to change.
-      constexpr auto kAllFull = static_cast<std::uint8_t>(internal::PinchTriangleHold::kAllFull);
-      const bool unchanged = triangle_held_[static_cast<std::size_t>(t)] == kAllFull;
-      candidate_deep_.push_back(!deep ? internal::kPinchNotDeep
-                                      : (unchanged ? internal::kPinchDeepUnchanged : internal::kPinchDeep));
-    } else if (triangle_held_[static_cast<std::size_t>(t)]) {
-      triangle_held_[static_cast<std::size_t>(t)] = 0;
+      const bool same = deep && held == kAllFull;
+      candidate[num_candidates] = t;
+      unchanged[num_candidates++] = same ? 1 : 0;
+      classify[num_classify] = t;
+      classify_deep[num_classify] = deep ? internal::kPinchDeep : internal::kPinchNotDeep;
+      num_classify += same ? 0 : 1;
+    } else if (held) {
+      held = 0;
       std::fill_n(k_.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(t) * lanes),
                   per_triangle_, 0.0);
     }
   }
 
   internal::PinchClassifyInput in;
-  in.list = Triangles(candidates_);
-  in.deep = candidate_deep_.data();
+  in.list = Triangles(classify, num_classify);
+  in.deep = classify_deep;
   in.thumb = axis_thumb_C_;
   in.index = axis_index_C_;
   in.radius_thumb_m = radius_thumb_m_;
@@ -251,18 +277,25 @@ bool PinchContact::ClassifySamples() {
   in.full_index2 = full_i2;
   in.out_thumb2 = thresholds_.out_thumb2;
   in.out_index2 = thresholds_.out_index2;
-  const internal::PinchClassifyTotals totals =
+  internal::PinchClassifyTotals totals =
       internal::ClassifyPinchSamples(Layout(), in, SampleArrays(), hold_.data(), avx2_);
-  active_triangles_.clear();
-  active_full_.clear();
-  for (std::size_t e = 0; e < candidates_.size(); ++e) {
-    const int t = candidates_[e];
-    const bool held = hold_[e] != internal::PinchTriangleHold::kNone;
-    triangle_held_[static_cast<std::size_t>(t)] = static_cast<std::uint8_t>(hold_[e]);
-    if (!held) continue;
-    active_triangles_.push_back(t);
-    active_full_.push_back(hold_[e] == internal::PinchTriangleHold::kAllFull ? 1 : 0);
+  totals.all_full_triangles += num_candidates - num_classify;  // the unchanged ones
+  int* const active = active_triangles_.data();
+  std::uint8_t* const active_full = active_full_.data();
+  int num_active = 0, j = 0;  // j: entry of classify
+  for (int e = 0; e < num_candidates; ++e) {
+    const int t = candidate[e];
+    active[num_active] = t;
+    if (unchanged[e]) {  // still kAllFull
+      active_full[num_active++] = 1;
+      continue;
+    }
+    const internal::PinchTriangleHold hold = hold_[static_cast<std::size_t>(j++)];
+    triangle_held_[static_cast<std::size_t>(t)] = static_cast<std::uint8_t>(hold);
+    active_full[num_active] = hold == internal::PinchTriangleHold::kAllFull ? 1 : 0;
+    num_active += hold == internal::PinchTriangleHold::kNone ? 0 : 1;
   }
+  num_active_triangles_ = num_active;
   const int full_samples = totals.all_full_triangles * per_triangle_;
   num_active_ = totals.active_not_full + full_samples;
   weight_sum_ = totals.k_not_full_N_per_m + static_cast<double>(full_samples) * k_N_per_m_;
@@ -278,11 +311,12 @@ internal::PinchSampleLayout PinchContact::Layout() const {
   layout.k_full_lanes = lane_k_full_.data();
   layout.w_sum_full = w_sum_full_.data();
   layout.k_full_N_per_m = k_N_per_m_;
+  layout.wk_full = lane_wk_full_.data();
   return layout;
 }
 
-internal::PinchTriangleList PinchContact::Triangles(const std::vector<int>& triangles) const {
-  return {x_C_.data(), triangle_p_.data(), triangles.data(), static_cast<int>(triangles.size())};
+internal::PinchTriangleList PinchContact::Triangles(const int* triangles, int num_triangles) const {
+  return {x_C_.data(), triangle_p_.data(), triangles, num_triangles};
 }
 
 internal::PinchSampleArrays PinchContact::SampleArrays() {
@@ -293,10 +327,13 @@ void PinchContact::ApplyFriction(const FrictionCoefficients& mu) {
   // Each sample's share of the grip is in proportion to its spring (full inside, ramped at the
   // edge). Coulomb's law for each sample (both faces grip: 2 mu), as UpdateStickSlip states it,
   // in C: the frictionless point is the sample projected onto the plane, (q_C.x, q_C.y).
-  std::fill(touch_sums_.begin(), touch_sums_.end(), internal::PinchParticleSums{});
-  std::fill(touch_w_.begin(), touch_w_.end(), 0.0);
+  // Only the particles the last sums touched (LumpSprings listed them) are not zero.
+  for (int p : touched_) {
+    touch_sums_[static_cast<std::size_t>(p)] = internal::PinchParticleSums{};
+    touch_w_[static_cast<std::size_t>(p)] = 0.0;
+  }
   internal::PinchFrictionInput in;
-  in.list = Triangles(active_triangles_);
+  in.list = Triangles(active_triangles_.data(), num_active_triangles_);
   in.full = active_full_.data();
   in.normal_per_stiffness_m = grip_N_ / weight_sum_;
   in.mu_static = 2.0 * mu.mu_static;
@@ -305,7 +342,7 @@ void PinchContact::ApplyFriction(const FrictionCoefficients& mu) {
       Layout(), in, SampleArrays(), touch_sums_.data(), touch_w_.data(), avx2_);
   k_ideal_C_ = Eigen::Vector2d(totals.k_ideal_x_N, totals.k_ideal_y_N);
   num_sliding_ = totals.sliding;
-  last_triangle_ = active_triangles_.back();
+  last_triangle_ = active_triangles_[static_cast<std::size_t>(num_active_triangles_ - 1)];
 }
 
 void PinchContact::LumpSprings(const textile::FabricState& state, AnchorAccumulator* springs) {

@@ -37,6 +37,11 @@ struct PinchResult {
   int touch_triangle = -1;                   ///< a triangle under the samples (tangent frame)
 };
 
+/// PinchContact::Prepare's marks of a particle (bits): in both fingers (the pinch's alone), and
+/// certainly farther than the pinch's reach (radius + 2 half thicknesses, more than a finger's
+/// own contact reaches) from the thumb's or the index's axis.
+constexpr std::uint8_t kPinchOwnedBit = 1, kPinchBeyondThumbBit = 2, kPinchBeyondIndexBit = 4;
+
 class PinchContact {
  public:
   PinchContact(const textile::FabricModel& patch, const ContactOptions& options);
@@ -45,7 +50,7 @@ class PinchContact {
   /// (re)builds the contact frame, starts samples that entered the intersection (sticking where
   /// they are), drops those that left, applies Coulomb's law to each sample's ideal position
   /// (both faces grip: the limit is 2 mu times the sample's share of the grip), marks the
-  /// particles it owns in `owned`, and adds the samples' springs (lumped onto their triangle's
+  /// particles in `owned` (kPinchOwnedBit and the others), and adds the samples' springs (lumped onto their triangle's
   /// particles) to `springs`. Returns false when no fabric lies in the intersection.
   bool Prepare(const FingerPose& thumb, const FingerPose& index, double grip_N,
                const FrictionCoefficients& mu, const textile::FabricState& state,
@@ -102,7 +107,7 @@ class PinchContact {
   /// The per-particle sums as anchor springs.
   void LumpSprings(const textile::FabricState& state, AnchorAccumulator* springs);
   internal::PinchSampleLayout Layout() const;
-  internal::PinchTriangleList Triangles(const std::vector<int>& triangles) const;
+  internal::PinchTriangleList Triangles(const int* triangles, int num_triangles) const;
   internal::PinchSampleArrays SampleArrays();
   bool InsideBoth(const Eigen::Vector3d& q) const { return DepthInBoth(q) > 0.0; }
 
@@ -118,6 +123,9 @@ class PinchContact {
     double reach2_m2 = 0.0;
     double in_thumb2 = 0.0, in_index2 = 0.0, out_thumb2 = 0.0, out_index2 = 0.0;
     double full_thumb2 = -1.0, full_index2 = -1.0;
+    /// A triangle of diameter d [m] holds no sample if its farthest corner's squared distance
+    /// exceeds far_*_r2 + far_*_diam d^2 (a bound of (radius + d)^2, margin included).
+    double far_thumb_r2 = 0.0, far_thumb_diam = 0.0, far_index_r2 = 0.0, far_index_diam = 0.0;
   } thresholds_;
   int per_triangle_ = 1;  ///< samples per triangle
   int lanes_per_triangle_ = 4;  ///< per_triangle_ rounded up to whole 4-lane chunks
@@ -127,7 +135,7 @@ class PinchContact {
   std::vector<double> ideal_x_, ideal_y_;  ///< ideal position on the contact plane, in C
   std::vector<double> k_;  ///< spring during the last step (ramps in near the edge); 0: inactive
   std::vector<long long> sliding_;  ///< -1 sliding, 0 sticking
-  std::vector<double> lane_w_, lane_k_full_, w_sum_full_;  ///< internal::PinchSampleLayout's arrays
+  std::vector<double> lane_w_, lane_k_full_, w_sum_full_, lane_wk_full_;  ///< internal::PinchSampleLayout's
   /// Per triangle, a PinchTriangleHold: kNone if none of its samples is active, kAllFull if the
   /// last classification left every sample at the full spring (and nothing changed them since).
   std::vector<std::uint8_t> triangle_held_;
@@ -137,13 +145,19 @@ class PinchContact {
   // Per particle, padded to whole 4-particle lanes (internal::PinchParticleArrays).
   std::vector<std::uint8_t> near_, deep_;
   std::vector<internal::PinchOwned> particle_owned_;
+  std::vector<std::uint8_t> beyond_;
   std::vector<double> d2_thumb_, d2_index_;  ///< squared distance to each axis
   std::vector<double> x_C_;  ///< position in C (at Prepare), 4 doubles per particle
-  std::vector<int> candidates_;  ///< triangles classified sample by sample, ascending
-  std::vector<std::uint8_t> candidate_deep_;  ///< per candidate: every corner deeper than the ramp
-  std::vector<internal::PinchTriangleHold> hold_;  ///< per candidate
+  // Per triangle (the first entries in use), sized at construction.
+  std::vector<int> candidates_;  ///< triangles that may hold a sample, ascending
+  /// Per candidate: deep and all at the full spring last tick, so left as it is.
+  std::vector<std::uint8_t> candidate_unchanged_;
+  std::vector<int> classify_;  ///< the candidates not unchanged, ascending
+  std::vector<std::uint8_t> classify_deep_;  ///< per entry of classify_: kPinchDeep or kPinchNotDeep
+  std::vector<internal::PinchTriangleHold> hold_;  ///< per entry of classify_
   std::vector<int> active_triangles_;  ///< triangles with an active sample, ascending
   std::vector<std::uint8_t> active_full_;  ///< per entry: all its samples active at the full spring
+  int num_active_triangles_ = 0;
   // What Resolve needs, per particle touched by an active sample: sums of w k (ideal - q) and of
   // w k, and of w, over the samples on it (the samples' springs and touch points are linear in
   // the particles).

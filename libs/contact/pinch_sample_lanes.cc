@@ -1,6 +1,8 @@
 #include "libs/contact/pinch_sample_lanes.h"
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 
 #include "libs/textile/check.h"
 #include "libs/textile/cpu_features.h"
@@ -38,6 +40,32 @@ HAPTEX_LANES_INLINE M4 LoadMask(const long long* p) {
 }
 HAPTEX_LANES_INLINE void StoreMask(M4 m, long long* p) { __builtin_memcpy(p, &m, sizeof m); }
 
+// Bit j set where lane j of the mask is.
+HAPTEX_LANES_INLINE int LaneBits(M4 m) {
+#ifdef __SSE2__
+  using M2 = long long __attribute__((vector_size(16)));
+  return _mm_movemask_pd(std::bit_cast<__m128d>(M2(__builtin_shufflevector(m, m, 0, 1)))) |
+         _mm_movemask_pd(std::bit_cast<__m128d>(M2(__builtin_shufflevector(m, m, 2, 3)))) << 2;
+#else
+  return (m[0] & 1) | (m[1] & 2) | (m[2] & 4) | (m[3] & 8);
+#endif
+}
+// Four bytes, byte j 1 where lane j of the mask is set (as a word: byte-wise sums and products
+// by 2 do not carry, whatever the byte order).
+alignas(4) constexpr std::uint8_t kLaneBytes[16][4] = {
+    {0, 0, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}, {1, 1, 0, 0}, {0, 0, 1, 0}, {1, 0, 1, 0}, {0, 1, 1, 0}, {1, 1, 1, 0},
+    {0, 0, 0, 1}, {1, 0, 0, 1}, {0, 1, 0, 1}, {1, 1, 0, 1}, {0, 0, 1, 1}, {1, 0, 1, 1}, {0, 1, 1, 1}, {1, 1, 1, 1}};
+HAPTEX_LANES_INLINE std::uint32_t LaneBytes(M4 m) {
+  std::uint32_t bytes;
+  __builtin_memcpy(&bytes, kLaneBytes[LaneBits(m)], sizeof bytes);
+  return bytes;
+}
+template <typename T>
+HAPTEX_LANES_INLINE void StoreBytes(std::uint32_t bytes, T* p) {
+  static_assert(sizeof(T) == 1);
+  __builtin_memcpy(p, &bytes, sizeof bytes);
+}
+
 HAPTEX_LANES_INLINE V4 Min(V4 a, V4 b) { return a < b ? a : b; }
 HAPTEX_LANES_INLINE V4 Max(V4 a, V4 b) { return a > b ? a : b; }
 
@@ -57,13 +85,25 @@ HAPTEX_LANES_INLINE V4 Distance2(const PinchAxis& axis, const V4 q[3]) {
 HAPTEX_LANES_INLINE void LocateKernel(const PinchLocateInput& in, const PinchParticleArrays& out) {
   const int n = in.num_particles;
   for (int p0 = 0; p0 < n; p0 += 4) {
-    // Four particles (the last repeated past the end: its lanes land in the arrays' padding).
-    const double* x[4];
-    HAPTEX_UNROLL
-    for (int j = 0; j < 4; ++j) x[j] = in.x_W_m + 3 * std::min(p0 + j, n - 1);
+    V4 x_W[3] = {};  // per axis
+    if (p0 + 4 <= n) {
+      // Four particles' 12 coordinates, loaded whole and regrouped by axis.
+      const double* x = in.x_W_m + 3 * p0;
+      const V4 a = Load(x), b = Load(x + 4), c = Load(x + 8);  // x0 y0 z0 x1 | y1 z1 x2 y2 | z2 x3 y3 z3
+      x_W[0] = __builtin_shufflevector(__builtin_shufflevector(a, b, 0, 3, 6, 7), c, 0, 1, 2, 5);
+      x_W[1] = __builtin_shufflevector(__builtin_shufflevector(a, b, 1, 4, 7, 7), c, 0, 1, 2, 6);
+      x_W[2] = __builtin_shufflevector(__builtin_shufflevector(a, b, 2, 5, 5, 5), c, 0, 1, 4, 7);
+    } else {
+      // The last repeated past the end: its lanes land in the arrays' padding.
+      const double* x[4];
+      HAPTEX_UNROLL
+      for (int j = 0; j < 4; ++j) x[j] = in.x_W_m + 3 * std::min(p0 + j, n - 1);
+      HAPTEX_UNROLL
+      for (int i = 0; i < 3; ++i) x_W[i] = V4{x[0][i], x[1][i], x[2][i], x[3][i]};
+    }
     V4 rel[3];
     HAPTEX_UNROLL
-    for (int i = 0; i < 3; ++i) rel[i] = V4{x[0][i], x[1][i], x[2][i], x[3][i]} - in.origin_W_m[i];
+    for (int i = 0; i < 3; ++i) rel[i] = x_W[i] - in.origin_W_m[i];
     V4 q[3];
     HAPTEX_UNROLL
     for (int i = 0; i < 3; ++i) {
@@ -81,13 +121,13 @@ HAPTEX_LANES_INLINE void LocateKernel(const PinchLocateInput& in, const PinchPar
     const V4 rows[4] = {q[0], q[1], q[2], Splat(0.0)};
     Transpose(rows, xc);
     HAPTEX_UNROLL
-    for (int j = 0; j < 4; ++j) {
-      Store(xc[j], out.x_C_m + 4 * (up + static_cast<std::size_t>(j)));
-      out.near[up + static_cast<std::size_t>(j)] = near[j] ? 1 : 0;
-      out.deep[up + static_cast<std::size_t>(j)] = deep[j] ? 1 : 0;
-      out.owned[up + static_cast<std::size_t>(j)] =
-          in_both[j] ? PinchOwned::kYes : (maybe[j] ? PinchOwned::kExactTest : PinchOwned::kNo);
-    }
+    for (int j = 0; j < 4; ++j) Store(xc[j], out.x_C_m + 4 * (up + static_cast<std::size_t>(j)));
+    // The flags of the four, as bytes 0/1 (owned: kNo, kYes or kExactTest), four at a time.
+    StoreBytes(LaneBytes(near), out.near + up);
+    StoreBytes(LaneBytes(deep), out.deep + up);
+    static_assert(static_cast<int>(PinchOwned::kYes) == 1 && static_cast<int>(PinchOwned::kExactTest) == 2);
+    StoreBytes(LaneBytes(in_both) + 2 * LaneBytes(maybe), out.owned + up);
+    StoreBytes(LaneBytes(dt2 > in.out_thumb2) + 2 * LaneBytes(di2 > in.out_index2), out.beyond + up);
   }
 }
 
@@ -135,15 +175,24 @@ HAPTEX_LANES_INLINE PinchClassifyTotals ClassifyKernel(const PinchSampleLayout& 
       for (int i = 0; i < 3; ++i) q[i] = w[0] * x[0][i] + w[1] * x[1][i] + w[2] * x[2][i];  // broadcasts
       V4 k = k_full_lanes;
       if (!deep) {
-        const V4 dt2 = Distance2(in.thumb, q), di2 = Distance2(in.index, q);
-        const M4 outside = dt2 > in.out_thumb2 || di2 > in.out_index2;  // certainly, whatever the rounding
-        const M4 full = dt2 < in.full_thumb2 && di2 < in.full_index2;
-        // Near an edge: the depth in both decides.
-        const V4 depth = Min(in.radius_thumb_m - Sqrt(dt2), in.radius_index_m - Sqrt(di2));
-        const V4 ramp_k = ramped ? k_full * Min(Splat(1.0), depth / in.edge_ramp_m) : Splat(k_full);
-        const M4 edge_inside = depth > 0.0 && ramp_k > 0.0;
-        k = outside ? Splat(0.0) : (full ? k_full_lanes : Where(edge_inside, ramp_k));
-        k = Where(real, k);
+        const V4 dt2 = Distance2(in.thumb, q);
+        if (!Any(real & ~(dt2 > in.out_thumb2))) {
+          k = Splat(0.0);  // every sample certainly outside the thumb: the index does not matter
+        } else {
+          const V4 di2 = Distance2(in.index, q);
+          const M4 outside = dt2 > in.out_thumb2 || di2 > in.out_index2;  // certainly, whatever the rounding
+          const M4 full = dt2 < in.full_thumb2 && di2 < in.full_index2;
+          if (Any(real & ~outside & ~full)) {
+            // Near an edge: the depth in both decides.
+            const V4 depth = Min(in.radius_thumb_m - Sqrt(dt2), in.radius_index_m - Sqrt(di2));
+            const V4 ramp_k = ramped ? k_full * Min(Splat(1.0), depth / in.edge_ramp_m) : Splat(k_full);
+            const M4 edge_inside = depth > 0.0 && ramp_k > 0.0;
+            k = outside ? Splat(0.0) : (full ? k_full_lanes : Where(edge_inside, ramp_k));
+            k = Where(real, k);
+          } else {
+            k = Where(real & ~outside & full, k_full_lanes);  // the same without the square roots
+          }
+        }
         all_full &= ~real | (k == k_full_lanes);
       }
       const M4 active = k > 0.0;
@@ -190,8 +239,9 @@ HAPTEX_LANES_INLINE PinchFrictionTotals FrictionKernel(const PinchSampleLayout& 
     const int t = Corners(in.list, a, x);
     const std::array<int, 3>& p = in.list.triangle_p[t];
     const bool full = in.full[a] != 0;
-    // Per corner m, over the samples: w k (ideal - q) per axis, w k, and w.
-    V4 d[3][3] = {}, wk_sum[3] = {}, w_sum[3] = {};
+    // Per lane l and corner m, over the chunks: w_m k (ideal - q) per axis and w_m k, as one
+    // vector (x, y, z, k); per corner, w over the active samples.
+    V4 acc[4][3] = {}, w_sum[3] = {};  // set by the first chunk
     for (int c = 0; c < chunks; ++c) {
       const std::size_t lane0 =
           4 * (static_cast<std::size_t>(t) * static_cast<std::size_t>(chunks) + static_cast<std::size_t>(c));
@@ -229,14 +279,30 @@ HAPTEX_LANES_INLINE PinchFrictionTotals FrictionKernel(const PinchSampleLayout& 
       }
       k_ideal_x += k * Where(active, ix);
       k_ideal_y += k * Where(active, iy);
-      const V4 delta[3] = {Where(active, ix - q[0]), Where(active, iy - q[1]), Where(active, -q[2])};
-      HAPTEX_UNROLL
-      for (int m = 0; m < 3; ++m) {
-        const V4 wk = w[m] * k;
+      // Lane l's (ideal - q, 1) times each corner's w k of that lane: the products of a
+      // lane-wise sum, without its shuffles. (The first chunk is not added to zero: that changes
+      // at most the sign of a zero sum, which adding to the particle's sum, never -0, drops.)
+      const V4 delta[4] = {Where(active, ix - q[0]), Where(active, iy - q[1]), Where(active, -q[2]), Splat(1.0)};
+      V4 lane_delta[4];
+      Transpose(delta, lane_delta);
+      // w k per [corner][lane], broadcast from memory (full: the layout's products).
+      alignas(32) double wk_not_full[12];
+      const double* wk = layout.wk_full + 12 * c;
+      if (!full) {
         HAPTEX_UNROLL
-        for (int i = 0; i < 3; ++i) d[m][i] += wk * delta[i];
-        wk_sum[m] += wk;
-        if (!full) w_sum[m] += Where(active, w[m]);
+        for (int m = 0; m < 3; ++m) {
+          Store(w[m] * k, wk_not_full + 4 * m);
+          w_sum[m] = c == 0 ? Where(active, w[m]) : w_sum[m] + Where(active, w[m]);
+        }
+        wk = wk_not_full;
+      }
+      HAPTEX_UNROLL
+      for (int l = 0; l < 4; ++l) {
+        HAPTEX_UNROLL
+        for (int m = 0; m < 3; ++m) {
+          const V4 product = wk[4 * m + l] * lane_delta[l];
+          acc[l][m] = c == 0 ? product : acc[l][m] + product;
+        }
       }
     }
     const V4 w_corner = full ? V4{layout.w_sum_full[0], layout.w_sum_full[1], layout.w_sum_full[2], 0.0}
@@ -245,7 +311,7 @@ HAPTEX_LANES_INLINE PinchFrictionTotals FrictionKernel(const PinchSampleLayout& 
     for (int m = 0; m < 3; ++m) {
       const std::size_t pm = static_cast<std::size_t>(p[static_cast<std::size_t>(m)]);
       double* out = &sums[pm].kd_x_N;
-      Store(Load(out) + LaneSums(d[m][0], d[m][1], d[m][2], wk_sum[m]), out);
+      Store(Load(out) + ((acc[0][m] + acc[1][m]) + (acc[2][m] + acc[3][m])), out);
       w_sums[pm] += w_corner[m];
     }
   }

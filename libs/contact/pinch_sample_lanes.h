@@ -35,6 +35,7 @@ struct PinchSampleLayout {
   const double* k_full_lanes = nullptr;  ///< [chunk][lane]: the full spring [N/m] (0 on pad lanes)
   const double* w_sum_full = nullptr;    ///< [corner]: sum of the weights over all samples
   double k_full_N_per_m = 0.0;
+  const double* wk_full = nullptr;  ///< [chunk][corner][lane]: w times k_full_lanes
 };
 
 /// A capsule's axis in the contact frame C: from a along ab (inv_len2 = 1 / |ab|^2, 0 for a sphere).
@@ -71,6 +72,7 @@ struct PinchParticleArrays {
   std::uint8_t* near = nullptr;  ///< near the intersection (only its triangles can hold samples)
   std::uint8_t* deep = nullptr;  ///< below both full_*2 (false for a NaN distance)
   PinchOwned* owned = nullptr;   ///< kNo for particles not near
+  std::uint8_t* beyond = nullptr;  ///< bit 0: above out_thumb2, bit 1: above out_index2 (certainly outside)
 };
 
 /// Fills the particle arrays.

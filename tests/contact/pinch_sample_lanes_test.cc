@@ -22,7 +22,7 @@ struct Fixture {
   double k_full = 2.0;
   std::vector<double> x_C;  // 4 per particle
   std::vector<std::array<int, 3>> triangle_p;
-  std::vector<double> lane_w, lane_k_full, w_sum_full{0.0, 0.0, 0.0};
+  std::vector<double> lane_w, lane_k_full, w_sum_full{0.0, 0.0, 0.0}, lane_wk_full;
   std::vector<double> ideal_x, ideal_y, k;
   std::vector<long long> sliding;
 
@@ -45,6 +45,9 @@ struct Fixture {
       }
       lane_k_full[static_cast<std::size_t>(4 * (j / 4) + j % 4)] = k_full;
     }
+    for (std::size_t i = 0; i < lane_w.size(); ++i) {
+      lane_wk_full.push_back(lane_w[i] * lane_k_full[4 * (i / 12) + i % 4]);
+    }
     const std::size_t lanes = static_cast<std::size_t>(triangles * 4 * chunks);
     ideal_x.assign(lanes, 0.0);
     ideal_y.assign(lanes, 0.0);
@@ -64,7 +67,7 @@ struct Fixture {
   double W(int j, int m) const { return lane_w[static_cast<std::size_t>(12 * (j / 4) + 4 * m + j % 4)]; }
   double X(int p, int i) const { return x_C[static_cast<std::size_t>(4 * p + i)]; }
   PinchSampleLayout Layout() const {
-    return {chunks, lane_w.data(), lane_k_full.data(), w_sum_full.data(), k_full};
+    return {chunks, lane_w.data(), lane_k_full.data(), w_sum_full.data(), k_full, lane_wk_full.data()};
   }
   PinchSampleArrays Arrays() { return {ideal_x.data(), ideal_y.data(), k.data(), sliding.data()}; }
 };
@@ -360,7 +363,7 @@ TEST(PinchSampleLanesTest, Avx2AndPortableKernelsGiveTheSameBits) {
     locate.full_thumb2 = locate.full_index2 = 2e-4;
     const std::size_t padded = 4 * ((static_cast<std::size_t>(a.particles) + 3) / 4);
     std::vector<double> xc[2], dt[2], di[2];
-    std::vector<std::uint8_t> near[2], deep_particle[2];
+    std::vector<std::uint8_t> near[2], deep_particle[2], beyond[2];
     std::vector<PinchOwned> owned[2];
     for (int v = 0; v < 2; ++v) {
       xc[v].assign(4 * padded, 0.0);
@@ -369,23 +372,45 @@ TEST(PinchSampleLanesTest, Avx2AndPortableKernelsGiveTheSameBits) {
       near[v].assign(padded, 0);
       deep_particle[v].assign(padded, 0);
       owned[v].assign(padded, PinchOwned::kNo);
+      beyond[v].assign(padded, 0);
       LocatePinchParticles(locate,
                            {xc[v].data(), dt[v].data(), di[v].data(), near[v].data(), deep_particle[v].data(),
-                            owned[v].data()},
+                            owned[v].data(), beyond[v].data()},
                            v == 1);
     }
     EXPECT_TRUE(SameBits(xc[0], xc[1]) && SameBits(dt[0], dt[1]) && SameBits(di[0], di[1]) &&
                 SameBits(near[0], near[1]) && SameBits(deep_particle[0], deep_particle[1]) &&
-                SameBits(owned[0], owned[1]))
+                SameBits(owned[0], owned[1]) && SameBits(beyond[0], beyond[1]))
         << per;
     int deep_count = 0;
     for (int p = 0; p < a.particles; ++p) {
       const std::size_t up = static_cast<std::size_t>(p);
       EXPECT_EQ(deep_particle[0][up] != 0, dt[0][up] < locate.full_thumb2 && di[0][up] < locate.full_index2) << p;
       deep_count += deep_particle[0][up];
+      EXPECT_EQ(beyond[0][up], (dt[0][up] > locate.out_thumb2 ? 1 : 0) | (di[0][up] > locate.out_index2 ? 2 : 0));
     }
     EXPECT_GT(deep_count, 0) << per;  // the flag is exercised both ways
     EXPECT_LT(deep_count, a.particles) << per;
+    // A count that is not a multiple of 4 (the last group loaded particle by particle): the same.
+    for (int v = 0; v < 2; ++v) {
+      PinchLocateInput fewer = locate;
+      fewer.num_particles = a.particles - 3;
+      std::vector<double> xc_f(4 * padded, 0.0), dt_f(padded, 0.0), di_f(padded, 0.0);
+      std::vector<std::uint8_t> near_f(padded, 0), deep_f(padded, 0), beyond_f(padded, 0);
+      std::vector<PinchOwned> owned_f(padded, PinchOwned::kNo);
+      LocatePinchParticles(fewer,
+                           {xc_f.data(), dt_f.data(), di_f.data(), near_f.data(), deep_f.data(), owned_f.data(),
+                            beyond_f.data()},
+                           v == 1 && textile::internal::CpuHasAvx2());
+      const std::size_t n = static_cast<std::size_t>(fewer.num_particles);
+      EXPECT_EQ(std::memcmp(xc_f.data(), xc[0].data(), 4 * n * sizeof(double)), 0);
+      EXPECT_EQ(std::memcmp(dt_f.data(), dt[0].data(), n * sizeof(double)), 0);
+      EXPECT_EQ(std::memcmp(di_f.data(), di[0].data(), n * sizeof(double)), 0);
+      EXPECT_EQ(std::memcmp(near_f.data(), near[0].data(), n), 0);
+      EXPECT_EQ(std::memcmp(deep_f.data(), deep_particle[0].data(), n), 0);
+      EXPECT_EQ(std::memcmp(owned_f.data(), owned[0].data(), n), 0);
+      EXPECT_EQ(std::memcmp(beyond_f.data(), beyond[0].data(), n), 0);
+    }
 
     std::vector<PinchTriangleHold> hold_a(triangles.size()), hold_b(triangles.size());
     const PinchClassifyTotals ca = ClassifyPinchSamples(a.Layout(), in, a.Arrays(), hold_a.data(), false);
