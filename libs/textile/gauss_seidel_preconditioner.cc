@@ -1,5 +1,6 @@
 #include "libs/textile/gauss_seidel_preconditioner.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -105,6 +106,18 @@ inline double DiagonalRowGeneric(const PaddedBlock& d, const double* x, double* 
   return (x[0] * y[0] + x[1] * y[1]) + x[2] * y[2];
 }
 
+// A row's column offsets (SweepRow), its first general block's entries (column-major, the
+// others follow 9 apart) and its first scalar block's value.
+inline const int* Columns(const GaussSeidelSweepArgs& a, const internal::SweepRow& q) {
+  return q.common != 0 ? q.column : a.column_offset + q.column[0];
+}
+inline const double* FirstBlock(const GaussSeidelSweepArgs& a, const internal::SweepRow& q) {
+  return reinterpret_cast<const double*>(reinterpret_cast<const char*>(a.blocks) + q.block_bytes);
+}
+inline const double* FirstScalar(const GaussSeidelSweepArgs& a, const internal::SweepRow& q) {
+  return reinterpret_cast<const double*>(reinterpret_cast<const char*>(a.scalars) + q.scalar_bytes);
+}
+
 // Rows are 4 apart (padded_vector.h). One row of a sweep, portable. Per component i, in this
 // order (the AVX2 row does the same operations, lane i for component i, so both give identical
 // results):
@@ -119,15 +132,16 @@ inline double RowGeneric(const GaussSeidelSweepArgs& a, int r, const SweepVector
   double* solved = Solved<kKind>(v);
   const double* x = v.x;
   if constexpr (kKind == SweepKind::kEisenstatBackwardUpdate) {
-    for (int i = 0; i < 4; ++i) v.x_update[4 * r + i] = v.s[4 * r + i] + v.beta * x[4 * r + i];
+    for (int i = 0; i < 4; ++i) v.x_update[4 * r + i] = v.s[4 * r + i] + v.beta * v.x_update[4 * r + i];
   }
   const double* in = kKind == SweepKind::kEisenstatForward ? v.z : x;
   const internal::SweepRowData& row = a.row[r];
   const internal::SweepRow& q = row.shape[kForward ? 0 : 1];
   double c[3][3] = {};
-  const int* offset = a.column_offset + q.offsets;
+  const int* offset = Columns(a, q);
+  const double* blocks = FirstBlock(a, q);
   for (int k = 0; k < q.general; ++k) {
-    const double* m = a.blocks[q.first_slot + k].data();
+    const double* m = blocks + 9 * k;
     const double* yc = solved + offset[k];
     for (int j = 0; j < 3; ++j) {
       for (int i = 0; i < 3; ++i) c[j][i] += m[3 * j + i] * yc[j];
@@ -136,7 +150,7 @@ inline double RowGeneric(const GaussSeidelSweepArgs& a, int r, const SweepVector
   double sc[3] = {};
   for (int k = 0; k < q.scalars; ++k) {
     const double* yc = solved + offset[q.general + k];
-    for (int i = 0; i < 3; ++i) sc[i] += a.scalars[q.first_scalar + k] * yc[i];
+    for (int i = 0; i < 3; ++i) sc[i] += FirstScalar(a, q)[k] * yc[i];
   }
   double acc[3];
   for (int i = 0; i < 3; ++i) acc[i] = (in[4 * r + i] - ((c[0][i] + c[1][i]) + c[2][i])) - sc[i];
@@ -170,13 +184,28 @@ inline double RowGeneric(const GaussSeidelSweepArgs& a, int r, const SweepVector
 }
 
 #ifdef HAPTEX_TEXTILE_X86_KERNELS
-// y = D x for one row (lane 3 too: 0 for a finite x), returning x . y as (x_0 y_0 + x_1 y_1) + x_2 y_2.
+// The broadcasts of lanes 0, 1, 2 of a row's solution: a row's products with its solution (D_w
+// times it) and the next row's (the adjacent block times it) share them (port 5 shuffles).
+struct Broadcasts {
+  __m256d b0, b1, b2;
+};
+
+__attribute__((target("avx2"), always_inline)) inline Broadcasts BroadcastAvx2(__m256d x) {
+  return {_mm256_permute4x64_pd(x, 0x00), _mm256_permute4x64_pd(x, 0x55), _mm256_permute4x64_pd(x, 0xAA)};
+}
+
+// (b(:, 0) x_0 + b(:, 1) x_1) + b(:, 2) x_2, x as its broadcasts.
+__attribute__((target("avx2"), always_inline)) inline __m256d ProductAvx2(const PaddedBlock& b, const Broadcasts& x) {
+  return _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(_mm256_load_pd(b.col[0]), x.b0),
+                                     _mm256_mul_pd(_mm256_load_pd(b.col[1]), x.b1)),
+                       _mm256_mul_pd(_mm256_load_pd(b.col[2]), x.b2));
+}
+
+// y = D x for one row (lane 3 too: 0 for a finite x), returning x . y as (x_0 y_0 + x_1 y_1) + x_2 y_2;
+// xb: x's broadcasts.
 __attribute__((target("avx2"), always_inline)) inline double DiagonalRowAvx2(const PaddedBlock& d, __m256d x,
-                                                                         double* y) {
-  const __m256d yr = _mm256_add_pd(
-      _mm256_add_pd(_mm256_mul_pd(_mm256_load_pd(d.col[0]), _mm256_permute4x64_pd(x, 0x00)),
-                    _mm256_mul_pd(_mm256_load_pd(d.col[1]), _mm256_permute4x64_pd(x, 0x55))),
-      _mm256_mul_pd(_mm256_load_pd(d.col[2]), _mm256_permute4x64_pd(x, 0xAA)));
+                                                                         const Broadcasts& xb, double* y) {
+  const __m256d yr = ProductAvx2(d, xb);
   _mm256_store_pd(y, yr);
   const __m256d p = _mm256_mul_pd(x, yr);
   const __m128d p01 = _mm256_castpd256_pd128(p);
@@ -184,9 +213,14 @@ __attribute__((target("avx2"), always_inline)) inline double DiagonalRowAvx2(con
   return _mm_cvtsd_f64(_mm_add_sd(sum01, _mm256_extractf128_pd(p, 1)));
 }
 
+__attribute__((target("avx2"), always_inline)) inline double DiagonalRowAvx2(const PaddedBlock& d, __m256d x,
+                                                                         double* y) {
+  return DiagonalRowAvx2(d, x, BroadcastAvx2(x), y);
+}
+
 // For each of kSystems systems: c_j += column j of block m times y_j, j = 0, 1, 2 (lane 3: see
 // RowAvx2); m loaded once for all. Column 2 is a masked load (extra uops) only where no block
-// follows m in memory (kLast): elsewhere its lane 3 is the next block's entry 0.
+// may follow m in memory (kLast): elsewhere its lane 3 is the next block's entry 0.
 template <int kSystems, bool kLast>
 __attribute__((target("avx2"), always_inline)) inline void GeneralBlockAvx2(const double* m, const double* const* y,
                                                                             int offset, __m256d (*c)[3]) {
@@ -201,28 +235,6 @@ __attribute__((target("avx2"), always_inline)) inline void GeneralBlockAvx2(cons
   }
 }
 
-// A row's `count` general blocks from m in order, the k-th at column offset offset[k] of each
-// system's y: c = their sums (from 0); the last may be the system's last block. The counts a
-// grid's rows have (1 and 3) get fixed-trip code: no loop overhead, one well-predicted branch.
-template <int kSystems>
-__attribute__((target("avx2"), always_inline)) inline void GeneralBlocksAvx2(const Eigen::Matrix3d* m,
-                                                                             const int* offset, int count,
-                                                                             const double* const* y,
-                                                                             __m256d (*c)[3]) {
-#pragma GCC unroll 2
-  for (int i = 0; i < kSystems; ++i) c[i][0] = c[i][1] = c[i][2] = _mm256_setzero_pd();
-  if (count == 3) {
-    GeneralBlockAvx2<kSystems, false>(m[0].data(), y, offset[0], c);
-    GeneralBlockAvx2<kSystems, false>(m[1].data(), y, offset[1], c);
-    GeneralBlockAvx2<kSystems, true>(m[2].data(), y, offset[2], c);
-  } else if (count == 1) {
-    GeneralBlockAvx2<kSystems, true>(m[0].data(), y, offset[0], c);
-  } else if (count > 1) {
-    for (int k = 0; k < count - 1; ++k) GeneralBlockAvx2<kSystems, false>(m[k].data(), y, offset[k], c);
-    GeneralBlockAvx2<kSystems, true>(m[count - 1].data(), y, offset[count - 1], c);
-  }
-}
-
 // For each of kSystems systems: sc += value times y's row at offset.
 template <int kSystems>
 __attribute__((target("avx2"), always_inline)) inline void ScalarBlockAvx2(const double* value, const double* const* y,
@@ -232,79 +244,98 @@ __attribute__((target("avx2"), always_inline)) inline void ScalarBlockAvx2(const
   for (int i = 0; i < kSystems; ++i) sc[i] = _mm256_add_pd(sc[i], _mm256_mul_pd(v, _mm256_load_pd(y[i] + offset)));
 }
 
-// Per system the sum (from 0) of a row's `count` scalar blocks times y at offset[k], in order;
-// 2 (most rows) fixed-trip.
-template <int kSystems>
-__attribute__((target("avx2"), always_inline)) inline void ScalarBlocksAvx2(const double* value, const int* offset,
-                                                                            int count, const double* const* y,
-                                                                            __m256d* sc) {
+// Per system a row's sums (from 0, in order): c[j] of its general blocks (m: the first, 9 doubles
+// apart), sc of its scalar blocks (value: the first). kCommon: the row's SweepRow::common, its
+// counts fixed (no loop, no test, no masked load); 0: the counts and offsets of q.
+template <int kSystems, int kCommon>
+__attribute__((target("avx2"), always_inline)) inline void RowSumsAvx2(const GaussSeidelSweepArgs& a,
+                                                                       const internal::SweepRow& q,
+                                                                       const double* const* y, __m256d (*c)[3],
+                                                                       __m256d* sc) {
+  const double* m = FirstBlock(a, q);
+  const double* value = FirstScalar(a, q);
 #pragma GCC unroll 2
-  for (int i = 0; i < kSystems; ++i) sc[i] = _mm256_setzero_pd();
-  if (count == 2) {
-    ScalarBlockAvx2<kSystems>(value, y, offset[0], sc);
-    ScalarBlockAvx2<kSystems>(value + 1, y, offset[1], sc);
+  for (int i = 0; i < kSystems; ++i) sc[i] = c[i][0] = c[i][1] = c[i][2] = _mm256_setzero_pd();
+  if constexpr (kCommon != 0) {
+    GeneralBlockAvx2<kSystems, false>(m, y, q.column[0], c);
+    if constexpr (kCommon == 3) {
+      GeneralBlockAvx2<kSystems, false>(m + 9, y, q.column[1], c);
+      GeneralBlockAvx2<kSystems, false>(m + 18, y, q.column[2], c);
+    }
+    ScalarBlockAvx2<kSystems>(value, y, q.column[kCommon], sc);
+    ScalarBlockAvx2<kSystems>(value + 1, y, q.column[kCommon + 1], sc);
   } else {
-    for (int k = 0; k < count; ++k) ScalarBlockAvx2<kSystems>(value + k, y, offset[k], sc);
+    const int* offset = a.column_offset + q.column[0];
+    const int general = q.general, scalars = q.scalars;
+    if (general > 0) {
+      for (int k = 0; k < general - 1; ++k) GeneralBlockAvx2<kSystems, false>(m + 9 * k, y, offset[k], c);
+      GeneralBlockAvx2<kSystems, true>(m + 9 * (general - 1), y, offset[general - 1], c);
+    }
+    for (int k = 0; k < scalars; ++k) ScalarBlockAvx2<kSystems>(value + k, y, offset[general + k], sc);
   }
 }
 
 // The row in 4-wide registers: lanes 0..2 are components 0..2. Lane 3 of the sums holds
 // garbage (a general block's column loads reach into its next column), which only lane 3 of
 // D_w^-1 (zero) multiplies: the row's pad is stored as 0. No FMA (target avx2 only): products
-// round as in RowGeneric. `prev` is the row solved just before, kept in a register; returns
-// this row's.
-template <SweepKind kKind>
-__attribute__((target("avx2"), always_inline)) inline __m256d RowAvx2(const GaussSeidelSweepArgs& a, int r,
-                                                                      const SweepVectors& v, __m256d prev,
-                                                                      double* xy) {
+// round as in RowGeneric. `prev`: the broadcasts of the row solved just before, kept in
+// registers; set to this row's. kCommon: as RowSumsAvx2's (common rows have an adjacent block).
+template <SweepKind kKind, int kCommon>
+__attribute__((target("avx2"), always_inline)) inline void RowAvx2(const GaussSeidelSweepArgs& a,
+                                                                   const internal::SweepRowData& row, int i,
+                                                                   const SweepVectors& v, Broadcasts* prev,
+                                                                   double* xy) {
   constexpr int kDirection = IsForward(kKind) ? 0 : 1;
   double* solved = Solved<kKind>(v);
-  const internal::SweepRowData& row = a.row[r];
   const internal::SweepRow& q = row.shape[kDirection];
-  __m256d c[1][3], sum[1];
-  const double* const y[1] = {solved};
-  const int* offset = a.column_offset + q.offsets;
-  GeneralBlocksAvx2<1>(a.blocks + q.first_slot, offset, q.general, y, c);
-  ScalarBlocksAvx2<1>(a.scalars + q.first_scalar, offset + q.general, q.scalars, y, sum);
-  const __m256d c0 = c[0][0], c1 = c[0][1], c2 = c[0][2], sc = sum[0];
+  // x's update first: GCC then keeps each sum's loads next to their products (a store between
+  // them held all of a common row's loaded columns in registers, spilling).
   __m256d in;
   if constexpr (kKind == SweepKind::kEisenstatBackwardUpdate) {
-    in = _mm256_add_pd(_mm256_load_pd(v.s + 4 * r), _mm256_mul_pd(_mm256_set1_pd(v.beta), _mm256_load_pd(v.x + 4 * r)));
-    _mm256_store_pd(v.x_update + 4 * r, in);
+    in = _mm256_add_pd(_mm256_load_pd(v.s + i),
+                       _mm256_mul_pd(_mm256_set1_pd(v.beta), _mm256_load_pd(v.x_update + i)));
+    _mm256_store_pd(v.x_update + i, in);
   } else {
-    in = _mm256_load_pd((kKind == SweepKind::kEisenstatForward ? v.z : v.x) + 4 * r);
+    in = _mm256_load_pd((kKind == SweepKind::kEisenstatForward ? v.z : v.x) + i);
   }
+  __m256d c[1][3], sum[1];
+  const double* const y[1] = {solved};
+  RowSumsAvx2<1, kCommon>(a, q, y, c, sum);
+  const __m256d c0 = c[0][0], c1 = c[0][1], c2 = c[0][2], sc = sum[0];
   const __m256d acc = _mm256_sub_pd(_mm256_sub_pd(in, _mm256_add_pd(_mm256_add_pd(c0, c1), c2)), sc);
-  const PaddedBlock& inv = row.diag_inv;
-  __m256d o = _mm256_add_pd(
-      _mm256_add_pd(_mm256_mul_pd(_mm256_load_pd(inv.col[0]), _mm256_permute4x64_pd(acc, 0x00)),
-                    _mm256_mul_pd(_mm256_load_pd(inv.col[1]), _mm256_permute4x64_pd(acc, 0x55))),
-      _mm256_mul_pd(_mm256_load_pd(inv.col[2]), _mm256_permute4x64_pd(acc, 0xAA)));
-  if (q.adjacent) {
-    const PaddedBlock& g = row.adjacent_scaled[kDirection];
-    o = _mm256_sub_pd(
-        o, _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(_mm256_load_pd(g.col[0]), _mm256_permute4x64_pd(prev, 0x00)),
-                                       _mm256_mul_pd(_mm256_load_pd(g.col[1]), _mm256_permute4x64_pd(prev, 0x55))),
-                         _mm256_mul_pd(_mm256_load_pd(g.col[2]), _mm256_permute4x64_pd(prev, 0xAA))));
-  }
-  _mm256_store_pd(solved + 4 * r, o);
+  __m256d o = ProductAvx2(row.diag_inv, BroadcastAvx2(acc));
+  if (kCommon != 0 || q.adjacent) o = _mm256_sub_pd(o, ProductAvx2(row.adjacent_scaled[kDirection], *prev));
+  _mm256_store_pd(solved + i, o);
+  const Broadcasts ob = BroadcastAvx2(o);
   if constexpr (IsEisenstatBackward(kKind)) {
-    const PaddedBlock& d = row.diag;
-    const __m256d dt = _mm256_add_pd(
-        _mm256_add_pd(_mm256_mul_pd(_mm256_load_pd(d.col[0]), _mm256_permute4x64_pd(o, 0x00)),
-                      _mm256_mul_pd(_mm256_load_pd(d.col[1]), _mm256_permute4x64_pd(o, 0x55))),
-        _mm256_mul_pd(_mm256_load_pd(d.col[2]), _mm256_permute4x64_pd(o, 0xAA)));
-    _mm256_store_pd(v.z + 4 * r, _mm256_sub_pd(in, _mm256_mul_pd(_mm256_set1_pd(a.diag_excess), dt)));
+    const __m256d dt = ProductAvx2(row.diag, ob);
+    _mm256_store_pd(v.z + i, _mm256_sub_pd(in, _mm256_mul_pd(_mm256_set1_pd(a.diag_excess), dt)));
   } else if constexpr (kKind == SweepKind::kForwardDiagonal) {
-    *xy += DiagonalRowAvx2(row.diag, o, v.z + 4 * r);
+    *xy += DiagonalRowAvx2(row.diag, o, ob, v.z + i);
   } else if constexpr (kKind == SweepKind::kEisenstatForward) {
-    const __m256d yr = _mm256_add_pd(o, _mm256_load_pd(v.t + 4 * r));
-    _mm256_store_pd(v.y + 4 * r, yr);
+    const __m256d yr = _mm256_add_pd(o, _mm256_load_pd(v.t + i));
+    _mm256_store_pd(v.y + i, yr);
     alignas(32) double p[4];
-    _mm256_store_pd(p, _mm256_mul_pd(_mm256_load_pd(v.x + 4 * r), yr));
+    _mm256_store_pd(p, _mm256_mul_pd(_mm256_load_pd(v.x + i), yr));
     *xy += (p[0] + p[1]) + p[2];
   }
-  return o;
+  *prev = ob;
+}
+
+// RowAvx2 for row r's shape (common rows alternate 3 and 1 general blocks on a grid: predicted).
+template <SweepKind kKind>
+__attribute__((target("avx2"), always_inline)) inline void AnyRowAvx2(const GaussSeidelSweepArgs& a,
+                                                                      const internal::SweepRowData& row, int i,
+                                                                      const SweepVectors& v, Broadcasts* prev,
+                                                                      double* xy) {
+  const int common = row.shape[IsForward(kKind) ? 0 : 1].common;
+  if (common == 3) {
+    RowAvx2<kKind, 3>(a, row, i, v, prev, xy);
+  } else if (common == 1) {
+    RowAvx2<kKind, 1>(a, row, i, v, prev, xy);
+  } else {
+    RowAvx2<kKind, 0>(a, row, i, v, prev, xy);
+  }
 }
 
 // `a` by value: a local copy, kept in registers (the stores of __m256d may alias anything).
@@ -313,13 +344,15 @@ __attribute__((target("avx2"))) double SweepAvx2(GaussSeidelSweepArgs a, SweepVe
   // ForEachFreeRow's order, written out (a lambda would not be built for AVX2). A run starts
   // with prev = 0: the row before it is not free, so its adjacent block is 0.
   double xy = 0.0;
+  const __m256d zero = _mm256_setzero_pd();
   if constexpr (IsForward(kKind)) {
     int done = 0;
     for (int i = 0; i < a.num_runs; ++i) {
       const int r0 = a.runs[2 * i], r1 = a.runs[2 * i + 1];
       ZeroSkipped<kKind>(v, done, r0);
-      __m256d prev = _mm256_setzero_pd();
-      for (int r = r0; r < r1; ++r) prev = RowAvx2<kKind>(a, r, v, prev, &xy);
+      Broadcasts prev = {zero, zero, zero};
+      const internal::SweepRowData* row = a.row + r0;
+      for (int k = 4 * r0; k < 4 * r1; k += 4, ++row) AnyRowAvx2<kKind>(a, *row, k, v, &prev, &xy);
       done = r1;
     }
     ZeroSkipped<kKind>(v, done, a.rows);
@@ -328,8 +361,9 @@ __attribute__((target("avx2"))) double SweepAvx2(GaussSeidelSweepArgs a, SweepVe
     for (int i = a.num_runs - 1; i >= 0; --i) {
       const int r0 = a.runs[2 * i], r1 = a.runs[2 * i + 1];
       ZeroSkipped<kKind>(v, r1, done);
-      __m256d prev = _mm256_setzero_pd();
-      for (int r = r1 - 1; r >= r0; --r) prev = RowAvx2<kKind>(a, r, v, prev, &xy);
+      Broadcasts prev = {zero, zero, zero};
+      const internal::SweepRowData* row = a.row + r1;
+      for (int k = 4 * r1 - 4; k >= 4 * r0; k -= 4) AnyRowAvx2<kKind>(a, *--row, k, v, &prev, &xy);
       done = r0;
     }
     ZeroSkipped<kKind>(v, 0, done);
@@ -340,47 +374,34 @@ __attribute__((target("avx2"))) double SweepAvx2(GaussSeidelSweepArgs a, SweepVe
 // One row of two kForwardDiagonal sweeps (v0, v1): each block, D_w^-1, the adjacent block and
 // D_w loaded once for both; per system the operations of RowAvx2<kForwardDiagonal> in its
 // order, so the bits of two separate sweeps. prev0, prev1: as RowAvx2's prev, updated.
+template <int kCommon>
 __attribute__((target("avx2"), always_inline)) inline void PairRowAvx2(const GaussSeidelSweepArgs& a, int r,
                                                                        const SweepVectors& v0, const SweepVectors& v1,
-                                                                       __m256d* prev0, __m256d* prev1, double* xy0,
-                                                                       double* xy1) {
+                                                                       Broadcasts* prev0, Broadcasts* prev1,
+                                                                       double* xy0, double* xy1) {
   const internal::SweepRowData& row = a.row[r];
   const internal::SweepRow& q = row.shape[0];
   __m256d c[2][3], sum[2];
   const double* const y[2] = {v0.y, v1.y};
-  const int* offset = a.column_offset + q.offsets;
-  GeneralBlocksAvx2<2>(a.blocks + q.first_slot, offset, q.general, y, c);
-  ScalarBlocksAvx2<2>(a.scalars + q.first_scalar, offset + q.general, q.scalars, y, sum);
+  RowSumsAvx2<2, kCommon>(a, q, y, c, sum);
   const __m256d c0 = c[0][0], c1 = c[0][1], c2 = c[0][2], sc = sum[0];
   const __m256d e0 = c[1][0], e1 = c[1][1], e2 = c[1][2], se = sum[1];
   const __m256d acc0 =
       _mm256_sub_pd(_mm256_sub_pd(_mm256_load_pd(v0.x + 4 * r), _mm256_add_pd(_mm256_add_pd(c0, c1), c2)), sc);
   const __m256d acc1 =
       _mm256_sub_pd(_mm256_sub_pd(_mm256_load_pd(v1.x + 4 * r), _mm256_add_pd(_mm256_add_pd(e0, e1), e2)), se);
-  const PaddedBlock& inv = row.diag_inv;
-  const __m256d i0 = _mm256_load_pd(inv.col[0]), i1 = _mm256_load_pd(inv.col[1]), i2 = _mm256_load_pd(inv.col[2]);
-  __m256d o0 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(i0, _mm256_permute4x64_pd(acc0, 0x00)),
-                                           _mm256_mul_pd(i1, _mm256_permute4x64_pd(acc0, 0x55))),
-                             _mm256_mul_pd(i2, _mm256_permute4x64_pd(acc0, 0xAA)));
-  __m256d o1 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(i0, _mm256_permute4x64_pd(acc1, 0x00)),
-                                           _mm256_mul_pd(i1, _mm256_permute4x64_pd(acc1, 0x55))),
-                             _mm256_mul_pd(i2, _mm256_permute4x64_pd(acc1, 0xAA)));
-  if (q.adjacent) {
-    const PaddedBlock& g = row.adjacent_scaled[0];
-    const __m256d g0 = _mm256_load_pd(g.col[0]), g1 = _mm256_load_pd(g.col[1]), g2 = _mm256_load_pd(g.col[2]);
-    o0 = _mm256_sub_pd(o0, _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(g0, _mm256_permute4x64_pd(*prev0, 0x00)),
-                                                       _mm256_mul_pd(g1, _mm256_permute4x64_pd(*prev0, 0x55))),
-                                         _mm256_mul_pd(g2, _mm256_permute4x64_pd(*prev0, 0xAA))));
-    o1 = _mm256_sub_pd(o1, _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(g0, _mm256_permute4x64_pd(*prev1, 0x00)),
-                                                       _mm256_mul_pd(g1, _mm256_permute4x64_pd(*prev1, 0x55))),
-                                         _mm256_mul_pd(g2, _mm256_permute4x64_pd(*prev1, 0xAA))));
+  __m256d o0 = ProductAvx2(row.diag_inv, BroadcastAvx2(acc0));
+  __m256d o1 = ProductAvx2(row.diag_inv, BroadcastAvx2(acc1));
+  if (kCommon != 0 || q.adjacent) {
+    o0 = _mm256_sub_pd(o0, ProductAvx2(row.adjacent_scaled[0], *prev0));
+    o1 = _mm256_sub_pd(o1, ProductAvx2(row.adjacent_scaled[0], *prev1));
   }
   _mm256_store_pd(v0.y + 4 * r, o0);
   _mm256_store_pd(v1.y + 4 * r, o1);
-  *xy0 += DiagonalRowAvx2(row.diag, o0, v0.z + 4 * r);
-  *xy1 += DiagonalRowAvx2(row.diag, o1, v1.z + 4 * r);
-  *prev0 = o0;
-  *prev1 = o1;
+  *prev0 = BroadcastAvx2(o0);
+  *prev1 = BroadcastAvx2(o1);
+  *xy0 += DiagonalRowAvx2(row.diag, o0, *prev0, v0.z + 4 * r);
+  *xy1 += DiagonalRowAvx2(row.diag, o1, *prev1, v1.z + 4 * r);
 }
 
 // Two kForwardDiagonal sweeps in one pass (PairRowAvx2), in ForEachFreeRow's order written out.
@@ -388,12 +409,22 @@ __attribute__((target("avx2"))) void SweepForwardDiagonalPairAvx2(GaussSeidelSwe
                                                                    SweepVectors v1, double* xy) {
   double xy0 = 0.0, xy1 = 0.0;
   int done = 0;
+  const __m256d zero = _mm256_setzero_pd();
   for (int i = 0; i < a.num_runs; ++i) {
     const int r0 = a.runs[2 * i], r1 = a.runs[2 * i + 1];
     ZeroSkipped<SweepKind::kForwardDiagonal>(v0, done, r0);
     ZeroSkipped<SweepKind::kForwardDiagonal>(v1, done, r0);
-    __m256d prev0 = _mm256_setzero_pd(), prev1 = _mm256_setzero_pd();
-    for (int r = r0; r < r1; ++r) PairRowAvx2(a, r, v0, v1, &prev0, &prev1, &xy0, &xy1);
+    Broadcasts prev0 = {zero, zero, zero}, prev1 = prev0;
+    for (int r = r0; r < r1; ++r) {
+      const int common = a.row[r].shape[0].common;
+      if (common == 3) {
+        PairRowAvx2<3>(a, r, v0, v1, &prev0, &prev1, &xy0, &xy1);
+      } else if (common == 1) {
+        PairRowAvx2<1>(a, r, v0, v1, &prev0, &prev1, &xy0, &xy1);
+      } else {
+        PairRowAvx2<0>(a, r, v0, v1, &prev0, &prev1, &xy0, &xy1);
+      }
+    }
     done = r1;
   }
   ZeroSkipped<SweepKind::kForwardDiagonal>(v0, done, a.rows);
@@ -617,6 +648,13 @@ GaussSeidelPreconditioner::GaussSeidelPreconditioner(const SplitRows& split) {
   const int rows = static_cast<int>(split.general_start.size()) - 1;
   diag_slot_.assign(static_cast<std::size_t>(rows), 0);
   row_data_.assign(static_cast<std::size_t>(rows), internal::SweepRowData{});
+  int num_slots = 0;  // the blocks' (those of the split: every slot)
+  for (int r = 0; r < rows; ++r) {
+    const auto row = static_cast<std::size_t>(r);
+    num_slots = std::max(num_slots, split.general_first_slot[row] + split.general_start[row + 1] -
+                                        split.general_start[row]);
+  }
+  for (int slot : split.scalar_slot) num_slots = std::max(num_slots, slot + 1);
   for (int r = 0; r < rows; ++r) {
     const auto row = static_cast<std::size_t>(r);
     int diag = -1;
@@ -647,10 +685,26 @@ GaussSeidelPreconditioner::GaussSeidelPreconditioner(const SplitRows& split) {
     // Forward: general blocks [g0, diag - lower_adjacent) and scalar blocks [s0, upper);
     // backward: [diag + 1 + upper_adjacent, g1) and [upper, s1).
     const auto shape = [&](int g0, int g1, int s0, int s1, int adjacent) {
-      const internal::SweepRow q{slot_offset + g0, g1 - g0, s0, s1 - s0, static_cast<int>(column_offset_.size()),
-                                 adjacent};
-      for (int k = g0; k < g1; ++k) column_offset_.push_back(4 * split.general_col[static_cast<std::size_t>(k)]);
-      for (int k = s0; k < s1; ++k) column_offset_.push_back(4 * split.scalar_col[static_cast<std::size_t>(k)]);
+      HAPTEX_TEXTILE_DEMAND(g1 - g0 <= 255 && s1 - s0 <= 255);
+      internal::SweepRow q{};
+      q.block_bytes = static_cast<int>(sizeof(Eigen::Matrix3d)) * (slot_offset + g0);
+      q.scalar_bytes = static_cast<int>(sizeof(double)) * s0;
+      q.general = static_cast<unsigned char>(g1 - g0);
+      q.scalars = static_cast<unsigned char>(s1 - s0);
+      q.adjacent = static_cast<unsigned char>(adjacent);
+      // The common shapes' last block is read 4-wide: another block must follow it in memory.
+      const bool common = (q.general == 1 || q.general == 3) && q.scalars == 2 && adjacent != 0 &&
+                          slot_offset + g1 < num_slots;
+      q.common = common ? q.general : 0;
+      std::vector<int> columns;
+      for (int k = g0; k < g1; ++k) columns.push_back(4 * split.general_col[static_cast<std::size_t>(k)]);
+      for (int k = s0; k < s1; ++k) columns.push_back(4 * split.scalar_col[static_cast<std::size_t>(k)]);
+      if (common) {
+        for (std::size_t k = 0; k < columns.size(); ++k) q.column[k] = columns[k];
+      } else {
+        q.column[0] = static_cast<int>(column_offset_.size());
+        column_offset_.insert(column_offset_.end(), columns.begin(), columns.end());
+      }
       return q;
     };
     row_data_[row].shape[0] =

@@ -36,14 +36,19 @@ struct PaddedBlock {
 };
 
 /// Where one row of a sweep sums (fixed per model, one record per row and direction): `general`
-/// blocks from slot first_slot on and `scalars` scalar blocks from scalar index first_scalar on,
-/// those on the sweep's side of the diagonal, except the block coupling to the row solved just
-/// before (r - 1 forward, r + 1 backward) when `adjacent`: that one is applied last,
-/// premultiplied by D_w^-1, so the dependency from row to row is one 3x3 product. Their
-/// columns' offsets in a padded vector (4 x column), general then scalar, are at `offsets` in
-/// GaussSeidelSweepArgs::column_offset: one index and one array for both (fewer registers).
+/// blocks from byte block_bytes of the blocks on and `scalars` scalar blocks from byte
+/// scalar_bytes of the scalars on, those on the sweep's side of the diagonal, except the block
+/// coupling to the row solved just before (r - 1 forward, r + 1 backward) when `adjacent`: that
+/// one is applied last, premultiplied by D_w^-1, so the dependency from row to row is one 3x3
+/// product. `common` (the shapes of a grid's inner rows: 1 or 3 general blocks, 2 scalar ones,
+/// adjacent, a block after the last in memory) is its general count, and column[] holds the
+/// columns' offsets in a padded vector (4 x column), general then scalar: the kernel reads them
+/// with no indirection and no test. Other rows (common = 0): column[0] is the index of those
+/// offsets in GaussSeidelSweepArgs::column_offset. 32 bytes.
 struct SweepRow {
-  int first_slot, general, first_scalar, scalars, offsets, adjacent;
+  int block_bytes, scalar_bytes;
+  unsigned char general, scalars, adjacent, common;
+  int column[5];
 };
 
 /// What the sweeps read of one row, together: one pointer walks them (index 0: forward, 1: backward).
@@ -59,7 +64,7 @@ struct SweepRowData {
 /// What one triangular sweep reads (gauss_seidel_preconditioner.cc).
 struct GaussSeidelSweepArgs {
   const SweepRowData* row;    ///< per row
-  const int* column_offset;   ///< SweepRow::offsets's array
+  const int* column_offset;   ///< SweepRow::column's array for the uncommon rows
   const Eigen::Matrix3d* blocks;
   const double* scalars;
   int rows;
