@@ -4,6 +4,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <vector>
@@ -66,12 +67,8 @@ HAPTEX_LANES_INLINE void GatherXyz(const double* base, const int offset[kLanes],
   GatherPairs(base, offset, &out[0], &out[1]);
   out[2] = Gather(base + 2, offset);
 }
-// Weight k (a_k or b_k) of each lane's triangle.
-HAPTEX_LANES_INLINE V4 Weight(const TriangleElement* const el[kLanes],
-                              std::array<double, 3> TriangleElement::*weights, std::size_t k) {
-  return V4{(el[0]->*weights)[k], (el[1]->*weights)[k], (el[2]->*weights)[k],
-            (el[3]->*weights)[k]};
-}
+static_assert(offsetof(TriangleElement, b) == offsetof(TriangleElement, a) + 3 * sizeof(double),
+              "the triangle kernel loads a and b as one run of 6 doubles");
 // *p = *from + a for 4 doubles (a Matrix3d's data: 8-byte aligned only).
 HAPTEX_LANES_INLINE void AddTo(V4 a, const double* from, double* p) {
   V4 b;
@@ -82,14 +79,19 @@ HAPTEX_LANES_INLINE void AddTo(V4 a, const double* from, double* p) {
 
 // out[corner k of lane j's triangle] += v[k][.][j], lane by lane in triangle order (the
 // triangles of a group share particles). corner[k][j] is the offset of that particle's
-// coordinates. Transposed first, so each corner is one 2-wide and one scalar add.
+// coordinates. Each corner is one 2-wide (x, y) and one scalar (z) add; the (x, y) pairs of
+// lanes 0, 2 and 1, 3 are the halves of two unpacks (fewer shuffles than a full transpose).
 HAPTEX_LANES_INLINE void ScatterToCorners(const V4 v[3][3], const int corner[3][kLanes],
                                           int lanes, double* out) {
-  V4 xyz[3][kLanes];  // (x, y, z, 0) of corner k in lane j
+  V2 xy[3][kLanes];
   HAPTEX_UNROLL
   for (int k = 0; k < 3; ++k) {
-    const V4 rows[4] = {v[k][0], v[k][1], v[k][2], Splat(0.0)};
-    Transpose(rows, xyz[k]);
+    const V4 xy02 = __builtin_shufflevector(v[k][0], v[k][1], 0, 4, 2, 6);  // x0 y0 x2 y2
+    const V4 xy13 = __builtin_shufflevector(v[k][0], v[k][1], 1, 5, 3, 7);  // x1 y1 x3 y3
+    xy[k][0] = __builtin_shufflevector(xy02, xy02, 0, 1);
+    xy[k][1] = __builtin_shufflevector(xy13, xy13, 0, 1);
+    xy[k][2] = __builtin_shufflevector(xy02, xy02, 2, 3);
+    xy[k][3] = __builtin_shufflevector(xy13, xy13, 2, 3);
   }
   // Unrolled over all four lanes (constant lane indices keep the vectors in registers); the
   // tail group stops early (for full groups lanes is the constant kLanes: no test remains).
@@ -99,32 +101,33 @@ HAPTEX_LANES_INLINE void ScatterToCorners(const V4 v[3][3], const int corner[3][
     HAPTEX_UNROLL
     for (int k = 0; k < 3; ++k) {
       double* o = out + corner[k][j];
-      V2 xy;
-      std::memcpy(&xy, o, sizeof xy);
-      xy += __builtin_shufflevector(xyz[k][j], xyz[k][j], 0, 1);
-      std::memcpy(o, &xy, sizeof xy);
-      o[2] += xyz[k][j][2];
+      V2 sum;
+      std::memcpy(&sum, o, sizeof sum);
+      sum += xy[k][j];
+      std::memcpy(o, &sum, sizeof sum);
+      o[2] += v[k][2][j];
     }
   }
 }
 
-// Where a group's triangles add their blocks: system blocks by slot (slots[j] for lane j), and
-// the blocks that lane j's first additions start from (base; system itself when the sink has no
-// base), first[j] the bits of FabricModel::triangle_first_blocks.
+// Where a group's triangles add their blocks: system blocks at byte offsets offsets[j] for lane
+// j, read from sources[first[j][kl]]: the system itself, or for first additions the base (the
+// system when the sink has no base). A table lookup: no per-block bit test or select.
 struct BlockTarget {
   const std::array<std::int32_t, 9>* offsets;  // FabricModel::triangle_block_offsets
-  const unsigned* first;
+  const std::array<std::uint8_t, 9>* first;    // FabricModel::triangle_first_blocks
   Eigen::Matrix3d* system;
-  const Eigen::Matrix3d* base;
+  const Eigen::Matrix3d* const* sources;  // {system, base}
 };
 
 // Block = from + m, m the block entries of lane j, at slot index kl: two 4-wide and one scalar
-// add. `from` is the block itself or, for its first addition, its base: a select, no branch.
+// add. `from` is the block itself or, for its first addition, its base.
 HAPTEX_LANES_INLINE void AddBlock(const BlockTarget& t, int j, int kl, V4 lo, V4 hi, double m8) {
-  const std::ptrdiff_t offset = t.offsets[j][static_cast<std::size_t>(kl)];
+  const auto e = static_cast<std::size_t>(kl);
+  const std::ptrdiff_t offset = t.offsets[j][e];
   auto* block = reinterpret_cast<double*>(reinterpret_cast<char*>(t.system) + offset);
-  const auto* based = reinterpret_cast<const double*>(reinterpret_cast<const char*>(t.base) + offset);
-  const double* from = (t.first[j] >> kl) & 1u ? based : block;
+  const auto* from_blocks = reinterpret_cast<const char*>(t.sources[t.first[j][e]]);
+  const auto* from = reinterpret_cast<const double*>(from_blocks + offset);
   AddTo(lo, from, block);
   AddTo(hi, from + 4, block + 4);
   block[8] = from[8] + m8;
@@ -321,7 +324,8 @@ HAPTEX_LANES_INLINE void TriangleKernel(const FabricModel& model, const double* 
   HAPTEX_TEXTILE_DEMAND(model.triangle_block_offsets.size() == num_triangles);
   const std::array<std::int32_t, 9>* offsets_all = model.triangle_block_offsets.data();
   HAPTEX_TEXTILE_DEMAND(model.triangle_first_blocks.size() == num_triangles);
-  const std::uint16_t* first_blocks = model.triangle_first_blocks.data();
+  const std::array<std::uint8_t, 9>* first_blocks = model.triangle_first_blocks.data();
+  const Eigen::Matrix3d* const sources[2] = {system, base};
   // One group of four triangles from t0; `lanes` of them real. The tail group repeats its last
   // triangle in the unused lanes (computed, never scattered).
   const auto group = [&](std::size_t t0, int lanes) HAPTEX_LANES_LAMBDA {
@@ -337,10 +341,20 @@ HAPTEX_LANES_INLINE void TriangleKernel(const FabricModel& model, const double* 
       for (int j = 0; j < kLanes; ++j) corner[k][j] = 3 * el[j]->p[static_cast<std::size_t>(k)];
     }
     const V4 area = V4{el[0]->area_m2, el[1]->area_m2, el[2]->area_m2, el[3]->area_m2};
-    const V4 a[3] = {Weight(el, &TriangleElement::a, 0), Weight(el, &TriangleElement::a, 1),
-                     Weight(el, &TriangleElement::a, 2)};
-    const V4 b[3] = {Weight(el, &TriangleElement::b, 0), Weight(el, &TriangleElement::b, 1),
-                     Weight(el, &TriangleElement::b, 2)};
+    // The weights a_0 a_1 a_2 b_0 b_1 b_2 are contiguous in a TriangleElement: two 4-wide loads a
+    // lane (from a_0 and from a_2) and transposes instead of 24 scalar loads and inserts.
+    V4 weights_lo[kLanes], weights_hi[kLanes];
+    HAPTEX_UNROLL
+    for (int j = 0; j < kLanes; ++j) {
+      const char* weights = reinterpret_cast<const char*>(el[j]) + offsetof(TriangleElement, a);
+      std::memcpy(&weights_lo[j], weights, sizeof weights_lo[j]);
+      std::memcpy(&weights_hi[j], weights + 2 * sizeof(double), sizeof weights_hi[j]);
+    }
+    V4 lo_rows[4], hi_rows[4];  // a_0 a_1 a_2 b_0 and a_2 b_0 b_1 b_2 of lanes 0..3
+    Transpose(weights_lo, lo_rows);
+    Transpose(weights_hi, hi_rows);
+    const V4 a[3] = {lo_rows[0], lo_rows[1], lo_rows[2]};
+    const V4 b[3] = {lo_rows[3], hi_rows[2], hi_rows[3]};
     V4 xk[3][3], vk[3][3];  // [corner][axis]
     HAPTEX_UNROLL
     for (int k = 0; k < 3; ++k) {
@@ -473,10 +487,7 @@ HAPTEX_LANES_INLINE void TriangleKernel(const FabricModel& model, const double* 
       for (int i = 0; i < 3; ++i) shear_p[k][i] = shear_sys * g[k][i];
     }
     const bool drag_active = Any(dq != 0.0);
-    unsigned first[kLanes];
-    HAPTEX_UNROLL
-    for (int j = 0; j < kLanes; ++j) first[j] = first_blocks[t0 + static_cast<std::size_t>(std::min(j, lanes - 1))];
-    const BlockTarget target{&offsets_all[t0], first, system, base};
+    const BlockTarget target{&offsets_all[t0], &first_blocks[t0], system, sources};
     const auto membrane = [&](int k, int l, V4 m[9]) HAPTEX_LANES_LAMBDA {
       const V4 aa = a[k] * a[l], bb = b[k] * b[l];
       HAPTEX_UNROLL
@@ -791,9 +802,9 @@ void AddConstantJacobians(const FabricModel& model, ForceSink* sink) {
   AddLinearDragBlocks(model, sink);
 }
 
-std::vector<std::uint16_t> internal::TriangleFirstBlocks(const std::vector<std::array<int, 9>>& triangle_slots,
-                                                         int num_blocks) {
-  std::vector<std::uint16_t> first(triangle_slots.size(), 0);
+std::vector<std::array<std::uint8_t, 9>> internal::TriangleFirstBlocks(
+    const std::vector<std::array<int, 9>>& triangle_slots, int num_blocks) {
+  std::vector<std::array<std::uint8_t, 9>> first(triangle_slots.size(), std::array<std::uint8_t, 9>{});
   std::vector<unsigned char> seen(static_cast<std::size_t>(num_blocks), 0);
   for (std::size_t t0 = 0; t0 < triangle_slots.size(); t0 += kLanes) {
     const std::size_t end = std::min(t0 + kLanes, triangle_slots.size());
@@ -802,7 +813,7 @@ std::vector<std::uint16_t> internal::TriangleFirstBlocks(const std::vector<std::
         const auto slot = static_cast<std::size_t>(triangle_slots[t][static_cast<std::size_t>(kl)]);
         if (seen[slot]) continue;
         seen[slot] = 1;
-        first[t] = static_cast<std::uint16_t>(first[t] | (1u << kl));
+        first[t][static_cast<std::size_t>(kl)] = 1;
       }
     }
   }

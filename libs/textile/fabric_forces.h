@@ -27,9 +27,9 @@ namespace internal {
 void AccumulateForces(const FabricModel& model, const FabricState& state, bool avx2,
                       ForceSink* sink);
 /// FabricModel::triangle_first_blocks for triangles with these block slots (num_blocks slots):
-/// per triangle, the blocks k*3+l whose addition is the first to their slot in the triangle
-/// kernel's order.
-std::vector<std::uint16_t> TriangleFirstBlocks(const std::vector<std::array<int, 9>>& triangle_slots,
+/// per triangle, 1 at the blocks k*3+l whose addition is the first to their slot in the
+/// triangle kernel's order, else 0.
+std::vector<std::array<std::uint8_t, 9>> TriangleFirstBlocks(const std::vector<std::array<int, 9>>& triangle_slots,
                                                int num_blocks);
 }  // namespace internal
 

@@ -65,10 +65,11 @@ struct FabricModel {
   std::vector<std::array<int, 9>> bend_slots;
   /// triangle_slots as byte offsets (slot x sizeof(Matrix3d)): the triangle kernel's addresses.
   std::vector<std::array<std::int32_t, 9>> triangle_block_offsets;
-  /// Per triangle, bit k*3+l set when its block (p_k, p_l) is the first addition the triangle
-  /// kernel makes to that slot in a pass (internal::TriangleFirstBlocks): a step's kernel reads
-  /// that block from the constant part of the system instead of resetting it first.
-  std::vector<std::uint16_t> triangle_first_blocks;
+  /// Per triangle, entry k*3+l 1 when its block (p_k, p_l) is the first addition the triangle
+  /// kernel makes to that slot in a pass (internal::TriangleFirstBlocks), else 0: a step's kernel
+  /// reads that block from the constant part of the system instead of resetting it first. Bytes,
+  /// not bits: the kernel indexes its two source arrays with them (no bit test or select).
+  std::vector<std::array<std::uint8_t, 9>> triangle_first_blocks;
   /// General slots (product_rows) no triangle touches: a step resets these itself.
   std::vector<int> general_slots_without_triangles;
   /// The pattern split for the system product: blocks only bending couples (two particles apart

@@ -193,7 +193,8 @@ void ExpectFirstAdditionsStartFromTheBase(const FabricModel& model, const char* 
   std::vector<int> firsts(static_cast<std::size_t>(model.pattern.num_blocks()), 0);
   for (std::size_t t = 0; t < model.triangles.size(); ++t) {
     for (std::size_t kl = 0; kl < 9; ++kl) {
-      if ((model.triangle_first_blocks[t] >> kl) & 1u) ++firsts[static_cast<std::size_t>(model.triangle_slots[t][kl])];
+      ASSERT_LE(model.triangle_first_blocks[t][kl], 1) << what;  // indexes {system, base}
+      if (model.triangle_first_blocks[t][kl] == 1) ++firsts[static_cast<std::size_t>(model.triangle_slots[t][kl])];
     }
   }
   for (const auto& slots : model.triangle_slots) {
