@@ -12,5 +12,7 @@ namespace haptex::textile::internal {
 
 bool CpuHasAvx();   ///< false where HAPTEX_TEXTILE_X86_KERNELS is not defined
 bool CpuHasAvx2();  ///< likewise
+/// AVX-512 F and VL (the AVX2 instructions on 32 vector registers), enabled by the OS; likewise.
+bool CpuHasAvx512Vl();
 
 }  // namespace haptex::textile::internal

@@ -22,9 +22,13 @@ void AccumulateForces(const FabricModel& model, const FabricState& state, ForceS
 void AddConstantJacobians(const FabricModel& model, ForceSink* sink);
 
 namespace internal {
-/// AccumulateForces with the AVX2 triangle kernel (avx2, only where the CPU has it) or its
-/// portable build: the two give the same bits, which tests check.
-void AccumulateForces(const FabricModel& model, const FabricState& state, bool avx2,
+/// Builds of the force kernels (one source): portable; AVX2; and for the triangle kernel AVX2 on
+/// AVX-512VL's 32 registers (fewer spills), the bending kernel's AVX2 there. All give the same bits.
+enum class ForceKernels { kPortable, kAvx2, kAvx2On32Registers };
+/// The fastest build this CPU runs.
+ForceKernels BestForceKernels();
+/// AccumulateForces with the given build (only one the CPU has): tests compare their bits.
+void AccumulateForces(const FabricModel& model, const FabricState& state, ForceKernels kernels,
                       ForceSink* sink);
 /// FabricModel::triangle_first_blocks for triangles with these block slots (num_blocks slots):
 /// per triangle, 1 at the blocks k*3+l whose addition is the first to their slot in the

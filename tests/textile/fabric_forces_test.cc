@@ -153,8 +153,18 @@ TEST(FabricForcesTest, FusedAssemblyHandlesTailCollapsedElementsAndNoDrag) {
   }
 }
 
-// The AVX2 kernel and its portable build give the same bits (where the CPU has AVX2), with a
-// tail group, a collapsed quad, with and without quadratic drag.
+// The builds this CPU runs, vector ones first.
+std::vector<internal::ForceKernels> VectorKernels() {
+  std::vector<internal::ForceKernels> kernels;
+  if (internal::CpuHasAvx2()) kernels.push_back(internal::ForceKernels::kAvx2);
+  if (internal::CpuHasAvx2() && internal::CpuHasAvx512Vl()) {
+    kernels.push_back(internal::ForceKernels::kAvx2On32Registers);
+  }
+  return kernels;
+}
+
+// The AVX2 kernels (on 16 and, where the CPU has AVX-512VL, 32 registers) and their portable
+// build give the same bits, with a tail group, a collapsed quad, with and without quadratic drag.
 TEST(FabricForcesTest, Avx2AndPortableKernelsGiveTheSameBits) {
   if (!internal::CpuHasAvx2()) GTEST_SKIP() << "no AVX2 on this CPU";
   const auto same_bits = [](const auto& a, const auto& b) {
@@ -174,13 +184,18 @@ TEST(FabricForcesTest, Avx2AndPortableKernelsGiveTheSameBits) {
       testing::Perturb(&s, 2e-3, 0.3, 7);
       const int nu = model.mesh.particles_warp();
       for (const int p : {1, nu, nu + 1}) s.x(p) = s.x(0);
-      Assembled portable = Empty(model), avx2 = Empty(model);
-      ForceSink ps = SinkFor(&portable, s), as = SinkFor(&avx2, s);
-      internal::AccumulateForces(model, s, false, &ps);
-      internal::AccumulateForces(model, s, true, &as);
-      EXPECT_TRUE(same_bits(portable.f, avx2.f)) << "stretch " << stretch;
-      EXPECT_TRUE(same_bits(portable.dfdx_v, avx2.dfdx_v)) << "stretch " << stretch;
-      EXPECT_TRUE(same_bits(portable.system, avx2.system)) << "stretch " << stretch;
+      Assembled portable = Empty(model);
+      ForceSink ps = SinkFor(&portable, s);
+      internal::AccumulateForces(model, s, internal::ForceKernels::kPortable, &ps);
+      for (const internal::ForceKernels kernels : VectorKernels()) {
+        Assembled avx2 = Empty(model);
+        ForceSink as = SinkFor(&avx2, s);
+        internal::AccumulateForces(model, s, kernels, &as);
+        const int build = static_cast<int>(kernels);
+        EXPECT_TRUE(same_bits(portable.f, avx2.f)) << "stretch " << stretch << " build " << build;
+        EXPECT_TRUE(same_bits(portable.dfdx_v, avx2.dfdx_v)) << "stretch " << stretch << " build " << build;
+        EXPECT_TRUE(same_bits(portable.system, avx2.system)) << "stretch " << stretch << " build " << build;
+      }
     }
   }
 }
@@ -211,21 +226,23 @@ void ExpectFirstAdditionsStartFromTheBase(const FabricModel& model, const char* 
   const auto same_bits = [](const auto& a, const auto& b) {
     return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof a[0]) == 0;
   };
-  for (const bool avx2 : {false, true}) {
-    if (avx2 && !internal::CpuHasAvx2()) continue;
+  std::vector<internal::ForceKernels> builds = VectorKernels();
+  builds.insert(builds.begin(), internal::ForceKernels::kPortable);
+  for (const internal::ForceKernels kernels : builds) {
+    const int build = static_cast<int>(kernels);
     Assembled added = Empty(model), started = Empty(model);
     added.system = base;
     started.system.assign(base.size(), Eigen::Matrix3d::Constant(std::nan("")));
     ForceSink as = SinkFor(&added, s), ss = SinkFor(&started, s);
     ss.system_base = base.data();
-    internal::AccumulateForces(model, s, avx2, &as);
-    internal::AccumulateForces(model, s, avx2, &ss);
-    EXPECT_TRUE(same_bits(added.f, started.f)) << what << " avx2 " << avx2;
-    EXPECT_TRUE(same_bits(added.dfdx_v, started.dfdx_v)) << what << " avx2 " << avx2;
+    internal::AccumulateForces(model, s, kernels, &as);
+    internal::AccumulateForces(model, s, kernels, &ss);
+    EXPECT_TRUE(same_bits(added.f, started.f)) << what << " build " << build;
+    EXPECT_TRUE(same_bits(added.dfdx_v, started.dfdx_v)) << what << " build " << build;
     for (std::size_t k = 0; k < base.size(); ++k) {
       if (firsts[k] == 0) continue;  // blocks no triangle touches: the caller's
       EXPECT_EQ(std::memcmp(added.system[k].data(), started.system[k].data(), sizeof(Eigen::Matrix3d)), 0)
-          << what << " avx2 " << avx2 << " slot " << k;
+          << what << " build " << build << " slot " << k;
     }
   }
 }
