@@ -159,6 +159,22 @@ TEST(GaussSeidelPreconditionerTest, SweepsAndSplitProductMatchTheDenseFactors) {
   }
 }
 
+// The paired forward sweep of x and x2 gives the same bits in both kernels.
+void ExpectSamePairSweepBits(const GaussSeidelPreconditioner& fast, const GaussSeidelPreconditioner& portable,
+                             const System& a, const PaddedVector& x, const PaddedVector& x2) {
+  const int n = x.rows();
+  PaddedVector ya1(n), wa1(n), yb1(n), wb1(n), ya2(n), wa2(n), yb2(n), wb2(n);
+  double pair1[2], pair2[2];
+  fast.ForwardSolveDiagonalPair(a.blocks, a.scalars, x, &ya1, &wa1, x2, &yb1, &wb1, pair1);
+  portable.ForwardSolveDiagonalPair(a.blocks, a.scalars, x, &ya2, &wa2, x2, &yb2, &wb2, pair2);
+  EXPECT_EQ(Bits(pair1[0]), Bits(pair2[0]));
+  EXPECT_EQ(Bits(pair1[1]), Bits(pair2[1]));
+  EXPECT_TRUE(SameRowBits(ya1, ya2));
+  EXPECT_TRUE(SameRowBits(wa1, wa2));
+  EXPECT_TRUE(SameRowBits(yb1, yb2));
+  EXPECT_TRUE(SameRowBits(wb1, wb2));
+}
+
 // The AVX2 and the portable sweeps give the same bits (where the CPU has AVX2).
 TEST(GaussSeidelPreconditionerTest, PortableKernelGivesTheSameBits) {
   const FabricModel model = DenimModel(12, 0.011);
@@ -193,19 +209,7 @@ TEST(GaussSeidelPreconditionerTest, PortableKernelGivesTheSameBits) {
             Bits(portable.ForwardSolveDiagonal(a.blocks, a.scalars, x, &y2, &z2)));
   EXPECT_TRUE(SameRowBits(y1, y2));
   EXPECT_TRUE(SameRowBits(z1, z2));
-  {
-    const PaddedVector x2 = Padded(RandomFree(model, s, &rng));
-    PaddedVector ya1(n), wa1(n), yb1(n), wb1(n), ya2(n), wa2(n), yb2(n), wb2(n);
-    double pair1[2], pair2[2];
-    fast.ForwardSolveDiagonalPair(a.blocks, a.scalars, x, &ya1, &wa1, x2, &yb1, &wb1, pair1);
-    portable.ForwardSolveDiagonalPair(a.blocks, a.scalars, x, &ya2, &wa2, x2, &yb2, &wb2, pair2);
-    EXPECT_EQ(Bits(pair1[0]), Bits(pair2[0]));
-    EXPECT_EQ(Bits(pair1[1]), Bits(pair2[1]));
-    EXPECT_TRUE(SameRowBits(ya1, ya2));
-    EXPECT_TRUE(SameRowBits(wa1, wa2));
-    EXPECT_TRUE(SameRowBits(yb1, yb2));
-    EXPECT_TRUE(SameRowBits(wb1, wb2));
-  }
+  ExpectSamePairSweepBits(fast, portable, a, x, Padded(RandomFree(model, s, &rng)));
   PaddedVector c1 = x, c2 = x, u1 = y1, u2 = y2;
   EXPECT_EQ(Bits(fast.UpdateMultiplySplit(a.blocks, a.scalars, u1, 0.7, &c1, &t1, &z1, &y1)),
             Bits(portable.UpdateMultiplySplit(a.blocks, a.scalars, u2, 0.7, &c2, &t2, &z2, &y2)));
@@ -240,15 +244,7 @@ TEST(GaussSeidelPreconditionerTest, PortableKernelGivesTheSameBitsWithEveryRowFr
   fast.BackwardSolve(a.blocks, a.scalars, x, &y1);
   portable.BackwardSolve(a.blocks, a.scalars, x, &y2);
   EXPECT_TRUE(SameRowBits(y1, y2));
-  double pair1[2], pair2[2];
-  fast.ForwardSolveDiagonalPair(a.blocks, a.scalars, x, &y1, &w1, x2, &t1, &z1, pair1);
-  portable.ForwardSolveDiagonalPair(a.blocks, a.scalars, x, &y2, &w2, x2, &t2, &z2, pair2);
-  EXPECT_EQ(Bits(pair1[0]), Bits(pair2[0]));
-  EXPECT_EQ(Bits(pair1[1]), Bits(pair2[1]));
-  EXPECT_TRUE(SameRowBits(y1, y2));
-  EXPECT_TRUE(SameRowBits(w1, w2));
-  EXPECT_TRUE(SameRowBits(t1, t2));
-  EXPECT_TRUE(SameRowBits(z1, z2));
+  ExpectSamePairSweepBits(fast, portable, a, x, x2);
   EXPECT_EQ(Bits(fast.MultiplySplit(a.blocks, a.scalars, x, &t1, &z1, &y1)),
             Bits(portable.MultiplySplit(a.blocks, a.scalars, x, &t2, &z2, &y2)));
   EXPECT_TRUE(SameRowBits(y1, y2));
