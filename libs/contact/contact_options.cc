@@ -50,6 +50,8 @@ void ValidateContactOptions(const ContactOptions& o) {
               o.dynamic_enter_fraction <= 1.0,
           "need 0 < dynamic_leave_fraction <= dynamic_enter_fraction <= 1");
   CheckPositive(o.textile_contact_force_N, "textile_contact_force_N");
+  Require(std::isfinite(o.state_filter_s) && o.state_filter_s >= 0.0 && o.state_filter_s <= 1.0,
+          "state_filter_s must be in [0, 1] s");
   Require(std::isfinite(o.pinch_edge_ramp_m) && o.pinch_edge_ramp_m >= 0.0 && o.pinch_edge_ramp_m < 0.005,
           "pinch_edge_ramp_m must be in [0, 0.005) m");
   CheckPositive(o.max_finger_force_N, "max_finger_force_N");

@@ -38,9 +38,11 @@ ContactSolver::ContactSolver(const textile::FabricModel& patch, const ContactOpt
       pinch_(patch, options),
       stiffness_{SecantStiffness(options.max_stiffness_N_per_m, options.stiffness_filter_s),
                  SecantStiffness(options.max_stiffness_N_per_m, options.stiffness_filter_s)},
-      on_textile_{Hysteresis(options.textile_contact_force_N, 0.5 * options.textile_contact_force_N),
-                  Hysteresis(options.textile_contact_force_N, 0.5 * options.textile_contact_force_N)},
-      dynamic_(options.dynamic_enter_fraction, options.dynamic_leave_fraction),
+      on_textile_{FilteredHysteresis(options.textile_contact_force_N, 0.5 * options.textile_contact_force_N,
+                                     options.state_filter_s),
+                  FilteredHysteresis(options.textile_contact_force_N, 0.5 * options.textile_contact_force_N,
+                                     options.state_filter_s)},
+      dynamic_(options.dynamic_enter_fraction, options.dynamic_leave_fraction, options.state_filter_s),
       touching_(0.0, -options.touch_release_gap_m),
       particle_force_W_N_(Eigen::VectorXd::Zero(3 * patch.num_particles)),
       force_particles_(static_cast<std::size_t>(patch.num_particles), 0) {
@@ -162,8 +164,9 @@ const ContactOutput& ContactSolver::Resolve(const textile::FabricState& state) {
   ContactEvidence& ev = output_.evidence;
   for (int f = 0; f < 2; ++f) {
     const double load = one[static_cast<std::size_t>(f)].normal_sum_N + (pinch.active ? pinch.grip_N : 0.0);
-    const bool on = input_[static_cast<std::size_t>(f)].present &&
-                    on_textile_[static_cast<std::size_t>(f)].Update(load);
+    FilteredHysteresis& on_textile = on_textile_[static_cast<std::size_t>(f)];
+    if (!input_[static_cast<std::size_t>(f)].present) on_textile.Reset();  // no history for an absent finger
+    const bool on = input_[static_cast<std::size_t>(f)].present && on_textile.Update(load, dt_s_);
     (f == kThumb ? ev.thumb_on_textile : ev.index_on_textile) = on;
   }
   ev.fingers_touch = touching_.on() || pinch.active;
@@ -176,7 +179,8 @@ const ContactOutput& ContactSolver::Resolve(const textile::FabricState& state) {
     const double total = one[0].normal_sum_N + one[1].normal_sum_N;
     slip_fraction = total > 0.0 ? (one[0].sliding_normal_N + one[1].sliding_normal_N) / total : 0.0;
   }
-  ev.dynamic = dynamic_.Update(slip_fraction);
+  ev.slip_fraction = slip_fraction;
+  ev.dynamic = dynamic_.Update(slip_fraction, dt_s_);
   output_.state = Classify(ev);
 
   // Per finger: force, stiffness, touch.

@@ -120,8 +120,8 @@ class ContactSolver {
   FingerFingerContact finger_finger_;
   PinchContact pinch_;
   std::array<SecantStiffness, 2> stiffness_;
-  std::array<Hysteresis, 2> on_textile_;
-  Hysteresis dynamic_;
+  std::array<FilteredHysteresis, 2> on_textile_;
+  FilteredHysteresis dynamic_;
   Hysteresis touching_;
 
   std::array<FingerInput, 2> input_{};

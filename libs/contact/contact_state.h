@@ -7,6 +7,8 @@
 // | one finger on textile    | IV / V (static / dynamic)            |
 // | both fingers on textile  | VI / VII | VIII       | IX           |
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 
 namespace haptex::contact {
@@ -21,6 +23,9 @@ struct ContactEvidence {
   bool index_on_textile = false;
   bool fingers_touch = false;  ///< directly or through squeezed fabric
   bool dynamic = false;        ///< the friction that matters in this situation slides
+  /// The sliding share of that friction this tick, before the filter and hysteresis that decide
+  /// `dynamic` (ContactOptions::state_filter_s): 0 (all sticks) .. 1 (all slides).
+  double slip_fraction = 0.0;
 };
 
 /// Table 1. One finger on textile while the fingers touch each other (the table's "-") is named
@@ -42,6 +47,39 @@ class Hysteresis {
  private:
   double enter_ = 0.0, leave_ = 0.0;
   bool on_ = false;
+};
+
+/// Hysteresis on a low-passed scalar: y += (1 - exp(-dt / tau)) (x - y), then on above `enter`,
+/// off below `leave`. Thresholds alone let a value that swings across both of them every few
+/// ticks flip the state every few ticks (a hanging fabric bouncing on a resting finger, pinch
+/// samples sticking and slipping in turn); the filter names such a contact by what it does on
+/// average. A clean step still switches within about tau (0.92 tau for a share 0 -> 1 against
+/// 0.6; about 0.1 tau for a load step to 10 times its threshold). tau = 0: no filter. Non-finite
+/// values are skipped (the filter holds).
+class FilteredHysteresis {
+ public:
+  FilteredHysteresis() = default;
+  FilteredHysteresis(double enter, double leave, double time_constant_s)
+      : hysteresis_(enter, leave), time_constant_s_(time_constant_s) {}
+  bool Update(double value, double dt_s) {
+    if (std::isfinite(value)) {
+      filtered_ = time_constant_s_ > 0.0
+                      ? filtered_ + (1.0 - std::exp(-std::max(dt_s, 0.0) / time_constant_s_)) * (value - filtered_)
+                      : value;
+    }
+    return hysteresis_.Update(filtered_);
+  }
+  bool on() const { return hysteresis_.on(); }
+  double filtered() const { return filtered_; }
+  void Reset() {
+    hysteresis_.Reset();
+    filtered_ = 0.0;
+  }
+
+ private:
+  Hysteresis hysteresis_;
+  double time_constant_s_ = 0.0;
+  double filtered_ = 0.0;
 };
 
 }  // namespace haptex::contact

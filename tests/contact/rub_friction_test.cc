@@ -28,7 +28,7 @@ struct RubCase {
 };
 
 struct RubTrace {
-  std::vector<double> t, ratio, friction_ratio, normal;
+  std::vector<double> t, ratio, friction_ratio, normal, slip;
   std::vector<ContactState> state;
 };
 
@@ -56,6 +56,7 @@ RubTrace RunRub(const RubCase& c, bool verbose) {
     trace.ratio.push_back(f.normal_force_N > 0 ? f.tangential_force_N / f.normal_force_N : 0.0);
     trace.normal.push_back(f.normal_force_N);
     trace.state.push_back(out.state);
+    trace.slip.push_back(out.evidence.slip_fraction);
     trace.friction_ratio.push_back(f.friction_normal_N > 0 ? f.friction_tangential_N / f.friction_normal_N : 0.0);
     if (verbose && k % 100 == 0) {
       std::printf("[fig9] t %.2f s state %-2s F_N %.3f N F_T/F_N %.3f (contact-level %.3f), %d particles\n",
@@ -71,13 +72,16 @@ class RubFrictionTest : public ::testing::TestWithParam<RubCase> {};
 TEST_P(RubFrictionTest, StickSlideStick) {
   const RubCase c = GetParam();
   const RubTrace tr = RunRub(c, true);
-  double stick_max = 0.0, slip_t = -1.0, peak = 0.0, peak_t = -1.0, rub_max = 0.0;
+  // The finger slips when its friction does (each finger sticks or slides as a whole: the slip
+  // fraction is 0 or 1); the state names it V within the classifier's filter time.
+  double stick_max = 0.0, slip_t = -1.0, state_v_t = -1.0, peak = 0.0, peak_t = -1.0, rub_max = 0.0;
   double slide_min = 1e9, slide_max = 0.0, slide_friction_min = 1e9, slide_friction_max = 0.0;
   for (std::size_t i = 0; i < tr.t.size(); ++i) {
     const double t = tr.t[i];
     if (t <= kRubStart || t >= kRubEnd) continue;
     rub_max = std::max(rub_max, tr.ratio[i]);
-    if (slip_t < 0.0 && tr.state[i] == ContactState::kV) {
+    if (state_v_t < 0.0 && tr.state[i] == ContactState::kV) state_v_t = t;
+    if (slip_t < 0.0 && tr.slip[i] > 0.5) {
       slip_t = t;
       for (std::size_t j = i > 3 ? i - 3 : 0; j < std::min(tr.t.size(), i + 4); ++j) {
         std::printf("[fig9]   t %.3f s state %-2s F_T/F_N %.4f\n", tr.t[j], ToString(tr.state[j]),
@@ -98,11 +102,13 @@ TEST_P(RubFrictionTest, StickSlideStick) {
       slide_friction_max = std::max(slide_friction_max, tr.friction_ratio[i]);
     }
   }
-  std::printf("[fig9] mu_s %.2f mu_d %.2f: stick max %.3f, peak %.3f at %.3f s, slip at %.3f s, "
-              "sliding %.3f..%.3f (contact-level %.3f..%.3f)\n",
-              c.mu_s, c.mu_d, stick_max, peak, peak_t, slip_t, slide_min, slide_max,
+  std::printf("[fig9] mu_s %.2f mu_d %.2f: stick max %.3f, peak %.3f at %.3f s, slip at %.3f s (named "
+              "V at %.3f s), sliding %.3f..%.3f (contact-level %.3f..%.3f)\n",
+              c.mu_s, c.mu_d, stick_max, peak, peak_t, slip_t, state_v_t, slide_min, slide_max,
               slide_friction_min, slide_friction_max);
   ASSERT_GT(slip_t, kRubStart) << "never slid";
+  ASSERT_GE(state_v_t, slip_t) << "named V before it slid";
+  EXPECT_LE(state_v_t - slip_t, 0.015) << "named V too late";
   EXPECT_GT(slip_t, kRubStart + 0.002) << "no stick phase";
   // Sticking: below mu_s. Breaking away: mu_s +- 5 %. Never above that while rubbing.
   EXPECT_LT(stick_max, c.mu_s);
