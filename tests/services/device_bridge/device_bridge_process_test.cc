@@ -7,10 +7,15 @@
 
 #include <cmath>
 #include <csignal>
+#include <exception>
 #include <fstream>
+#include <iterator>
 #include <optional>
 #include <regex>
 #include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
 #include <thread>
 
 #include "libs/device/grab_protocol.h"
@@ -34,22 +39,59 @@ struct LogRow {
   std::uint32_t host_sequence;  // the bridge's command in force at the mock
 };
 
+// One data line of the force log; false for the header or a malformed line.
+bool ParseLogRow(const std::string& line, LogRow* row) {
+  std::stringstream s(line);
+  std::string cell;
+  std::vector<double> v;
+  try {
+    while (std::getline(s, cell, ',')) v.push_back(std::stod(cell));
+  } catch (const std::exception&) {
+    return false;
+  }
+  if (v.size() != 15) return false;
+  *row = {static_cast<std::int64_t>(v[0]), {v[1], v[2], v[3]}, {v[7], v[8], v[9]}, v[13] != 0,
+          static_cast<std::uint32_t>(v[14])};
+  return true;
+}
+
 std::vector<LogRow> ReadForceLog(const std::string& path) {
   std::vector<LogRow> rows;
   std::ifstream in(path);
   std::string line;
-  std::getline(in, line);  // header
+  LogRow row{};
   while (std::getline(in, line)) {
-    std::stringstream s(line);
-    std::string cell;
-    std::vector<double> v;
-    while (std::getline(s, cell, ',')) v.push_back(std::stod(cell));
-    if (v.size() != 15) continue;
-    rows.push_back({static_cast<std::int64_t>(v[0]), {v[1], v[2], v[3]}, {v[7], v[8], v[9]}, v[13] != 0,
-                    static_cast<std::uint32_t>(v[14])});
+    if (ParseLogRow(line, &row)) rows.push_back(row);
   }
   return rows;
 }
+
+// The rows the mock appended to its force log since the last call (whole lines only: the mock's
+// writer thread appends every 5 ms while the test reads).
+class ForceLogTail {
+ public:
+  explicit ForceLogTail(std::string path) : path_(std::move(path)) {}
+  std::vector<LogRow> Next() {
+    std::ifstream in(path_, std::ios::binary);
+    in.seekg(static_cast<std::streamoff>(offset_));
+    const std::string chunk((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::size_t end = chunk.rfind('\n');
+    std::vector<LogRow> rows;
+    if (end == std::string::npos) return rows;
+    std::stringstream lines(chunk.substr(0, end + 1));
+    std::string line;
+    LogRow row{};
+    while (std::getline(lines, line)) {
+      if (ParseLogRow(line, &row)) rows.push_back(row);
+    }
+    offset_ += end + 1;
+    return rows;
+  }
+
+ private:
+  std::string path_;
+  std::size_t offset_ = 0;
+};
 
 double Norm(const double f[3]) { return std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]); }
 
@@ -224,30 +266,37 @@ TEST_F(DeviceBridgeProcessTest, StatesFlowAndTheForceReachesTheFingerThenZeroOnS
 
 TEST_F(DeviceBridgeProcessTest, ControlZeroForceHoldsAndEnableForceRampsBackIn) {
   Start("grasp");
-  // Windows well past the 0.5 s ramp-in: on a loaded host a stalled bridge loop disarms and
-  // ramps in again (a tick gap), which must not leave the test short of 1 N.
-  SendForce(0, 0, 1.0, 1200ms);  // ramped in
+  // Each phase lasts until the finger felt it, not a fixed window: on a loaded host a stalled
+  // loop (this test's too: the models have a 10 ms TTL) disarms the bridge, which ramps in again
+  // over 0.5 s. That is the safety working; it only delays the phase.
+  ForceLogTail tail(log_);
+  const auto felt = [&](const auto& what, std::chrono::seconds limit) {
+    const auto until = std::chrono::steady_clock::now() + limit;
+    while (std::chrono::steady_clock::now() < until) {
+      SendForce(0, 0, 1.0, 50ms);
+      for (const LogRow& r : tail.Next()) {
+        if (what(Norm(r.thumb_cmd))) return true;
+      }
+    }
+    return false;
+  };
+  const auto at_one_newton = [](double f) { return std::abs(f - 1.0) < 0.01; };
+  ASSERT_TRUE(felt(at_one_newton, 20s)) << "the 1 N model never reached the finger";
   v1::Control control;
   control.set_command(v1::Control::COMMAND_ZERO_FORCE);
   const auto to_bridge_launcher = launcher_->AddPeer("device_bridge", bridge_endpoint_);
   ASSERT_TRUE(launcher_->Send(to_bridge_launcher, control));
-  const std::int64_t zero_sent = SendForce(0, 0, 1.0, 300ms);  // models keep coming: held anyway
-  (void)zero_sent;
+  ASSERT_TRUE(felt([](double f) { return f == 0.0; }, 5s)) << "COMMAND_ZERO_FORCE did not zero the force";
+  // Models keep coming at 1 N: the force is held at zero anyway.
+  SendForce(0, 0, 1.0, 300ms);
+  const std::vector<LogRow> held = tail.Next();
+  EXPECT_GT(held.size(), 100u);
+  for (const LogRow& r : held) ASSERT_EQ(Norm(r.thumb_cmd), 0.0) << "force came back while held";
   control.set_command(v1::Control::COMMAND_ENABLE_FORCE);
   ASSERT_TRUE(launcher_->Send(to_bridge_launcher, control));
-  SendForce(0, 0, 1.0, 1500ms);
+  EXPECT_TRUE(felt(at_one_newton, 20s)) << "COMMAND_ENABLE_FORCE did not ramp the 1 N back in";
   EXPECT_EQ(Stop(*bridge_), 0);
   EXPECT_EQ(Stop(*mock_), 0);
-  const auto rows = ReadForceLog(log_);
-  // three phases in the log: 1 N, then zero while held, then 1 N again
-  int phase = 0;
-  for (const auto& r : rows) {
-    const double f = Norm(r.thumb_cmd);
-    if (phase == 0 && std::abs(f - 1.0) < 0.01) phase = 1;
-    if (phase == 1 && f == 0.0) phase = 2;
-    if (phase == 2 && std::abs(f - 1.0) < 0.01) phase = 3;
-  }
-  EXPECT_EQ(phase, 3) << "expected 1 N, a zero-force hold, then 1 N again";
 }
 
 TEST_F(DeviceBridgeProcessTest, ValidFramesFromAStrangerAreIgnoredAndCounted) {
