@@ -39,8 +39,9 @@ struct ContactOptions {
   double dynamic_leave_fraction = 0.4;
   /// A finger touches the textile when its normal force exceeds this, and stops below half [N].
   double textile_contact_force_N = 0.01;
-  /// Time constant of the low-pass filter on the classifier's evidence (each finger's normal load,
-  /// the slip fraction) before the thresholds above [s], in [0, 1]; 0: none. A contact whose load or slip
+  /// Time constant of the filters on the classifier's evidence before the thresholds above [s], in
+  /// [0, 1]; 0: none. Each finger's normal load: followed at once when it rises, decaying with
+  /// this time constant (a peak hold); the slip fraction: low-passed. A contact whose load or slip
   /// swings across the thresholds every few ticks then keeps one state (contact_state.h).
   double state_filter_s = 0.01;
 

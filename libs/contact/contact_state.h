@@ -54,18 +54,23 @@ class Hysteresis {
 /// ticks flip the state every few ticks (a hanging fabric bouncing on a resting finger, pinch
 /// samples sticking and slipping in turn); the filter names such a contact by what it does on
 /// average. A clean step still switches within about tau (0.92 tau for a share 0 -> 1 against
-/// 0.6; about 0.1 tau for a load step to 10 times its threshold). tau = 0: no filter. Non-finite
-/// values are skipped (the filter holds).
+/// 0.6). With Rise::kAtOnce the filter follows any rise at once and only decays (a peak hold):
+/// a contact is named on its first tick and kept through short gaps, released tau ln(peak /
+/// leave) after its last load. tau = 0: no filter. Non-finite values are skipped (the filter
+/// holds).
 class FilteredHysteresis {
  public:
+  enum class Rise { kFiltered, kAtOnce };
   FilteredHysteresis() = default;
-  FilteredHysteresis(double enter, double leave, double time_constant_s)
-      : hysteresis_(enter, leave), time_constant_s_(time_constant_s) {}
+  FilteredHysteresis(double enter, double leave, double time_constant_s, Rise rise = Rise::kFiltered)
+      : hysteresis_(enter, leave), time_constant_s_(time_constant_s), rise_(rise) {}
   bool Update(double value, double dt_s) {
     if (std::isfinite(value)) {
-      filtered_ = time_constant_s_ > 0.0
-                      ? filtered_ + (1.0 - std::exp(-std::max(dt_s, 0.0) / time_constant_s_)) * (value - filtered_)
-                      : value;
+      if (time_constant_s_ <= 0.0 || (rise_ == Rise::kAtOnce && value >= filtered_)) {
+        filtered_ = value;
+      } else {
+        filtered_ += (1.0 - std::exp(-std::max(dt_s, 0.0) / time_constant_s_)) * (value - filtered_);
+      }
     }
     return hysteresis_.Update(filtered_);
   }
@@ -79,6 +84,7 @@ class FilteredHysteresis {
  private:
   Hysteresis hysteresis_;
   double time_constant_s_ = 0.0;
+  Rise rise_ = Rise::kFiltered;
   double filtered_ = 0.0;
 };
 

@@ -84,6 +84,22 @@ TEST(ContactStateTest, FilteredHysteresisFollowsAStepWithinItsTimeConstant) {
   EXPECT_FALSE(none.Update(0.39, 0.001));
 }
 
+// The load's filter (Rise::kAtOnce): a contact is named on its first tick, kept through gaps of a
+// bouncing contact, and released tau ln(peak / leave) after its last load.
+TEST(ContactStateTest, PeakHoldNamesAtOnceAndReleasesAfterTheDecay) {
+  FilteredHysteresis load(0.01, 0.005, 0.01, FilteredHysteresis::Rise::kAtOnce);
+  EXPECT_FALSE(load.Update(0.009, 0.001));
+  EXPECT_TRUE(load.Update(0.011, 0.001));  // the first tick above the threshold
+  // 50 Hz bounce: 8 ticks at 0.05 N, 12 ticks at 0: held.
+  for (int k = 0; k < 400; ++k) EXPECT_TRUE(load.Update((k % 20) < 8 ? 0.05 : 0.0, 0.001)) << k;
+  for (int k = 0; k < 100; ++k) load.Update(0.1, 0.001);
+  int off_after = -1;
+  for (int k = 1; k <= 100 && off_after < 0; ++k) {
+    if (!load.Update(0.0, 0.001)) off_after = k;
+  }
+  EXPECT_EQ(off_after, 30);  // 10 ms ln(0.1 / 0.005) = 29.96 ms
+}
+
 TEST(ContactStateTest, FilteredHysteresisSkipsNonFiniteValues) {
   FilteredHysteresis h(0.6, 0.4, 0.01);
   for (int k = 0; k < 100; ++k) h.Update(1.0, 0.001);
