@@ -1,7 +1,8 @@
 // haptex-global-sim: the whole fabric (libs/textile) at the scene's global rate, hanging from its
 // stand (paper section 4, the low-rate layer). From the fingers' states it cuts the local patch
 // each finger may touch over the next step and sends it to local_contact; it merges each
-// PatchResult (the patch's new shape) back before stepping, holding that part through the step.
+// PatchResult (the patch's new shape) back before stepping, holding that part through the step
+// (patch_merge.h).
 // With model.patch_refinement, the patch it sends is finer than the fabric (services/common/
 // refined_grid.h); only the fabric's own particles come back from it.
 //
@@ -22,6 +23,7 @@
 #include "libs/textile/fabric_stepper.h"
 #include "services/common/service_context.h"
 #include "services/global_sim/patch_cutter.h"
+#include "services/global_sim/patch_merge.h"
 
 namespace haptex::global_sim {
 namespace {
@@ -70,6 +72,7 @@ int Run(services::ServiceContext& context, const Options& options) {
 
   const int n = cloth.model.num_particles;
   std::vector<int> merged;  // patch interior held through the next step
+  TwoStepVelocity cut_velocity;  // sent with the patch
   merged.reserve(static_cast<std::size_t>(n));
   std::array<FingerSphere, 2> spheres{};
   net::NewestWins newest_states;
@@ -96,45 +99,27 @@ int Run(services::ServiceContext& context, const Options& options) {
                               ToEigen(f.velocity_w_m_per_s()), reach_m, dt, margin_m);
             }
           } else if (e.body_case() == v1::Envelope::kPatchResult) {
-            const v1::PatchResult& r = e.patch_result();
-            const int m = r.particle_ids_size();
-            if (r.position_w_m_size() != 3 * m || r.velocity_w_m_per_s_size() != 3 * m ||
-                r.external_force_w_n_size() != 3 * m) {
+            const int rejected = MergePatchResult(e.patch_result(), static_cast<int>(refined.id_space()), &cloth.state,
+                                                  &merged);
+            if (rejected < 0) {
               ++results_bad;
               return;
             }
-            for (int p : merged) cloth.state.Free(p);  // a newer result replaces the last
-            merged.clear();
-            for (int k = 0; k < m; ++k) {
-              const auto p = static_cast<int>(r.particle_ids(k));
-              const Eigen::Vector3d x(r.position_w_m(3 * k), r.position_w_m(3 * k + 1), r.position_w_m(3 * k + 2));
-              if (p < 0 || p >= static_cast<int>(refined.id_space()) || !x.allFinite()) {
-                ++results_bad;
-                continue;
-              }
-              if (p >= n) continue;  // a refined particle: the local layer's own detail
-              if (cloth.state.mode[static_cast<std::size_t>(p)] != textile::ParticleMode::kFree) continue;
-              // The local layer's shape is newer and finer, and the fingers hold it: it stays
-              // where local_contact put it through the coming global step (its contact forces are
-              // too stiff to apply as loads over a whole global step), the rest relaxes against it.
-              cloth.state.x(p) = x;
-              cloth.state.Fix(p);
-              merged.push_back(p);
-            }
+            results_bad += static_cast<std::uint64_t>(rejected);
             ++results;
           }
         });
 
         loads.Apply(cloth.state.time_s, &cloth.state);
         stepper.Step(&cloth.state);
-        for (int p : merged) cloth.state.Free(p);
-        merged.clear();
+        ReleaseMerged(&cloth.state, &merged);
+        const Eigen::VectorXd& cut_v = cut_velocity.Update(cloth.state.v_W_m_per_s);
         ++step;
 
         if (local) {
           const PatchRect rect = FindPatchRect(cloth.model, cloth.state, spheres);
           if (!rect.empty()) {
-            FillLocalPatch(cloth.model, cloth.state, rect, ++patch_id, step, dt, refined, &patch);
+            FillLocalPatch(cloth.model, cloth.state, cut_v, rect, ++patch_id, step, dt, refined, &patch);
             if (context.Send(*local, patch)) {
               ++patches;
             } else {

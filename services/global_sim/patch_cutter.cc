@@ -50,6 +50,13 @@ PatchRect FindPatchRect(const textile::FabricModel& model, const textile::Fabric
 void FillLocalPatch(const textile::FabricModel& model, const textile::FabricState& state,
                     const PatchRect& rect, std::uint64_t patch_id, std::uint64_t global_step,
                     double global_dt_s, const services::RefinedGrid& refined, v1::LocalPatch* out) {
+  FillLocalPatch(model, state, state.v_W_m_per_s, rect, patch_id, global_step, global_dt_s, refined, out);
+}
+
+void FillLocalPatch(const textile::FabricModel& model, const textile::FabricState& state,
+                    const Eigen::VectorXd& velocity_W_m_per_s, const PatchRect& rect, std::uint64_t patch_id,
+                    std::uint64_t global_step, double global_dt_s, const services::RefinedGrid& refined,
+                    v1::LocalPatch* out) {
   const int nu = model.mesh.particles_warp(), nv = model.mesh.particles_weft();
   const int f = refined.factor;
   out->set_patch_id(patch_id);
@@ -81,7 +88,7 @@ void FillLocalPatch(const textile::FabricModel& model, const textile::FabricStat
         out->add_rest_uv_m(uv.x());
         out->add_rest_uv_m(uv.y());
         for (int k = 0; k < 3; ++k) out->add_position_w_m(state.x_W_m[3 * p + k]);
-        for (int k = 0; k < 3; ++k) out->add_velocity_w_m_per_s(state.v_W_m_per_s[3 * p + k]);
+        for (int k = 0; k < 3; ++k) out->add_velocity_w_m_per_s(velocity_W_m_per_s[3 * p + k]);
         out->add_mass_kg(f == 1 ? model.mass_kg[p] : 0.0);
         const bool prescribed = state.mode[static_cast<std::size_t>(p)] != textile::ParticleMode::kFree;
         out->add_is_border(rect_edge || prescribed);
@@ -99,7 +106,7 @@ void FillLocalPatch(const textile::FabricModel& model, const textile::FabricStat
           if (w[c] == 0.0) continue;
           uv += w[c] * model.mesh.rest_uv_m(corner[c]);
           x += w[c] * state.x(corner[c]);
-          v += w[c] * state.v(corner[c]);
+          v += w[c] * velocity_W_m_per_s.segment<3>(3 * corner[c]);
           all_prescribed = all_prescribed && state.mode[static_cast<std::size_t>(corner[c])] != textile::ParticleMode::kFree;
         }
         out->add_rest_uv_m(uv.x());

@@ -51,5 +51,11 @@ PatchRect FindPatchRect(const textile::FabricModel& model, const textile::Fabric
 void FillLocalPatch(const textile::FabricModel& model, const textile::FabricState& state,
                     const PatchRect& rect, std::uint64_t patch_id, std::uint64_t global_step,
                     double global_dt_s, const services::RefinedGrid& refined, v1::LocalPatch* out);
+/// As above, with the particles' velocities (3n) taken from `velocity_W_m_per_s` instead of the
+/// state's (global_sim sends the velocity over its last two steps: patch_merge.h).
+void FillLocalPatch(const textile::FabricModel& model, const textile::FabricState& state,
+                    const Eigen::VectorXd& velocity_W_m_per_s, const PatchRect& rect, std::uint64_t patch_id,
+                    std::uint64_t global_step, double global_dt_s, const services::RefinedGrid& refined,
+                    v1::LocalPatch* out);
 
 }  // namespace haptex::global_sim

@@ -84,8 +84,13 @@ int HandOff(const PatchRuntime& old, PatchRuntime* fresh) {
     for (int f = 0; f < 2; ++f) {
       fresh->sim->solver().finger_contact(f).SetParticle(p, old.sim->solver().finger_contact(f).particle(q));
     }
+    fresh->force_sum_W_N.segment<3>(3 * p) = old.force_sum_W_N.segment<3>(3 * q);
     ++carried;
   }
+  // The PatchResult cadence is the global step's, not the patch's: the ticks since the last result
+  // carry over, or a patch replaced before a global step's worth of ticks never reports and
+  // global_sim steps with the patch interior free and without the contact forces that hold it.
+  fresh->ticks_since_result = old.ticks_since_result;
   // Pinch samples: the same triangle (same global vertices, same order) in the new patch.
   const contact::PinchContact& old_pinch = old.sim->solver().pinch();
   contact::PinchContact& new_pinch = fresh->sim->solver().pinch();

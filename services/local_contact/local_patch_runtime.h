@@ -38,7 +38,8 @@ std::unique_ptr<PatchRuntime> BuildPatch(const PatchData& data, const textile::F
 /// Carries the local state of `old` into `fresh` by particle id, so the hand-off applies no force
 /// step: positions and velocities of shared free particles (the local ones are newer), and each
 /// finger's per-particle contact (held point, sliding), the pinch samples on triangles both
-/// patches share, and the classifier's hysteresis and stiffness estimates.
+/// patches share, the classifier's hysteresis and stiffness estimates, and the PatchResult
+/// accumulation (ticks since the last result, contact force sums of the shared free particles).
 /// Returns the number of particles carried.
 int HandOff(const PatchRuntime& old, PatchRuntime* fresh);
 

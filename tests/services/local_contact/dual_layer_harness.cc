@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "services/global_sim/patch_merge.h"
 #include "services/local_contact/patch_data.h"
 #include "tests/contact/contact_test_util.h"
 
@@ -58,24 +59,16 @@ DualLayerHarness::DualLayerHarness(const textile::FabricMaterial& material,
 }
 
 void DualLayerHarness::GlobalStep(const contact::FingerInput& thumb, const contact::FingerInput& index) {
-  // Merge the local result: the patch's interior is the local layer's (newer, finer, held by
-  // the fingers). It stays where the local layer put it through the global step (the contact
-  // forces are stiff: applied as loads over a 10 ms step they would throw the fabric); the rest
-  // of the fabric relaxes against it.
-  merged_.clear();
+  // Merge the local result as global_sim does (services/global_sim/patch_merge.h): the patch's
+  // interior is the local layer's (newer, finer, held by the fingers); it is held where the local
+  // layer put it through the global step, the rest of the fabric relaxes against it.
   if (patch_) {
     FillPatchResult(0, patch_.get(), &result_message_);
-    for (int k = 0; k < result_message_.particle_ids_size(); ++k) {
-      const int p = static_cast<int>(result_message_.particle_ids(k));
-      if (p >= global_model_.num_particles) continue;  // refined: the local layer's own detail
-      if (global_state_.mode[static_cast<std::size_t>(p)] != textile::ParticleMode::kFree) continue;
-      for (int c = 0; c < 3; ++c) global_state_.x_W_m[3 * p + c] = result_message_.position_w_m(3 * k + c);
-      global_state_.Fix(p);
-      merged_.push_back(p);
-    }
+    global_sim::MergePatchResult(result_message_, static_cast<int>(refined_.id_space()), &global_state_, &merged_);
   }
   global_stepper_.Step(&global_state_);
-  for (int p : merged_) global_state_.Free(p);
+  global_sim::ReleaseMerged(&global_state_, &merged_);
+  const Eigen::VectorXd& cut_v = cut_velocity_.Update(global_state_.v_W_m_per_s);
 
   const double reach = contact_.thumb.radius_m + 0.5 * contact_.thumb.length_m + contact_.fabric_half_thickness_m;
   std::array<global_sim::FingerSphere, 2> spheres{};
@@ -88,7 +81,7 @@ void DualLayerHarness::GlobalStep(const contact::FingerInput& thumb, const conta
   const global_sim::PatchRect rect = global_sim::FindPatchRect(global_model_, global_state_, spheres);
   if (rect.empty()) return;
   rect_ = rect;
-  global_sim::FillLocalPatch(global_model_, global_state_, rect, ++patch_id_, 0, global_dt_s_, refined_, &patch_message_);
+  global_sim::FillLocalPatch(global_model_, global_state_, cut_v, rect, ++patch_id_, 0, global_dt_s_, refined_, &patch_message_);
   PatchData data(patch_message_.particle_ids_size());
   if (data.CopyFrom(patch_message_, refined_.id_space()) != PatchData::Copy::kOk) {
     return;

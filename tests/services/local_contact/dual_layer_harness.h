@@ -14,6 +14,7 @@
 #include "libs/textile/fabric_stepper.h"
 #include "services/common/refined_grid.h"
 #include "services/global_sim/patch_cutter.h"
+#include "services/global_sim/patch_merge.h"
 #include "services/local_contact/local_patch_runtime.h"
 
 namespace haptex::local_contact::testing {
@@ -64,6 +65,7 @@ class DualLayerHarness {
   global_sim::PatchRect rect_;
   std::unique_ptr<PatchRuntime> patch_;
   std::vector<int> merged_;
+  global_sim::TwoStepVelocity cut_velocity_;
   v1::LocalPatch patch_message_;
   v1::PatchResult result_message_;
   contact::ContactOutput idle_;

@@ -10,6 +10,9 @@
 #include "libs/textile/fabric_model.h"
 #include "libs/textile/kes_material.h"
 #include "tests/contact/contact_test_util.h"
+#include "services/global_sim/patch_cutter.h"
+#include "services/local_contact/local_patch_runtime.h"
+#include "services/local_contact/patch_data.h"
 #include "tests/services/local_contact/dual_layer_harness.h"
 #include "tests/textile/fabric_textproto.h"
 
@@ -74,6 +77,40 @@ TEST(PatchHandoffTest, SlideAcrossPatchBoundariesHasNoForceJumps) {
   // several times more, so this measure sees a hand-off that stops carrying state.
   const SlideResult without = Slide(false);
   EXPECT_LT(2.0 * with.max_jump_N, without.max_jump_N);
+}
+
+// The PatchResult goes out once per global step whatever the patch arrivals do: a hand-off
+// continues the old patch's ticks since the last result and its force sums. (Restarting them made
+// local_contact skip the result whenever the next patch came before a global step's worth of
+// ticks, about every other step in the demo; global_sim then stepped the patch interior free,
+// without the fingers, and the next patch's border came with that spring-back velocity: a
+// 20 ms force oscillation.)
+TEST(PatchHandoffTest, HandOffContinuesThePatchResultAccumulation) {
+  const textile::FabricMaterial material =
+      textile::MaterialFromKes(textile::testing::LoadDatabaseFabric("wang2011_black_denim_11oz"));
+  const textile::FabricModel model = textile::BuildFabricModel(material, {0.04, 0.04, 21, 21});
+  const textile::FabricState state = textile::MakeRestState(model);
+  const services::RefinedGrid refined = services::MakeRefinedGrid(21, 21, 0);
+  const auto build = [&](const global_sim::PatchRect& rect, std::uint64_t id) {
+    v1::LocalPatch message;
+    global_sim::FillLocalPatch(model, state, rect, id, 0, 0.01, refined, &message);
+    PatchData data(message.particle_ids_size());
+    EXPECT_EQ(data.CopyFrom(message, refined.id_space()), PatchData::Copy::kOk);
+    return BuildPatch(data, material, model.options, textile::StepOptions{}, contact::ContactOptions{},
+                      static_cast<int>(refined.id_space()));
+  };
+  auto old_patch = build({4, 12, 4, 12}, 1);
+  auto fresh = build({6, 14, 4, 12}, 2);  // moved two columns: shares columns 7-11 as free
+  const int g = model.mesh.Index(9, 8);
+  const int q = old_patch->local_of_global[static_cast<std::size_t>(g)];
+  const int p = fresh->local_of_global[static_cast<std::size_t>(g)];
+  ASSERT_GE(q, 0);
+  ASSERT_GE(p, 0);
+  old_patch->ticks_since_result = 7;
+  old_patch->force_sum_W_N.segment<3>(3 * q) = V(0.1, -0.2, 0.3);
+  HandOff(*old_patch, fresh.get());
+  EXPECT_EQ(fresh->ticks_since_result, 7);
+  EXPECT_EQ(Eigen::Vector3d(fresh->force_sum_W_N.segment<3>(3 * p)), V(0.1, -0.2, 0.3));
 }
 
 }  // namespace
