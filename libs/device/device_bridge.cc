@@ -127,6 +127,9 @@ void DeviceBridge::Tick(double t_s, double dt_s, std::span<std::byte, kCommandFr
     input.output_allowed =
         !lost && !shutdown_ && !zero_force_hold_ && !estop && !controller_timed_out && !tick_gap &&
         finger.state.valid;
+    // off only for the link's sake: force resumes over the short ramp once commands get through
+    input.link_interruption = !input.output_allowed && (controller_timed_out || tick_gap) && !lost &&
+                              !shutdown_ && !zero_force_hold_ && !estop && finger.state.valid;
     if (finger.has_model) {
       const Eigen::Vector3d& p_W = config_.evaluate_at_predicted_pose ? finger.state.p_pred_W_m
                                                                       : finger.state.p_W_m;

@@ -52,6 +52,10 @@ void ForceSafetyConfig::Validate() const {
           stale_after_s + stale_ramp_s);
   Require(startup_ramp_s >= 0.0 && std::isfinite(startup_ramp_s), "startup_ramp_s",
           "must be >= 0 s", startup_ramp_s);
+  Require(resume_ramp_s >= 0.0 && std::isfinite(resume_ramp_s), "resume_ramp_s", "must be >= 0 s",
+          resume_ramp_s);
+  Require(resume_within_s >= 0.0 && std::isfinite(resume_within_s), "resume_within_s",
+          "must be >= 0 s", resume_within_s);
 }
 
 ForceSafety::ForceSafety(const ForceSafetyConfig& config) : config_(config) { config_.Validate(); }
@@ -61,6 +65,8 @@ void ForceSafety::Reset() {
   previous_W_N_.setZero();
   mean_square_N2_ = 0.0;
   armed_s_ = 0.0;
+  resumable_ = false;
+  interrupted_s_ = 0.0;
 }
 
 double ForceSafety::rms_force_N() const { return std::sqrt(mean_square_N2_); }
@@ -94,11 +100,23 @@ SafetyOutput ForceSafety::Step(const SafetyInput& input, double dt_s) {
   if (watchdog_gain <= 0.0) ++counters_.watchdog_zero_steps;
   if (!input.output_allowed || watchdog_gain <= 0.0) {
     armed_s_ = 0.0;
+    // a brief link interruption of a fully armed stage resumes over resume_ramp_s; anything else
+    // (device lost, stopped, held, a stale model) ramps in over startup_ramp_s
+    interrupted_s_ += dt_s;
+    if (!input.link_interruption || watchdog_gain <= 0.0 ||
+        interrupted_s_ > config_.resume_within_s + kTimeTolerance_s) {
+      resumable_ = false;
+    }
   } else {
     armed_s_ += dt_s;
   }
-  const double startup_gain =
-      config_.startup_ramp_s > 0.0 ? std::min(1.0, armed_s_ / config_.startup_ramp_s) : 1.0;
+  const double ramp_s =
+      resumable_ ? std::min(config_.resume_ramp_s, config_.startup_ramp_s) : config_.startup_ramp_s;
+  const double startup_gain = ramp_s > 0.0 ? std::min(1.0, armed_s_ / ramp_s) : 1.0;
+  if (input.output_allowed && watchdog_gain > 0.0 && armed_s_ >= ramp_s - kTimeTolerance_s) {
+    resumable_ = true;
+    interrupted_s_ = 0.0;
+  }
   const double gain = input.output_allowed ? watchdog_gain * startup_gain : 0.0;
   out.ramping = gain < 1.0;
   target *= gain;

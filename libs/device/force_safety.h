@@ -25,6 +25,16 @@ struct ForceSafetyConfig {
   double stale_after_s = 0.010;      ///< a ForceModel is fresh for min(ttl, this) after arrival
   double stale_ramp_s = 0.010;       ///< then the force ramps linearly to zero over this
   double startup_ramp_s = 0.5;       ///< force scales in linearly over this after (re)arming
+  /// After a brief link interruption (SafetyInput::link_interruption) of a fully armed stage, the
+  /// force scales in over this instead (at most startup_ramp_s): the user still holds the device
+  /// where the force was, and half a second at a fraction of it lets a squeezing user's fingers
+  /// close through the virtual object (a 4 ms host stall in the demo's 2 N pinch: 10 mm, 15 N model
+  /// force; a 20 ms resume still let them close 3-4 mm). 2 N over 5 ms is 400 N/s, a sixth of the
+  /// slew limit: no jump back to the old force.
+  double resume_ramp_s = 0.005;
+  /// Interruptions longer than this (summed until the force is back at full scale) ramp in over
+  /// startup_ramp_s again.
+  double resume_within_s = 0.050;
 
   void Validate() const;
 };
@@ -35,6 +45,9 @@ struct SafetyInput {
   double model_age_s = 0.0;    ///< now minus arrival of the model; +inf if there is none
   double model_ttl_s = 0.0;    ///< the model's own ttl
   bool output_allowed = false; ///< device present, calibrated, not shut down
+  /// Output is off only because the link to the controller hiccupped (the host's own loop stalled,
+  /// or the controller reported that commands stopped reaching it); the device is still there.
+  bool link_interruption = false;
 };
 
 /// Result of one safety step.
@@ -84,6 +97,8 @@ class ForceSafety {
   Eigen::Vector3d previous_W_N_{Eigen::Vector3d::Zero()};
   double mean_square_N2_ = 0.0;
   double armed_s_ = 0.0;
+  bool resumable_ = false;    ///< reached full scale, only brief link interruptions since
+  double interrupted_s_ = 0.0;  ///< time without output since full scale was last reached
 };
 
 }  // namespace haptex::device

@@ -187,12 +187,43 @@ TEST(DeviceBridgeTest, OwnTickGapDisarmsSoForceRampsInAgain) {
   double previous = 0.0;
   for (int k = 0; k < 60; ++k) {
     const double f = tick(kTick_s);
-    EXPECT_LE(f, previous + 3.0 * kTick_s / config.safety.startup_ramp_s + 1e-9) << "tick " << k;
+    // fully armed before the stall: back over resume_ramp_s (5 ms), never a jump
+    EXPECT_LE(f, previous + 3.0 * kTick_s / config.safety.resume_ramp_s + 1e-9) << "tick " << k;
     previous = f;
   }
-  EXPECT_NEAR(previous, 3.0, 1e-9) << "ramped back in over startup_ramp_s";
+  EXPECT_NEAR(previous, 3.0, 1e-9) << "ramped back in over resume_ramp_s";
   config.disarm_after_tick_gap_s = 0.0;
   EXPECT_THROW(DeviceBridge{config}, std::invalid_argument);
+}
+
+// With the scene's half-second start-up ramp, a stall of a running bridge resumes over the short
+// resume ramp (the device is still held where the force was), from zero, never jumping back.
+TEST(DeviceBridgeTest, OwnTickGapWhileArmedResumesOverTheShortRamp) {
+  DeviceBridgeConfig config = FastConfig();
+  config.safety.startup_ramp_s = 0.5;
+  config.safety.resume_ramp_s = 0.02;
+  auto dut = std::make_unique<DeviceBridge>(config);
+  CommandBytes out{};
+  std::uint32_t seq = 0;
+  double t = 0.0;
+  auto tick = [&](double dt_s) {
+    t += dt_s;
+    dut->OnStatusDatagram(Status(++seq, t), t);
+    dut->SetForceModel(Manipulator::kThumb, ConstantForce({2.0, 0.0, 0.0}), t);
+    dut->Tick(t, dt_s, out);
+    return dut->last_force_W_N(Manipulator::kThumb).x();
+  };
+  for (int k = 0; k < 2600; ++k) tick(kTick_s);
+  ASSERT_NEAR(tick(kTick_s), 2.0, 1e-9);
+  EXPECT_EQ(tick(0.005), 0.0) << "the tick after a 5 ms gap commands zero";
+  EXPECT_EQ(dut->counters().tick_gap_disarms, 1u);
+  double previous = 0.0;
+  for (int k = 0; k < 100; ++k) {
+    const double f = tick(kTick_s);
+    EXPECT_LE(f, previous + 2.0 * kTick_s / config.safety.resume_ramp_s + 1e-9) << "tick " << k;
+    previous = f;
+  }
+  EXPECT_NEAR(previous, 2.0, 1e-9) << "back at full force after resume_ramp_s";
 }
 
 TEST(DeviceBridgeTest, NonFiniteForceModelGivesZeroForceAndIsCounted) {

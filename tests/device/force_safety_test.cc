@@ -142,6 +142,55 @@ TEST(ForceSafetyTest, StartupRampScalesForceIn) {
   EXPECT_NEAR(dut.last_force_W_N().x(), 4.0 * kTick_s / 0.5, 1e-9);
 }
 
+// A brief link interruption (host stall, controller host timeout) of a fully armed stage resumes
+// over resume_ramp_s, not the half-second start-up ramp: in the demo's 2 N pinch the start-up ramp
+// after a 4 ms stall let the mock user's fingers close 10 mm (model force 15 N). Other forced
+// zeros, an interruption during the start-up ramp, and long interruptions keep the start-up ramp.
+TEST(ForceSafetyTest, BriefLinkInterruptionResumesOverResumeRamp) {
+  ForceSafetyConfig config;
+  config.startup_ramp_s = 0.5;
+  config.resume_ramp_s = 0.02;
+  config.resume_within_s = 0.05;
+  const Eigen::Vector3d request(2.0, 0.0, 0.0);
+  SafetyInput link = Request(request);
+  link.output_allowed = false;
+  link.link_interruption = true;
+  const auto ticks_to_full = [&](ForceSafety& dut) {
+    for (int k = 1; k <= 5000; ++k) {
+      if (dut.Step(Request(request), kTick_s).force_W_N.x() >= 2.0 - 1e-6) return k;
+    }
+    return -1;
+  };
+  {
+    ForceSafety dut(config);
+    ASSERT_EQ(ticks_to_full(dut), 2500);  // start-up: 0.5 s
+    EXPECT_EQ(dut.Step(link, 0.005).force_W_N, Eigen::Vector3d::Zero());
+    EXPECT_EQ(ticks_to_full(dut), 100) << "resumed over 20 ms";
+    // back-to-back interruptions during the resume ramp keep it short
+    EXPECT_EQ(dut.Step(link, 0.005).force_W_N, Eigen::Vector3d::Zero());
+    for (int k = 0; k < 50; ++k) dut.Step(Request(request), kTick_s);
+    EXPECT_EQ(dut.Step(link, 0.005).force_W_N, Eigen::Vector3d::Zero());
+    EXPECT_EQ(ticks_to_full(dut), 100);
+    // an interruption longer than resume_within_s ramps in over the start-up ramp
+    for (int k = 0; k < 300; ++k) dut.Step(link, kTick_s);  // 60 ms
+    EXPECT_EQ(ticks_to_full(dut), 2500);
+    // any other forced zero too
+    SafetyInput off = Request(request);
+    off.output_allowed = false;
+    dut.Step(off, kTick_s);
+    EXPECT_EQ(ticks_to_full(dut), 2500);
+  }
+  {
+    // an interruption during the start-up ramp restarts the start-up ramp
+    ForceSafety dut(config);
+    for (int k = 0; k < 1000; ++k) dut.Step(Request(request), kTick_s);
+    dut.Step(link, 0.005);
+    EXPECT_EQ(ticks_to_full(dut), 2500);
+  }
+  config.resume_ramp_s = -1.0;
+  EXPECT_THROW(ForceSafety{config}, std::invalid_argument);
+}
+
 void ExpectConfigError(const ForceSafetyConfig& config, const std::string& field) {
   try {
     config.Validate();
