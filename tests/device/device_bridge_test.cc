@@ -162,36 +162,54 @@ TEST(DeviceBridgeTest, ControllerSilenceMeansDeviceLostThenRampsBackIn) {
   EXPECT_LT(first, 3.0);
 }
 
+// A bridge fed a constant thumb force model and a fresh status datagram every tick.
+class ConstantForceBridge {
+ public:
+  ConstantForceBridge(const DeviceBridgeConfig& config, double force_N)
+      : dut_(std::make_unique<DeviceBridge>(config)), force_N_(force_N) {}
+  /// One tick `dt_s` after the last; returns the commanded thumb force along x [N].
+  double Tick(double dt_s) {
+    t_ += dt_s;
+    dut_->OnStatusDatagram(Status(++seq_, t_), t_);
+    dut_->SetForceModel(Manipulator::kThumb, ConstantForce({force_N_, 0.0, 0.0}), t_);
+    dut_->Tick(t_, dt_s, out_);
+    return dut_->last_force_W_N(Manipulator::kThumb).x();
+  }
+  const DeviceBridge& dut() const { return *dut_; }
+  /// After a forced zero: over `ticks` ticks the force rises from zero by at most force / ramp_s
+  /// per second (never a jump) and is back at full force.
+  void ExpectRampsBackIn(double ramp_s, int ticks) {
+    double previous = 0.0;
+    for (int k = 0; k < ticks; ++k) {
+      const double f = Tick(kTick_s);
+      EXPECT_LE(f, previous + force_N_ * kTick_s / ramp_s + 1e-9) << "tick " << k;
+      previous = f;
+    }
+    EXPECT_NEAR(previous, force_N_, 1e-9) << "not back at full force " << ramp_s << " s after";
+  }
+
+ private:
+  std::unique_ptr<DeviceBridge> dut_;
+  double force_N_;
+  CommandBytes out_{};
+  std::uint32_t seq_ = 0;
+  double t_ = 0.0;
+};
+
 // The host stalled 5 ms: the controller has zeroed force by now, though its timeout flag has not
-// reached us. The next command must not jump back to 3 N; it ramps in from zero.
+// reached us. The next command must not jump back to 3 N; it ramps in from zero (fully armed
+// before the stall: over resume_ramp_s, 5 ms).
 TEST(DeviceBridgeTest, OwnTickGapDisarmsSoForceRampsInAgain) {
   DeviceBridgeConfig config = FastConfig();
   config.safety.startup_ramp_s = 0.010;
-  auto dut = std::make_unique<DeviceBridge>(config);
-  CommandBytes out{};
-  std::uint32_t seq = 0;
-  double t = 0.0;
-  auto tick = [&](double dt_s) {
-    t += dt_s;
-    dut->OnStatusDatagram(Status(++seq, t), t);
-    dut->SetForceModel(Manipulator::kThumb, ConstantForce({3.0, 0.0, 0.0}), t);
-    dut->Tick(t, dt_s, out);
-    return dut->last_force_W_N(Manipulator::kThumb).x();
-  };
-  for (int k = 0; k < 100; ++k) tick(kTick_s);
-  ASSERT_NEAR(tick(kTick_s), 3.0, 1e-9);
-  EXPECT_NEAR(tick(0.0035), 3.0, 1e-9) << "a gap shorter than the threshold keeps the force";
-  EXPECT_EQ(dut->counters().tick_gap_disarms, 0u);
-  EXPECT_EQ(tick(0.005), 0.0) << "the tick after a 5 ms gap commands zero";
-  EXPECT_EQ(dut->counters().tick_gap_disarms, 1u);
-  double previous = 0.0;
-  for (int k = 0; k < 60; ++k) {
-    const double f = tick(kTick_s);
-    // fully armed before the stall: back over resume_ramp_s (5 ms), never a jump
-    EXPECT_LE(f, previous + 3.0 * kTick_s / config.safety.resume_ramp_s + 1e-9) << "tick " << k;
-    previous = f;
-  }
-  EXPECT_NEAR(previous, 3.0, 1e-9) << "ramped back in over resume_ramp_s";
+  ConstantForceBridge bridge(config, 3.0);
+  for (int k = 0; k < 100; ++k) bridge.Tick(kTick_s);
+  ASSERT_NEAR(bridge.Tick(kTick_s), 3.0, 1e-9);
+  EXPECT_NEAR(bridge.Tick(0.0035), 3.0, 1e-9) << "a gap shorter than the threshold keeps the force";
+  EXPECT_EQ(bridge.dut().counters().tick_gap_disarms, 0u);
+  EXPECT_EQ(bridge.Tick(0.005), 0.0) << "the tick after a 5 ms gap commands zero";
+  EXPECT_EQ(bridge.dut().counters().tick_gap_disarms, 1u);
+  bridge.ExpectRampsBackIn(config.safety.resume_ramp_s, 60);
   config.disarm_after_tick_gap_s = 0.0;
   EXPECT_THROW(DeviceBridge{config}, std::invalid_argument);
 }
@@ -202,28 +220,12 @@ TEST(DeviceBridgeTest, OwnTickGapWhileArmedResumesOverTheShortRamp) {
   DeviceBridgeConfig config = FastConfig();
   config.safety.startup_ramp_s = 0.5;
   config.safety.resume_ramp_s = 0.02;
-  auto dut = std::make_unique<DeviceBridge>(config);
-  CommandBytes out{};
-  std::uint32_t seq = 0;
-  double t = 0.0;
-  auto tick = [&](double dt_s) {
-    t += dt_s;
-    dut->OnStatusDatagram(Status(++seq, t), t);
-    dut->SetForceModel(Manipulator::kThumb, ConstantForce({2.0, 0.0, 0.0}), t);
-    dut->Tick(t, dt_s, out);
-    return dut->last_force_W_N(Manipulator::kThumb).x();
-  };
-  for (int k = 0; k < 2600; ++k) tick(kTick_s);
-  ASSERT_NEAR(tick(kTick_s), 2.0, 1e-9);
-  EXPECT_EQ(tick(0.005), 0.0) << "the tick after a 5 ms gap commands zero";
-  EXPECT_EQ(dut->counters().tick_gap_disarms, 1u);
-  double previous = 0.0;
-  for (int k = 0; k < 100; ++k) {
-    const double f = tick(kTick_s);
-    EXPECT_LE(f, previous + 2.0 * kTick_s / config.safety.resume_ramp_s + 1e-9) << "tick " << k;
-    previous = f;
-  }
-  EXPECT_NEAR(previous, 2.0, 1e-9) << "back at full force after resume_ramp_s";
+  ConstantForceBridge bridge(config, 2.0);
+  for (int k = 0; k < 2600; ++k) bridge.Tick(kTick_s);
+  ASSERT_NEAR(bridge.Tick(kTick_s), 2.0, 1e-9);
+  EXPECT_EQ(bridge.Tick(0.005), 0.0) << "the tick after a 5 ms gap commands zero";
+  EXPECT_EQ(bridge.dut().counters().tick_gap_disarms, 1u);
+  bridge.ExpectRampsBackIn(config.safety.resume_ramp_s, 100);
 }
 
 TEST(DeviceBridgeTest, NonFiniteForceModelGivesZeroForceAndIsCounted) {
