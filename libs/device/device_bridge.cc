@@ -124,12 +124,11 @@ void DeviceBridge::Tick(double t_s, double dt_s, std::span<std::byte, kCommandFr
   for (std::size_t i = 0; i < kManipulatorCount; ++i) {
     Finger& finger = fingers_[i];
     SafetyInput input;
-    input.output_allowed =
-        !lost && !shutdown_ && !zero_force_hold_ && !estop && !controller_timed_out && !tick_gap &&
-        finger.state.valid;
+    const bool blocked = lost || shutdown_ || zero_force_hold_ || estop || !finger.state.valid;
+    const bool link_hiccup = controller_timed_out || tick_gap;
+    input.output_allowed = !blocked && !link_hiccup;
     // off only for the link's sake: force resumes over the short ramp once commands get through
-    input.link_interruption = !input.output_allowed && (controller_timed_out || tick_gap) && !lost &&
-                              !shutdown_ && !zero_force_hold_ && !estop && finger.state.valid;
+    input.link_interruption = !blocked && link_hiccup;
     if (finger.has_model) {
       const Eigen::Vector3d& p_W = config_.evaluate_at_predicted_pose ? finger.state.p_pred_W_m
                                                                       : finger.state.p_W_m;

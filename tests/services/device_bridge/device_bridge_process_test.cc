@@ -55,17 +55,6 @@ bool ParseLogRow(const std::string& line, LogRow* row) {
   return true;
 }
 
-std::vector<LogRow> ReadForceLog(const std::string& path) {
-  std::vector<LogRow> rows;
-  std::ifstream in(path);
-  std::string line;
-  LogRow row{};
-  while (std::getline(in, line)) {
-    if (ParseLogRow(line, &row)) rows.push_back(row);
-  }
-  return rows;
-}
-
 // The rows the mock appended to its force log since the last call (whole lines only: the mock's
 // writer thread appends every 5 ms while the test reads).
 class ForceLogTail {
@@ -92,6 +81,9 @@ class ForceLogTail {
   std::string path_;
   std::size_t offset_ = 0;
 };
+
+// The whole force log (the mock has stopped: every line is whole).
+std::vector<LogRow> ReadForceLog(const std::string& path) { return ForceLogTail(path).Next(); }
 
 double Norm(const double f[3]) { return std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]); }
 
