@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "launch/force_log_reader.h"
 #include "launch/trace_export.h"
 
 extern char** environ;
@@ -82,34 +83,17 @@ std::string RomanState(int state) {
 }
 
 std::optional<ForceLog> ReadForceLog(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) return std::nullopt;
+  const std::vector<device::ForceLogRow> rows = ReadForceLogRows(path);
+  if (rows.empty()) return std::nullopt;
   ForceLog log;
-  std::string line;
-  std::getline(in, line);  // header
-  double t0 = 0;
-  std::vector<double> v;
-  while (std::getline(in, line)) {
-    v.clear();
-    std::stringstream s(line);
-    std::string cell;
-    while (std::getline(s, cell, ',')) {
-      try {
-        v.push_back(std::stod(cell));
-      } catch (const std::exception&) {
-        break;
-      }
-    }
-    if (v.size() != 15) continue;  // a row cut short by a kill
-    if (log.t_s.empty()) t0 = v[0];
-    log.t_s.push_back((v[0] - t0) * 1e-9);
+  for (const device::ForceLogRow& row : rows) {
+    log.t_s.push_back(static_cast<double>(row.time_ns - rows.front().time_ns) * 1e-9);
     for (int f = 0; f < 2; ++f) {
-      const double n = Norm3(v[1 + 6 * f], v[2 + 6 * f], v[3 + 6 * f]);
-      log.commanded[f].push_back(n);
-      Accumulate(&log.stats[f], n);
+      const double n = row.CommandedNormN(f);
+      log.commanded[static_cast<std::size_t>(f)].push_back(n);
+      Accumulate(&log.stats[static_cast<std::size_t>(f)], n);
     }
   }
-  if (log.t_s.empty()) return std::nullopt;
   return log;
 }
 

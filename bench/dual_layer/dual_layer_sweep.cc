@@ -1,4 +1,4 @@
-// The speed/accuracy trade of the dual layer (issue 6). The scripted pinch and stretch of the
+// The speed/accuracy trade of the dual layer. The scripted pinch and stretch of the
 // consistency test runs through the dual layer for each setting of the dials (local rate, patch
 // margin, global mesh, patch refinement), and once as the
 // reference (the whole strip as one simulation at 5 kHz on the finest mesh). Prints a table and
@@ -18,10 +18,11 @@
 #include "libs/contact/patch_simulation.h"
 #include "libs/textile/fabric_model.h"
 #include "libs/textile/kes_material.h"
-#include "tests/services/local_contact/dual_layer_harness.h"
+#include "libs/dual_layer/dual_layer_sim.h"
+#include "libs/dual_layer/pinch_stretch_strip.h"
 #include "tests/textile/textile_test_util.h"
 
-namespace haptex::local_contact {
+namespace haptex::dual_layer {
 namespace {
 
 using V = Eigen::Vector3d;
@@ -52,7 +53,7 @@ Eigen::VectorXd CoarseShape(const textile::FabricModel& model, const textile::Fa
 }
 
 Run Reference(const textile::FabricMaterial& material, const contact::ContactOptions& o) {
-  testing::Strip s = testing::PinchStretchStrip(material, 0.002);
+  Strip s = PinchStretchStrip(material, 0.002);
   textile::StepOptions step;
   step.dt_s = 0.0002;
   step.cg_tolerance = 1e-4;
@@ -61,7 +62,7 @@ Run Reference(const textile::FabricMaterial& material, const contact::ContactOpt
   Run run;
   const int ticks = static_cast<int>(kEnd / step.dt_s + 0.5);
   for (int k = 1; k <= ticks; ++k) {
-    const auto f = testing::PinchStretchFingers(k * step.dt_s, o);
+    const auto f = PinchStretchFingers(k * step.dt_s, o);
     const contact::ContactOutput& out = sim.Tick(f[0], f[1]);
     if (k % 50 == 0) run.force.push_back(out.finger[0].force_W_N.z() + out.finger[1].force_W_N.z());
   }
@@ -71,16 +72,16 @@ Run Reference(const textile::FabricMaterial& material, const contact::ContactOpt
 
 Run Dual(const textile::FabricMaterial& material, const contact::ContactOptions& o, double local_hz,
          double margin_m, double spacing_m, int refinement) {
-  testing::Strip s = testing::PinchStretchStrip(material, spacing_m);
+  Strip s = PinchStretchStrip(material, spacing_m);
   const double local_dt = 1.0 / local_hz;
-  testing::DualLayerHarness dual(material, s.model, s.state, 0.01, local_dt, o, margin_m, refinement);
+  DualLayerSim dual(material, s.model, s.state, 0.01, local_dt, o, margin_m, refinement);
   Run run;
   const int ticks = static_cast<int>(kEnd / local_dt + 0.5);
   const int per_global = static_cast<int>(std::lround(0.01 / local_dt));
   const int per_sample = static_cast<int>(std::lround(0.01 / local_dt));
   double local_s = 0.0, global_s = 0.0;
   for (int k = 1; k <= ticks; ++k) {
-    const auto f = testing::PinchStretchFingers(k * local_dt, o);
+    const auto f = PinchStretchFingers(k * local_dt, o);
     const auto t0 = Clock::now();
     const contact::ContactOutput& out = dual.Tick(f[0], f[1]);
     const double dt_s = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -97,11 +98,11 @@ Run Dual(const textile::FabricMaterial& material, const contact::ContactOptions&
 }
 
 }  // namespace
-}  // namespace haptex::local_contact
+}  // namespace haptex::dual_layer
 
 int main(int argc, char** argv) {
   using namespace haptex;
-  using namespace haptex::local_contact;
+  using namespace haptex::dual_layer;
   std::string out = "dual_layer_sweep.csv";
   for (int i = 1; i + 1 < argc; ++i) {
     if (std::strcmp(argv[i], "--out") == 0) out = argv[i + 1];

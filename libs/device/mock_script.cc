@@ -286,4 +286,16 @@ const char* DemoPhaseName(DemoPhase phase) {
   return "unknown";
 }
 
+ScriptKind ScriptKindFromName(const std::string& name) {
+  if (name == "idle") return ScriptKind::kIdle;
+  if (name == "approach") return ScriptKind::kApproachAndTouch;
+  if (name == "grasp") return ScriptKind::kGraspAndSqueeze;
+  if (name == "pinch") return ScriptKind::kPinchAndStretch;
+  if (name == "rub") return ScriptKind::kRub;
+  if (name == "lift") return ScriptKind::kLift;
+  if (name == "playback") return ScriptKind::kPlayback;
+  if (name == "demo") return ScriptKind::kDemo;
+  throw std::invalid_argument("unknown script '" + name + "' (idle, approach, grasp, pinch, rub, lift, playback or demo)");
+}
+
 }  // namespace haptex::device

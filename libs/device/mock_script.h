@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "libs/device/grab_protocol.h"
@@ -50,10 +51,10 @@ struct ScriptParams {
   double press_duration_s = 0.3;      ///< touching -> pressed by press_depth_m
   double press_depth_m = 0.004;       ///< target beyond the fabric plane (how hard the user presses)
   Manipulator touch_finger = Manipulator::kThumb;  ///< which finger kApproachAndTouch uses
-  Eigen::Vector3d stretch_D_m{0.020, 0.0, 0.0};    ///< kPinchAndStretch displacement
+  Eigen::Vector3d stretch_D_m{0.010, 0.0, 0.0};    ///< kPinchAndStretch displacement
   double stretch_duration_s = 1.0;
   Eigen::Vector3d rub_direction_D{1.0, 0.0, 0.0};  ///< kRub slide direction (unit, in the fabric)
-  double rub_amplitude_m = 0.005;
+  double rub_amplitude_m = 0.010;
   double rub_frequency_Hz = 2.0;
   double lift_height_m = 0.030;       ///< kLift, along +z of D
   double lift_duration_s = 1.0;
@@ -70,6 +71,10 @@ struct ScriptParams {
 
   void Validate() const;
 };
+
+/// The kind a name on the command line means: idle, approach, grasp, pinch, rub, lift, playback or
+/// demo. @throws std::invalid_argument naming the choices for anything else.
+ScriptKind ScriptKindFromName(const std::string& name);
 
 /// Target position and velocity of each finger (index by Manipulator), frame D.
 struct FingerTargets {

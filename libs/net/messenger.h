@@ -56,6 +56,11 @@ class Messenger final {
     const std::size_t bytes = sealer_.Seal(body, SteadyNowNs(), send_buffer_);
     return Transmit(bytes, to);
   }
+  /// Same, for a body chosen at run time (`body_field_number`: its field in the Envelope oneof).
+  bool SendBody(PeerId peer, const google::protobuf::MessageLite& body, int body_field_number) {
+    const std::size_t bytes = sealer_.SealBody(body, body_field_number, SteadyNowNs(), send_buffer_);
+    return Transmit(bytes, peers_[peer].endpoint);
+  }
 
   /// Receives waiting datagrams, at most max_datagrams of them (accepted or dropped), and calls
   /// handler(const v1::Envelope&, const Endpoint& from) for each accepted one. The Envelope is

@@ -4,32 +4,24 @@
 #include <limits>
 #include <stdexcept>
 
+#include "libs/codec/message_conversion.h"
 #include "libs/scene/fabric_conversion.h"
+#include "libs/scene/scene_defaults.h"
 #include "libs/textile/external_force.h"
 
 namespace haptex::scene {
-namespace {
-
-template <class T>
-T Or(T value, T fallback) {
-  return value == T{} ? fallback : value;
-}
-
-}  // namespace
-
 ClothSetup MakeClothSetup(const LoadedScene& loaded) {
   const v1::Scene& scene = loaded.scene;
   const v1::ClothGeometry& cloth = scene.cloth();
   ClothSetup setup;
   setup.material = textile::MaterialFromKes(ToKesFabric(loaded.fabric));
 
-  setup.grid.length_warp_m = Or(cloth.width_m(), 0.20);
-  setup.grid.width_weft_m = Or(cloth.height_m(), 0.20);
-  setup.grid.particles_warp = static_cast<int>(Or(cloth.particles_u(), 41u));
-  setup.grid.particles_weft = static_cast<int>(Or(cloth.particles_v(), 41u));
+  setup.grid.length_warp_m = ClothWidthM(cloth);
+  setup.grid.width_weft_m = ClothHeightM(cloth);
+  setup.grid.particles_warp = ClothParticlesU(cloth);
+  setup.grid.particles_weft = ClothParticlesV(cloth);
 
-  const Eigen::Vector3d stand(cloth.stand_position_w_m().x(), cloth.stand_position_w_m().y(),
-                              cloth.stand_position_w_m().z());
+  const Eigen::Vector3d stand = codec::ToEigen(cloth.stand_position_w_m());
   setup.placement.origin_W = stand - Eigen::Vector3d(setup.grid.length_warp_m / 2, 0, 0);
   setup.placement.axis_u_W = Eigen::Vector3d::UnitX();
   const bool flat = cloth.mounting() == v1::ClothGeometry::MOUNTING_FLAT_LEDGE;
@@ -78,8 +70,7 @@ ClothSetup MakeClothSetup(const LoadedScene& loaded) {
   step.method = m.global_integrator() == v1::ModelOptions::INTEGRATOR_SEMI_IMPLICIT
                     ? textile::Integrator::kSymplecticEuler
                     : textile::Integrator::kImplicitEuler;
-  const double global_hz = Or(scene.rates().global_hz(), 100.0);
-  step.dt_s = Or(m.global_dt_s(), 1.0 / global_hz);
+  step.dt_s = OrDefault(m.global_dt_s(), 1.0 / GlobalRateHz(scene));
   if (m.cg_tolerance() > 0) step.cg_tolerance = m.cg_tolerance();
   if (m.cg_max_iterations() > 0) step.cg_max_iterations = static_cast<int>(m.cg_max_iterations());
   if (m.substeps() > 0) step.substeps = static_cast<int>(m.substeps());

@@ -51,12 +51,11 @@ void CheckCloth(const v1::ClothGeometry& cloth, const FieldLocator& at, Checker&
   c.ZeroOrRange(cloth, "height_m", cloth.height_m(), 0.01, 5.0, "m", at);
   c.ZeroOrRange(cloth, "particles_u", cloth.particles_u(), 2, 401, "particles", at);
   c.ZeroOrRange(cloth, "particles_v", cloth.particles_v(), 2, 401, "particles", at);
-  const double height = cloth.height_m() == 0 ? 0.20 : cloth.height_m();
+  const double height = ClothHeightM(cloth);
   if (cloth.mounting() == v1::ClothGeometry::MOUNTING_FLAT_LEDGE) {
     c.Range(cloth, "ledge_v_m", cloth.ledge_v_m(), 1e-3, height, "m (must lie on the cloth)", at);
   }
-  const std::uint64_t count = std::uint64_t{cloth.particles_u() ? cloth.particles_u() : 41} *
-                              (cloth.particles_v() ? cloth.particles_v() : 41);
+  const auto count = static_cast<std::uint64_t>(ClothParticlesU(cloth)) * static_cast<std::uint64_t>(ClothParticlesV(cloth));
   for (int i = 0; i < cloth.fixed_particles_size(); ++i) {
     if (cloth.fixed_particles(i) >= count) {
       c.Add(at.At(cloth, "fixed_particles", i,
@@ -77,8 +76,8 @@ void CheckVec(const Message& parent, const char* field, const v1::Vec3& v, doubl
 }
 
 void CheckLoads(const v1::Scene& scene, const FieldLocator& where, Checker& c) {
-  const std::uint64_t particles = std::uint64_t{scene.cloth().particles_u() ? scene.cloth().particles_u() : 41} *
-                                  (scene.cloth().particles_v() ? scene.cloth().particles_v() : 41);
+  const auto particles = static_cast<std::uint64_t>(ClothParticlesU(scene.cloth())) *
+                         static_cast<std::uint64_t>(ClothParticlesV(scene.cloth()));
   for (int i = 0; i < scene.loads_size(); ++i) {
     const v1::Load& load = scene.loads(i);
     const FieldLocator at = where.Nested(scene, "loads", i);

@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "libs/scene/scene_defaults.h"
 #include "libs/tactile/grey_image.h"
 #include "libs/tactile/periodicity.h"
 
@@ -91,6 +92,12 @@ VirtualFabric BuildVirtualFabric(const v1::Fabric& fabric, const TactileSurfaceO
   tactile::HeightMap map = tactile::GenerateWeave(TactileWeave(fabric, o));
   tactile::PeriodicTile tile = tactile::AnalysePeriodicity(map);
   return {std::move(map), std::move(tile)};
+}
+
+tactile::RendererConfig RendererConfigFromScene(const v1::Scene& scene) {
+  tactile::RendererConfig config;
+  config.display_rate_hz = OrDefault(scene.tactile().display_rate_hz(), config.display_rate_hz);
+  return config;
 }
 
 }  // namespace haptex::scene

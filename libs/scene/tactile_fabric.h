@@ -8,6 +8,7 @@
 #include "haptex/v1/fabric.pb.h"
 #include "haptex/v1/scene.pb.h"
 #include "libs/tactile/height_map.h"
+#include "libs/tactile/pin_renderer.h"
 #include "libs/tactile/periodic_tile.h"
 #include "libs/tactile/weave_surface.h"
 
@@ -39,5 +40,9 @@ struct VirtualFabric {
 
 /// The height map (weave or image, scaled to the SMD) and its periodic tile.
 VirtualFabric BuildVirtualFabric(const v1::Fabric& fabric, const TactileSurfaceOverrides& overrides);
+
+/// The renderer's configuration: tactile::RendererConfig's, with the scene's display rate where
+/// given.
+tactile::RendererConfig RendererConfigFromScene(const v1::Scene& scene);
 
 }  // namespace haptex::scene

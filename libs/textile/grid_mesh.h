@@ -14,8 +14,8 @@ namespace haptex::textile {
 struct GridSpec {
   double length_warp_m = 0.2;  ///< extent along u (warp)
   double width_weft_m = 0.2;   ///< extent along v (weft)
-  int particles_warp = 21;     ///< particles along u (>= 2)
-  int particles_weft = 21;     ///< particles along v (>= 2)
+  int particles_warp = 41;     ///< particles along u (>= 2)
+  int particles_weft = 41;     ///< particles along v (>= 2)
 };
 
 /// A hinge: interior edge (c, d) shared by triangles (a, c, d) and (b, d, c).

@@ -17,6 +17,8 @@
 #include <string_view>
 #include <thread>
 
+#include <google/protobuf/message_lite.h>
+
 #include "libs/net/envelope_body.h"
 
 namespace haptex::services {
@@ -39,10 +41,14 @@ class EnvelopeRecorder final {
   /// False when it was dropped (ring full, or larger than kMaxRecordBytes).
   template <class Body>
   bool Record(const Body& body, std::int64_t send_time_ns) {
+    return RecordBody(body, net::EnvelopeBody<Body>::kFieldNumber, send_time_ns);
+  }
+  /// Same, for a body chosen at run time (`body_field_number`: its field in the Envelope oneof).
+  bool RecordBody(const google::protobuf::MessageLite& body, int body_field_number, std::int64_t send_time_ns) {
     const std::size_t body_bytes = body.ByteSizeLong();
     std::uint8_t* slot = ClaimSlot(body_bytes);
     if (slot == nullptr) return false;
-    std::uint8_t* at = WriteHeader(slot, net::EnvelopeBody<Body>::kFieldNumber, body_bytes, send_time_ns);
+    std::uint8_t* at = WriteHeader(slot, body_field_number, body_bytes, send_time_ns);
     at = body.SerializeWithCachedSizesToArray(at);
     Commit(static_cast<std::size_t>(at - slot));
     return true;

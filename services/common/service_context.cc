@@ -38,6 +38,7 @@ ServiceContext::ServiceContext(std::string name, const ServiceOptions& options)
     const auto [peer_name, address] = ParsePeer(text);
     peers_.emplace_back(peer_name, messenger_->AddPeer(peer_name, address));
   }
+  dropped_counter_ = health_.AddCounter("datagrams_dropped");
   if (!options.record_path.empty()) {
     recorder_ = std::make_unique<EnvelopeRecorder>(options.record_path, name_, messenger_->identity().epoch,
                                                    messenger_->identity().session_id);
@@ -54,20 +55,26 @@ ServiceContext::ServiceContext(std::string name, const ServiceOptions& options)
 
 ServiceContext::~ServiceContext() = default;
 
-std::optional<net::Messenger::PeerId> ServiceContext::FindPeer(const std::string& name) const {
+std::optional<PeerId> ServiceContext::FindPeer(std::string_view name) const {
   for (const auto& [peer_name, id] : peers_) {
     if (peer_name == name) return id;
   }
   return std::nullopt;
 }
 
-net::Messenger::PeerId ServiceContext::RequirePeer(const std::string& name) const {
+PeerId ServiceContext::RequirePeer(std::string_view name) const {
   if (const auto id = FindPeer(name)) return *id;
-  throw std::invalid_argument(name_ + " needs --peer " + name + "=HOST:PORT");
+  throw std::invalid_argument(name_ + " needs --peer " + std::string(name) + "=HOST:PORT");
+}
+
+bool ServiceContext::SendBody(PeerId peer, const google::protobuf::MessageLite& body, int body_field_number) {
+  if (recorder_) recorder_->RecordBody(body, body_field_number, net::Messenger::SteadyNowNs());
+  return messenger_->SendBody(peer, body, body_field_number);
 }
 
 void ServiceContext::Tick(std::int64_t now_ns) {
   if (!health_publisher_) return;
+  health_.SetCounter(dropped_counter_, messenger_->received().TotalDropped());
   if (recorder_) health_.SetCounter(record_dropped_counter_, recorder_->dropped());
   if (health_publisher_->MaybePublish(now_ns) && recorder_) {
     // the Health just sent, rebuilt into the same message (no allocation)

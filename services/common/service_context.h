@@ -1,13 +1,16 @@
 #pragma once
 // What every service process has: its name, logger, scene, authenticated messenger with named
-// peers, Health to the launcher, Control handling and shutdown. The service's own loop stays in
-// its main(); this class holds the wiring so each service stays thin.
+// peers, Health to the launcher, Control handling and shutdown. It is the loops' Outbox: what a
+// loop sends goes out through the messenger and, with --record, into the run's recording. The
+// service's work lives in its loop object (services/<service>/<service>_loop.h); this class holds
+// the wiring so each main stays thin.
 
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "libs/net/messenger.h"
 #include "libs/runtime/health_publisher.h"
@@ -15,6 +18,7 @@
 #include "libs/runtime/rt_event_log.h"
 #include "libs/scene/scene_loader.h"
 #include "services/common/envelope_recorder.h"
+#include "services/common/outbox.h"
 #include "services/common/service_options.h"
 
 namespace spdlog {
@@ -23,7 +27,7 @@ class logger;
 
 namespace haptex::services {
 
-class ServiceContext final {
+class ServiceContext final : public Outbox {
  public:
   /// Sets up logging, loads the scene, the key and the messenger, and adds the peers. Throws
   /// std::invalid_argument (bad options) or scene::TextProtoError (bad scene).
@@ -42,19 +46,12 @@ class ServiceContext final {
   /// The recorder of --record, or nullptr.
   EnvelopeRecorder* recorder() { return recorder_.get(); }
 
-  /// Sends `body` to `peer` through the messenger and, with --record, records it (no allocation,
-  /// no blocking). Services send through this so that their run is recorded.
-  template <class Body>
-  bool Send(net::Messenger::PeerId peer, const Body& body) {
-    if (recorder_) recorder_->Record(body, net::Messenger::SteadyNowNs());
-    return messenger_->Send(peer, body);
-  }
-
-  std::optional<net::Messenger::PeerId> FindPeer(const std::string& name) const;
+  std::optional<PeerId> FindPeer(std::string_view name) const;
   /// Throws std::invalid_argument naming the missing --peer.
-  net::Messenger::PeerId RequirePeer(const std::string& name) const;
+  PeerId RequirePeer(std::string_view name) const;
 
-  /// Call once per loop iteration: sends Health when due (no allocation once warmed up).
+  /// Call once per loop iteration: sends Health when due (no allocation once warmed up), with
+  /// the messenger's dropped datagrams as `datagrams_dropped`.
   void Tick(std::int64_t now_ns);
   enum class ControlResult { kNotControl, kForOthers, kForUs };
   /// Handles a Control: kForUs when addressed to this service (or to all), which also records it
@@ -65,6 +62,13 @@ class ServiceContext final {
   /// The last Control command received for us (COMMAND_UNSPECIFIED when none).
   v1::Control::Command last_command() const { return last_command_; }
   std::int64_t start_ns() const { return start_ns_; }
+  /// Seconds from this service's start to `now_ns` (the steady clock): the loops' time base.
+  double SecondsSinceStart(std::int64_t now_ns) const { return static_cast<double>(now_ns - start_ns_) * 1e-9; }
+
+ protected:
+  /// Sends `body` through the messenger and, with --record, records it (no allocation, no
+  /// blocking): everything a service sends goes through here so that its run is recorded.
+  bool SendBody(PeerId peer, const google::protobuf::MessageLite& body, int body_field_number) override;
 
  private:
   std::string name_;
@@ -78,6 +82,7 @@ class ServiceContext final {
   std::unique_ptr<runtime::HealthPublisher> health_publisher_;
   std::unique_ptr<EnvelopeRecorder> recorder_;
   runtime::HealthReporter::CounterId record_dropped_counter_ = 0;
+  runtime::HealthReporter::CounterId dropped_counter_ = 0;  // datagrams the messenger dropped, every reason
   std::int64_t start_ns_;
   std::int64_t stop_at_ns_;
   bool shutdown_commanded_ = false;

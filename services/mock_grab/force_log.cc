@@ -1,5 +1,6 @@
 #include "services/mock_grab/force_log.h"
 
+#include <array>
 #include <chrono>
 #include <stdexcept>
 
@@ -7,9 +8,7 @@ namespace haptex::mock_grab {
 
 ForceLog::ForceLog(const std::string& path) : out_(path) {
   if (!out_) throw std::runtime_error("cannot write force log " + path);
-  out_ << "time_ns,thumb_cmd_x,thumb_cmd_y,thumb_cmd_z,thumb_applied_x,thumb_applied_y,thumb_applied_z,"
-          "index_cmd_x,index_cmd_y,index_cmd_z,index_applied_x,index_applied_y,index_applied_z,"
-          "host_timed_out,host_sequence\n";
+  out_ << device::kForceLogHeader << '\n';
   writer_ = std::thread([this] {
     while (!stop_.load(std::memory_order_acquire)) {
       WriteWaiting();
@@ -25,20 +24,14 @@ ForceLog::~ForceLog() {
   out_.flush();
 }
 
-void ForceLog::Push(const ForceSample& sample) {
-  if (!ring_.TryPush(sample)) dropped_.fetch_add(1, std::memory_order_relaxed);
+void ForceLog::Push(const device::ForceLogRow& row) {
+  if (!ring_.TryPush(row)) dropped_.fetch_add(1, std::memory_order_relaxed);
 }
 
 void ForceLog::WriteWaiting() {
-  ForceSample s;
-  while (ring_.TryPop(&s)) {
-    out_ << s.time_ns;
-    for (int f = 0; f < 2; ++f) {
-      for (int k = 0; k < 3; ++k) out_ << ',' << s.commanded_N[f][k];
-      for (int k = 0; k < 3; ++k) out_ << ',' << s.applied_N[f][k];
-    }
-    out_ << ',' << (s.host_timed_out ? 1 : 0) << ',' << s.host_sequence << '\n';
-  }
+  device::ForceLogRow row;
+  std::array<char, device::kForceLogLineBytes> line{};
+  while (ring_.TryPop(&row)) out_.write(line.data(), static_cast<std::streamsize>(device::FormatForceLogRow(row, line)));
 }
 
 }  // namespace haptex::mock_grab

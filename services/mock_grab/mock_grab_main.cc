@@ -1,26 +1,20 @@
 // haptex-mock-grab: a stand-in for the GRAB controller. Speaks the controller side of the GRAB
 // protocol (docs/grab-protocol.md) at 5 kHz on its own UDP socket: two simulated fingertips
 // pulled by an artificial user along a script and pushed by the forces the host commands, with
-// the real controller's quantisation, sensor noise, workspace limits and host watchdog.
+// the real controller's quantisation, sensor noise, workspace limits and host watchdog
+// (MockGrabLoop).
 //
 // GRAB socket: receives CommandFrames, sends StatusFrames to --bridge.
 // haptex socket: receives Control; sends Health to the launcher.
 
 #include <spdlog/spdlog.h>
 
-#include <array>
-#include <cstddef>
 #include <iostream>
-#include <memory>
 
-#include "libs/device/mock_grab_controller.h"
-#include "libs/device/trajectory_csv.h"
-#include "libs/net/udp_address.h"
-#include "libs/net/udp_endpoint.h"
-#include "libs/runtime/clock.h"
-#include "libs/runtime/periodic_loop.h"
-#include "services/common/service_context.h"
-#include "services/mock_grab/force_log.h"
+#include "services/common/device_link.h"
+#include "services/common/run_loop.h"
+#include "services/mock_grab/mock_grab_loop.h"
+#include "services/mock_grab/mock_user.h"
 
 namespace haptex::mock_grab {
 namespace {
@@ -31,180 +25,44 @@ struct Options {
   std::string script;  // empty: the scene's, else idle; the scene's parameters apply either way
   std::string playback_csv;
   std::string force_log;
-  double rate_hz = 5000;
+  double rate_hz = device::kControllerRate_Hz;
   std::uint64_t seed = 1;
 };
-
-device::ScriptKind KindFromName(const std::string& name) {
-  if (name == "idle") return device::ScriptKind::kIdle;
-  if (name == "approach") return device::ScriptKind::kApproachAndTouch;
-  if (name == "grasp") return device::ScriptKind::kGraspAndSqueeze;
-  if (name == "pinch") return device::ScriptKind::kPinchAndStretch;
-  if (name == "rub") return device::ScriptKind::kRub;
-  if (name == "lift") return device::ScriptKind::kLift;
-  if (name == "playback") return device::ScriptKind::kPlayback;
-  if (name == "demo") return device::ScriptKind::kDemo;
-  throw std::invalid_argument("unknown script '" + name +
-                              "' (idle, approach, grasp, pinch, rub, lift, playback or demo)");
-}
-
-device::ScriptKind KindFromScene(v1::MockUserScript::Kind kind) {
-  switch (kind) {
-    case v1::MockUserScript::KIND_APPROACH_AND_TOUCH: return device::ScriptKind::kApproachAndTouch;
-    case v1::MockUserScript::KIND_GRASP_AND_SQUEEZE: return device::ScriptKind::kGraspAndSqueeze;
-    case v1::MockUserScript::KIND_PINCH_AND_STRETCH: return device::ScriptKind::kPinchAndStretch;
-    case v1::MockUserScript::KIND_RUB: return device::ScriptKind::kRub;
-    case v1::MockUserScript::KIND_LIFT: return device::ScriptKind::kLift;
-    case v1::MockUserScript::KIND_PLAYBACK: return device::ScriptKind::kPlayback;
-    case v1::MockUserScript::KIND_DEMO: return device::ScriptKind::kDemo;
-    default: return device::ScriptKind::kIdle;
-  }
-}
-
-double Or(double value, double fallback) { return value > 0 ? value : fallback; }
-
-// The scene's fabric and user, in D. Frame D = W until the scene carries the device's pose
-// (the bridge runs with DeviceBridgeConfig::X_WD = identity), so the geometry is W's: the thumb
-// is on the front of the fabric, the user's side (+y for a hanging fabric, above a flat one).
-void ApplyScene(const v1::Scene& scene, const device::MockControllerConfig& config,
-                device::ScriptParams* script) {
-  const v1::ClothGeometry& cloth = scene.cloth();
-  const Eigen::Vector3d stand_W(cloth.stand_position_w_m().x(), cloth.stand_position_w_m().y(),
-                                cloth.stand_position_w_m().z());
-  const double height_m = Or(cloth.height_m(), 0.20);
-  const bool flat = cloth.mounting() == v1::ClothGeometry::MOUNTING_FLAT_LEDGE;
-  // fabric_normal_D points from the thumb's side to the index's side
-  script->fabric_normal_D = flat ? Eigen::Vector3d(0, 0, -1) : Eigen::Vector3d(0, -1, 0);
-  // default touch point: the fabric's centre at rest (scene.proto, cloth_setup.h)
-  script->fabric_point_D_m = stand_W + (flat ? Eigen::Vector3d(0, height_m / 2, 0)
-                                             : Eigen::Vector3d(0, 0, -height_m / 2));
-
-  bool has_thumb = false, has_index = false;
-  for (const v1::FingerSpec& f : scene.fingers()) {
-    const double radius_m = Or(f.radius_m(), 0.008);
-    if (f.finger() == v1::FINGER_THUMB) {
-      has_thumb = true;
-      script->pad_offset_m[static_cast<std::size_t>(device::Manipulator::kThumb)] = radius_m;
-    } else if (f.finger() == v1::FINGER_INDEX) {
-      has_index = true;
-      script->pad_offset_m[static_cast<std::size_t>(device::Manipulator::kIndex)] = radius_m;
-    }
-  }
-  if (has_index && !has_thumb) script->touch_finger = device::Manipulator::kIndex;
-
-  if (!scene.device().has_mock()) return;
-  const v1::MockUserScript& user = scene.device().mock().user();
-  script->kind = KindFromScene(user.kind());
-  if (user.has_touch_point_w_m()) {
-    script->fabric_point_D_m = {user.touch_point_w_m().x(), user.touch_point_w_m().y(),
-                                user.touch_point_w_m().z()};
-  }
-  // scene.proto's defaults for what the scene leaves at 0
-  const double speed_m_per_s = Or(user.speed_m_per_s(), 0.05);
-  const double squeeze_N = Or(user.squeeze_force_n(), 2.0);
-  const double stretch_m = Or(user.stretch_m(), 0.01);
-  script->speed_m_per_s = speed_m_per_s;
-  script->hold_s = Or(user.hold_s(), 0.5);
-  // the user moves at this speed through each phase (kDemo: the peak speed of every move)
-  script->approach_duration_s = script->rest_gap_m / speed_m_per_s;
-  script->stretch_duration_s = stretch_m / speed_m_per_s;
-  script->lift_duration_s = script->lift_height_m / speed_m_per_s;
-  // the user aims beyond the fabric so that its grip spring pulls with the squeeze force
-  script->press_depth_m = squeeze_N / config.finger.user_stiffness_N_per_m;
-  script->stretch_D_m = Eigen::Vector3d(stretch_m, 0, 0);
-  script->rub_amplitude_m = Or(user.rub_amplitude_m(), 0.01);
-}
-
-device::ScriptParams MakeScript(const services::ServiceContext& context, const Options& options,
-                                const device::MockControllerConfig& config) {
-  device::ScriptParams script;
-  std::string playback = options.playback_csv;
-  if (context.scene() != nullptr) {
-    ApplyScene(context.scene()->scene, config, &script);
-    if (playback.empty()) playback = context.scene()->scene.device().mock().user().playback_csv();
-  }
-  // --script picks the kind; the scene's geometry and user parameters still apply
-  if (!options.script.empty()) script.kind = KindFromName(options.script);
-  if (script.kind == device::ScriptKind::kPlayback) {
-    if (playback.empty()) throw std::invalid_argument("the playback script needs --playback-csv FILE");
-    script.trajectory = device::LoadTrajectoryCsv(playback);
-  }
-  script.Validate();
-  return script;
-}
 
 int Run(services::ServiceContext& context, const Options& options) {
   device::MockControllerConfig config;
   config.seed = options.seed;
   config.Validate();
-  auto controller = std::make_unique<device::MockGrabController>(config, MakeScript(context, options, config));
-  net::UdpEndpoint socket(options.controller_bind);
-  const auto bridge = net::ResolveUdpAddress(options.bridge);
   std::unique_ptr<ForceLog> log;
   if (!options.force_log.empty()) log = std::make_unique<ForceLog>(options.force_log);
+  const v1::Scene scene = context.scene() != nullptr ? context.scene()->scene : v1::Scene{};
+  MockGrabLoop work(config, MockUser(scene, options.script, options.playback_csv, config), log.get(),
+                    context.start_ns(), &context.health());
+  services::DeviceLink bridge(options.controller_bind, options.bridge);
   // tests and the launcher read this line to find the controller port
-  std::cout << "mock_grab controller listening on " << net::FormatUdpAddress(socket.local_endpoint())
-            << std::endl;
+  std::cout << "mock_grab controller listening on " << bridge.local_address() << std::endl;
 
-  auto& health = context.health();
-  const auto c_steps = health.AddCounter("steps");
-  const auto c_accepted = health.AddCounter("commands_accepted");
-  const auto c_rejected = health.AddCounter("commands_rejected");
-  const auto c_timeouts = health.AddCounter("host_timeouts");
-  const auto c_log_dropped = health.AddCounter("force_log_dropped");
   runtime::PeriodicLoop loop("mock_grab", options.rate_hz);
-  health.AddLoop(&loop.stats());
-  health.SetState(v1::Health::STATE_READY);
-
-  std::array<std::uint8_t, 2048> rx{};
-  std::array<std::byte, device::kStatusFrameSize> status{};
-  net::UdpEndpoint::Endpoint from;
-  const std::int64_t start_ns = runtime::SteadyNowNs();
-  std::int64_t now_ns = start_ns;
+  context.health().AddLoop(&loop.stats());
+  context.health().SetState(v1::Health::STATE_READY);
+  std::int64_t now_ns = context.start_ns();
   loop.Run(
       [&](const runtime::TickInfo& tick) {
         now_ns = tick.now_ns;
-        const double t_s = static_cast<double>(tick.now_ns - start_ns) * 1e-9;
-        // commands: newest valid one wins inside the controller; bounded against floods
-        for (int i = 0; i < 64; ++i) {
-          const auto bytes = socket.ReceiveOne(rx, &from);
-          if (!bytes) break;
-          // a datagram larger than the buffer is cut, and rejected as too long by the decoder
-          const std::size_t n = std::min(*bytes, rx.size());
-          controller->OnCommandDatagram(std::as_bytes(std::span(rx.data(), n)), t_s);
-        }
-        controller->Step(t_s, tick.dt_s, status);
-        socket.SendTo(std::span(reinterpret_cast<const std::uint8_t*>(status.data()), status.size()), bridge);
-        if (log) {
-          ForceSample sample;
-          sample.time_ns = tick.now_ns;
-          for (int f = 0; f < 2; ++f) {
-            const auto& finger = controller->finger(static_cast<device::Manipulator>(f));
-            for (int k = 0; k < 3; ++k) {
-              sample.commanded_N[f][k] = static_cast<float>(finger.commanded_force_D_N(k));
-              sample.applied_N[f][k] = static_cast<float>(finger.applied_force_D_N(k));
-            }
-          }
-          sample.host_timed_out = controller->host_timed_out();
-          sample.host_sequence = controller->host_sequence();
-          log->Push(sample);
-        }
-        context.messenger().Drain([&](const v1::Envelope& e, const net::Messenger::Endpoint&) {
-          (void)context.HandleControl(e);  // SHUTDOWN stops the loop
-        }, 8);
-        health.SetCounter(c_steps, controller->counters().steps);
-        health.SetCounter(c_accepted, controller->frame_counters().accepted());
-        health.SetCounter(c_rejected, controller->frame_counters().TotalRejected());
-        health.SetCounter(c_timeouts, controller->counters().host_timeouts);
-        if (log) health.SetCounter(c_log_dropped, log->dropped());
+        const double t_s = context.SecondsSinceStart(tick.now_ns);
+        bridge.Drain([&](std::span<const std::byte> bytes, std::int64_t, bool) { work.ReadHost(bytes, t_s); });
+        services::ReadMessages(context, work, t_s, 8);
+        work.Update(t_s, tick.dt_s);
+        bridge.Send(work.status());
+        work.Write(context);
         context.Tick(tick.now_ns);
       },
       [&] { return context.StopRequested(now_ns); });
 
+  const device::MockGrabController& c = work.controller();
   context.log().info("mock_grab: {} steps, {} commands accepted, {} rejected, {} host timeouts, loop overruns {}",
-                     controller->counters().steps, controller->frame_counters().accepted(),
-                     controller->frame_counters().TotalRejected(), controller->counters().host_timeouts,
-                     loop.stats().overruns);
+                     c.counters().steps, c.frame_counters().accepted(), c.frame_counters().TotalRejected(),
+                     c.counters().host_timeouts, loop.stats().overruns);
   return 0;
 }
 

@@ -31,7 +31,6 @@ int Run(services::ServiceContext& context, const Options& options) {
   auto& health = context.health();
   const auto frames_counter = health.AddCounter("frames_played");
   const auto rejected_counter = health.AddCounter("frames_rejected");
-  const auto dropped_counter = health.AddCounter("datagrams_dropped");
   health.SetState(v1::Health::STATE_READY);
 
   std::uint64_t frames = 0, rejected = 0;
@@ -60,7 +59,6 @@ int Run(services::ServiceContext& context, const Options& options) {
     const std::int64_t now = runtime::SteadyNowNs();
     health.SetCounter(frames_counter, frames);
     health.SetCounter(rejected_counter, rejected);
-    health.SetCounter(dropped_counter, context.messenger().received().TotalDropped());
     context.Tick(now);
     if (options.heat_map && have_latest && now >= next_heat_map_ns) {
       next_heat_map_ns = now + heat_map_period_ns;

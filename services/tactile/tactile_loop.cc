@@ -1,15 +1,27 @@
 #include "services/tactile/tactile_loop.h"
 
+#include "libs/codec/message_conversion.h"
+
 namespace haptex::tactile_service {
 
-TactileLoop::TactileLoop(std::unique_ptr<tactile::RendererModel> model, double stale_after_s)
-    : model_(std::move(model)), stale_after_s_(stale_after_s) {}
+TactileLoop::TactileLoop(std::unique_ptr<tactile::RendererModel> model, double stale_after_s,
+                         std::optional<services::PeerId> display, runtime::HealthReporter* health)
+    : model_(std::move(model)), stale_after_s_(stale_after_s), display_(display), health_(health) {
+  if (health_ == nullptr) return;
+  ids_.frames = health_->AddCounter("pin_frames_sent");
+  ids_.traces = health_->AddCounter("touch_traces");
+  ids_.bad = health_->AddCounter("bad_input");
+}
+
+void TactileLoop::Read(const v1::Envelope& envelope, double t_s) {
+  if (envelope.body_case() != v1::Envelope::kTouchTrace) return;
+  OnTouchTrace(envelope.touch_trace(), t_s);
+  ++touch_traces_;
+}
 
 void TactileLoop::OnTouchTrace(const v1::TouchTrace& trace, double now_s) {
   for (const v1::FingerTouch& touch : trace.fingers()) {
-    int i = -1;
-    if (touch.finger() == v1::FINGER_THUMB) i = 0;
-    if (touch.finger() == v1::FINGER_INDEX) i = 1;
+    const int i = codec::FingerSlot(touch.finger());
     if (i < 0) {
       ++bad_fingers_;
       continue;
@@ -25,6 +37,25 @@ void TactileLoop::OnTouchTrace(const v1::TouchTrace& trace, double now_s) {
   }
 }
 
+void TactileLoop::Update(double t_s, double dt_s) { frame_ready_ = Tick(t_s, dt_s, &frame_); }
+
+void TactileLoop::Write(services::Outbox& out) {
+  if (frame_ready_ && display_ && out.Send(*display_, frame_)) ++frames_sent_;
+  if (health_ == nullptr) return;
+  health_->SetCounter(ids_.frames, frames_sent_);
+  health_->SetCounter(ids_.traces, touch_traces_);
+  health_->SetCounter(ids_.bad, bad_fingers_ + counters(0).bad_input + counters(1).bad_input);
+}
+
+void TactileLoop::WriteSilence(services::Outbox& out) {
+  if (frame_.fingers_size() == 0 || !display_) return;
+  for (auto& finger : *frame_.mutable_fingers()) {
+    for (auto& a : *finger.mutable_amplitude_40hz()) a = 0.0f;
+    for (auto& a : *finger.mutable_amplitude_320hz()) a = 0.0f;
+  }
+  out.Send(*display_, frame_);
+}
+
 bool TactileLoop::Tick(double now_s, double dt_s, v1::PinFrame* out) {
   bool completed = false;
   for (std::size_t i = 0; i < 2; ++i) {
@@ -38,7 +69,7 @@ bool TactileLoop::Tick(double now_s, double dt_s, v1::PinFrame* out) {
   out->set_frame_index(++frame_index_);
   for (int i = 0; i < 2; ++i) {
     v1::FingerPins* pins = out->mutable_fingers(i);
-    pins->set_finger(i == 0 ? v1::FINGER_THUMB : v1::FINGER_INDEX);
+    pins->set_finger(codec::FingerOfSlot(i));
     const tactile::PinFrame& frame = states_[static_cast<std::size_t>(i)].frame;
     pins->mutable_amplitude_40hz()->Resize(tactile::PinLayout::kPinCount, 0.0f);
     pins->mutable_amplitude_320hz()->Resize(tactile::PinLayout::kPinCount, 0.0f);

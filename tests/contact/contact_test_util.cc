@@ -27,14 +27,7 @@ std::unique_ptr<PatchSimulation> MakeFlatPatch(const textile::FabricMaterial& ma
 
 FingerPose PoseFacing(const Eigen::Vector3d& centre_W, const Eigen::Vector3d& pad_normal_W,
                       const Eigen::Vector3d& distal_W) {
-  FingerPose pose;
-  pose.p_W_m = centre_W;
-  const Eigen::Vector3d z = pad_normal_W.normalized();
-  const Eigen::Vector3d x = (distal_W - distal_W.dot(z) * z).normalized();
-  pose.R_WF.col(0) = x;
-  pose.R_WF.col(1) = z.cross(x);
-  pose.R_WF.col(2) = z;
-  return pose;
+  return FingerPose::Facing(centre_W, pad_normal_W, distal_W);
 }
 
 Eigen::Vector3d Ramp(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double t, double t0,

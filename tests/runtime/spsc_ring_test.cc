@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <memory>
 #include <thread>
 
 namespace haptex::runtime {
@@ -44,6 +45,32 @@ TEST(SpscRingTest, ConcurrentTransferKeepsEveryItemInOrder) {
   }
   producer.join();
   EXPECT_EQ(ring.size(), 0u);
+}
+
+}  // namespace
+}  // namespace haptex::runtime
+
+namespace haptex::runtime {
+namespace {
+
+// Ownership crosses threads through the ring: a refused push leaves the item with the caller, and
+// a popped slot no longer owns what it handed out.
+TEST(SpscRingTest, MoveOnlyItemsChangeOwnerOrStayWithTheCaller) {
+  SpscRing<std::unique_ptr<int>, 2> ring;
+  auto a = std::make_unique<int>(1), b = std::make_unique<int>(2), c = std::make_unique<int>(3);
+  EXPECT_TRUE(ring.TryPush(std::move(a)));
+  EXPECT_TRUE(ring.TryPush(std::move(b)));
+  EXPECT_EQ(a, nullptr);
+  EXPECT_FALSE(ring.TryPush(std::move(c)));
+  ASSERT_NE(c, nullptr);
+  EXPECT_EQ(*c, 3);
+  std::unique_ptr<int> out;
+  ASSERT_TRUE(ring.TryPop(&out));
+  EXPECT_EQ(*out, 1);
+  ASSERT_TRUE(ring.TryPop(&out));
+  EXPECT_EQ(*out, 2);
+  EXPECT_FALSE(ring.TryPop(&out));
+  EXPECT_EQ(*out, 2) << "a failed pop leaves the target alone";
 }
 
 }  // namespace

@@ -18,6 +18,7 @@
 #include <vector>
 #include <thread>
 
+#include "launch/force_log_reader.h"
 #include "libs/device/grab_protocol.h"
 #include "libs/net/messenger.h"
 #include "libs/net/udp_address.h"
@@ -31,61 +32,9 @@ namespace {
 using namespace std::chrono_literals;
 constexpr std::uint64_t kSession = 4242;
 
-struct LogRow {
-  std::int64_t time_ns;
-  double thumb_cmd[3];
-  double index_cmd[3];
-  bool host_timed_out;
-  std::uint32_t host_sequence;  // the bridge's command in force at the mock
-};
-
-// One data line of the force log; false for the header or a malformed line.
-bool ParseLogRow(const std::string& line, LogRow* row) {
-  std::stringstream s(line);
-  std::string cell;
-  std::vector<double> v;
-  try {
-    while (std::getline(s, cell, ',')) v.push_back(std::stod(cell));
-  } catch (const std::exception&) {
-    return false;
-  }
-  if (v.size() != 15) return false;
-  *row = {static_cast<std::int64_t>(v[0]), {v[1], v[2], v[3]}, {v[7], v[8], v[9]}, v[13] != 0,
-          static_cast<std::uint32_t>(v[14])};
-  return true;
-}
-
-// The rows the mock appended to its force log since the last call (whole lines only: the mock's
-// writer thread appends every 5 ms while the test reads).
-class ForceLogTail {
- public:
-  explicit ForceLogTail(std::string path) : path_(std::move(path)) {}
-  std::vector<LogRow> Next() {
-    std::ifstream in(path_, std::ios::binary);
-    in.seekg(static_cast<std::streamoff>(offset_));
-    const std::string chunk((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    const std::size_t end = chunk.rfind('\n');
-    std::vector<LogRow> rows;
-    if (end == std::string::npos) return rows;
-    std::stringstream lines(chunk.substr(0, end + 1));
-    std::string line;
-    LogRow row{};
-    while (std::getline(lines, line)) {
-      if (ParseLogRow(line, &row)) rows.push_back(row);
-    }
-    offset_ += end + 1;
-    return rows;
-  }
-
- private:
-  std::string path_;
-  std::size_t offset_ = 0;
-};
-
-// The whole force log (the mock has stopped: every line is whole).
-std::vector<LogRow> ReadForceLog(const std::string& path) { return ForceLogTail(path).Next(); }
-
-double Norm(const double f[3]) { return std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]); }
+using device::ForceLogRow;
+using launch::ForceLogTail;
+using launch::ReadForceLogRows;
 
 class DeviceBridgeProcessTest : public ::testing::Test {
  protected:
@@ -240,10 +189,10 @@ TEST_F(DeviceBridgeProcessTest, StatesFlowAndTheForceReachesTheFingerThenZeroOnS
   EXPECT_EQ(Stop(*bridge_), 0) << bridge_->Stderr();
   std::this_thread::sleep_for(50ms);
   EXPECT_EQ(Stop(*mock_), 0);
-  const auto rows = ReadForceLog(log_);
+  const auto rows = ReadForceLogRows(log_);
   ASSERT_GT(rows.size(), 5000u);
   int at_one_newton = 0;
-  for (const auto& r : rows) at_one_newton += std::abs(r.thumb_cmd[2] - 1.0) < 0.02;
+  for (const auto& r : rows) at_one_newton += std::abs(r.commanded_D_N[0][2] - 1.0) < 0.02;
   EXPECT_GT(at_one_newton, 1000) << "the commanded 1 N never reached the finger steadily";
   // Before the mock's own 5 ms watchdog fired (the bridge had exited), the bridge had been sending
   // zero commands for a while: the zero came from the bridge, not from the mock's watchdog.
@@ -252,7 +201,7 @@ TEST_F(DeviceBridgeProcessTest, StatesFlowAndTheForceReachesTheFingerThenZeroOnS
   ASSERT_LT(timeout, rows.size()) << "the mock never noticed the bridge leaving";
   ASSERT_GT(timeout, 60u);
   for (std::size_t i = timeout - 50; i < timeout; ++i) {  // the last 10 ms of real commands
-    EXPECT_EQ(Norm(rows[i].thumb_cmd), 0.0) << "command " << timeout - i << " before the bridge left";
+    EXPECT_EQ(rows[i].CommandedNormN(0), 0.0) << "command " << timeout - i << " before the bridge left";
   }
 }
 
@@ -266,8 +215,8 @@ TEST_F(DeviceBridgeProcessTest, ControlZeroForceHoldsAndEnableForceRampsBackIn) 
     const auto until = std::chrono::steady_clock::now() + limit;
     while (std::chrono::steady_clock::now() < until) {
       SendForce(0, 0, 1.0, 50ms);
-      for (const LogRow& r : tail.Next()) {
-        if (what(Norm(r.thumb_cmd))) return true;
+      for (const ForceLogRow& r : tail.Next()) {
+        if (what(r.CommandedNormN(0))) return true;
       }
     }
     return false;
@@ -281,9 +230,9 @@ TEST_F(DeviceBridgeProcessTest, ControlZeroForceHoldsAndEnableForceRampsBackIn) 
   ASSERT_TRUE(felt([](double f) { return f == 0.0; }, 5s)) << "COMMAND_ZERO_FORCE did not zero the force";
   // Models keep coming at 1 N: the force is held at zero anyway.
   SendForce(0, 0, 1.0, 300ms);
-  const std::vector<LogRow> held = tail.Next();
+  const std::vector<ForceLogRow> held = tail.Next();
   EXPECT_GT(held.size(), 100u);
-  for (const LogRow& r : held) ASSERT_EQ(Norm(r.thumb_cmd), 0.0) << "force came back while held";
+  for (const ForceLogRow& r : held) ASSERT_EQ(r.CommandedNormN(0), 0.0) << "force came back while held";
   control.set_command(v1::Control::COMMAND_ENABLE_FORCE);
   ASSERT_TRUE(launcher_->Send(to_bridge_launcher, control));
   EXPECT_TRUE(felt(at_one_newton, 20s)) << "COMMAND_ENABLE_FORCE did not ramp the 1 N back in";
@@ -321,17 +270,17 @@ TEST_F(DeviceBridgeProcessTest, WatchdogZeroesTheForceWithin20msOfTheLastModel) 
   std::this_thread::sleep_for(200ms);
   EXPECT_EQ(Stop(*bridge_), 0);
   EXPECT_EQ(Stop(*mock_), 0);
-  const auto rows = ReadForceLog(log_);
+  const auto rows = ReadForceLogRows(log_);
   // on top of the bridge's 20 ms: two loopback hops and one tick of each loop (~0.3 ms here), plus
   // scheduling stalls of a loaded 2-core machine, bounded by the controller's own 5 ms watchdog
   const std::int64_t margin_ns = 5'000'000;
   std::int64_t first_zero_ns = -1;
   bool nonzero_before = false;
   for (const auto& r : rows) {
-    if (r.time_ns < last_model_ns && Norm(r.thumb_cmd) > 2.9) nonzero_before = true;
-    if (r.time_ns > last_model_ns && first_zero_ns < 0 && Norm(r.thumb_cmd) == 0.0) first_zero_ns = r.time_ns;
+    if (r.time_ns < last_model_ns && r.CommandedNormN(0) > 2.9) nonzero_before = true;
+    if (r.time_ns > last_model_ns && first_zero_ns < 0 && r.CommandedNormN(0) == 0.0) first_zero_ns = r.time_ns;
     if (r.time_ns > last_model_ns + 20'000'000 + margin_ns) {
-      ASSERT_EQ(Norm(r.thumb_cmd), 0.0) << "force still " << Norm(r.thumb_cmd) << " N at "
+      ASSERT_EQ(r.CommandedNormN(0), 0.0) << "force still " << r.CommandedNormN(0) << " N at "
                                         << (r.time_ns - last_model_ns) * 1e-6 << " ms";
     }
   }
@@ -348,7 +297,7 @@ TEST_F(DeviceBridgeProcessTest, ClampsAndSlewHoldWhenAModelAsksFor100N) {
   EXPECT_GT(WaitForCounter("non_finite_forces", 1), 0u) << "NaN force models were not counted";
   EXPECT_EQ(Stop(*bridge_), 0);
   EXPECT_EQ(Stop(*mock_), 0);
-  const auto rows = ReadForceLog(log_);
+  const auto rows = ReadForceLogRows(log_);
   // The bridge slews 0.5 N per tick and numbers its commands one per tick, so between two mock
   // steps the force may change by 0.5 N per command sequence that passed, whatever the scheduling.
   // Only a cut to zero may be faster (safety wins over smoothness): the NaN models, the mock's own
@@ -358,7 +307,7 @@ TEST_F(DeviceBridgeProcessTest, ClampsAndSlewHoldWhenAModelAsksFor100N) {
   std::uint32_t previous_sequence = 0;
   int timeouts = 0, cuts = 0;
   for (const auto& r : rows) {
-    const double f = Norm(r.thumb_cmd);
+    const double f = r.CommandedNormN(0);
     peak = std::max(peak, f);
     if (r.host_timed_out) {
       EXPECT_EQ(f, 0.0) << "a timed-out controller commands zero";
@@ -380,12 +329,12 @@ TEST_F(DeviceBridgeProcessTest, ClampsAndSlewHoldWhenAModelAsksFor100N) {
     }
     previous = f;
     previous_sequence = r.host_sequence;
-    EXPECT_NEAR(r.thumb_cmd[0], 0.0, 1e-6);  // direction kept: +z only
-    EXPECT_NEAR(r.thumb_cmd[1], 0.0, 1e-6);
+    EXPECT_NEAR(r.commanded_D_N[0][0], 0.0, 1e-6);  // direction kept: +z only
+    EXPECT_NEAR(r.commanded_D_N[0][1], 0.0, 1e-6);
   }
   EXPECT_LE(peak, 20.0 + 1e-3);
   EXPECT_GE(peak, 5.9);  // it did push, up to the limits
-  EXPECT_NEAR(Norm(rows.back().thumb_cmd), 0.0, 1e-9);  // the NaN models ended as zero force
+  EXPECT_NEAR(rows.back().CommandedNormN(0), 0.0, 1e-9);  // the NaN models ended as zero force
   EXPECT_LE(worst_slew_ratio, 1.0 + 1e-3);
   std::cout << "[measured] peak " << peak << " N, largest change between commands " << max_step
             << " N; cuts to zero " << cuts << ", of them controller host timeouts " << timeouts << "\n";

@@ -27,7 +27,7 @@
 
 #include "launch/recording.h"
 #include "libs/scene/scene_loader.h"
-#include "services/local_contact/contact_config.h"
+#include "libs/scene/scene_contact.h"
 #include "tests/support/subprocess.h"
 #include "tests/support/test_paths.h"
 
@@ -86,7 +86,7 @@ recording { enabled: true }
 )";
   const scene::LoadedScene loaded =
       scene::LoadScene(scene_path, scene::FabricDatabase(haptex::testing::SourceDir() + "/data/fabrics"));
-  const contact::ContactOptions options = ContactOptionsFromScene(loaded);
+  const contact::ContactOptions options = scene::ContactOptionsFromScene(loaded);
   const double reach_m = options.index.radius_m + options.fabric_half_thickness_m;
 
   const std::string run = dir + "/run";

@@ -1,0 +1,63 @@
+#pragma once
+// The dual layer in one process, as the two services run it but without sockets or threads: a
+// global fabric stepped at the global rate that cuts patches and merges results, and a local
+// patch ticked at the local rate that is rebuilt from every cut and handed off. The tests compare
+// it with a single layer; the sweep measures its speed/accuracy trade.
+
+#include <array>
+#include <memory>
+#include <vector>
+
+#include "libs/contact/contact_options.h"
+#include "libs/dual_layer/local_patch.h"
+#include "libs/dual_layer/patch_cut.h"
+#include "libs/dual_layer/patch_merge.h"
+#include "libs/dual_layer/refined_grid.h"
+#include "libs/textile/fabric_model.h"
+#include "libs/textile/fabric_state.h"
+#include "libs/textile/fabric_stepper.h"
+
+namespace haptex::dual_layer {
+
+class DualLayerSim {
+ public:
+  DualLayerSim(const textile::FabricMaterial& material, textile::FabricModel global_model,
+               textile::FabricState global_state, double global_dt_s, double local_dt_s,
+               const contact::ContactOptions& contact, double patch_margin_m, int refinement_levels = 0);
+
+  /// One local tick with the fingers' poses at its end; every global_dt a global step, a new cut
+  /// and a hand-off. Returns the contact output of the tick (state I with no patch yet).
+  const contact::ContactOutput& Tick(const contact::FingerInput& thumb, const contact::FingerInput& index);
+
+  int handoffs() const { return handoffs_; }
+  /// false: new patches start from the global layer's state alone (a control for the hand-off test).
+  void set_carry_over(bool carry) { carry_over_ = carry; }
+  PatchRect rect() const { return rect_; }
+  const textile::FabricState& global_state() const { return global_state_; }
+
+ private:
+  void GlobalStep(const contact::FingerInput& thumb, const contact::FingerInput& index);
+
+  textile::FabricMaterial material_;
+  textile::FabricModel global_model_;
+  textile::FabricState global_state_;
+  textile::FabricStepper global_stepper_;
+  double global_dt_s_, local_dt_s_;
+  contact::ContactOptions contact_;
+  double margin_m_;
+  RefinedGrid refined_;
+  int ticks_per_global_;
+  int tick_ = 0;
+  int handoffs_ = 0;
+  bool carry_over_ = true;
+  std::uint64_t patch_id_ = 0;
+  PatchRect rect_;
+  std::unique_ptr<LocalPatch> patch_;
+  std::vector<int> merged_;
+  TwoStepVelocity cut_velocity_;
+  PatchData patch_data_;
+  PatchResultData result_;
+  contact::ContactOutput idle_;
+};
+
+}  // namespace haptex::dual_layer

@@ -1,0 +1,121 @@
+#include "services/device_bridge/bridge_loop.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "services/device_bridge/device_bridge_codec.h"
+
+namespace haptex::device_bridge {
+namespace {
+
+runtime::LatencySummary LatencyOf(const device::LatencyTracker& t) {
+  return {t.count(), t.p50_s() * 1e6, t.p99_s() * 1e6, t.max_s() * 1e6};
+}
+
+}  // namespace
+
+BridgeLoop::BridgeLoop(const BridgeLoopConfig& config, const BridgePeers& peers, runtime::HealthReporter* health)
+    : config_(config),
+      peers_(peers),
+      health_(health),
+      bridge_(std::make_unique<device::DeviceBridge>(config.bridge)),
+      local_every_(std::max<std::int64_t>(1, std::llround(config.rate_hz / config.finger_states_to_local_hz))),
+      global_every_(std::max<std::int64_t>(1, std::llround(config.rate_hz / config.finger_states_to_global_hz))),
+      horizon_update_every_(static_cast<std::uint64_t>(std::max(1.0, config.rate_hz / 2))) {
+  const device::DeviceBridge* bridge = bridge_.get();
+  health_->AddLatency("motion_to_force", [bridge] { return LatencyOf(bridge->motion_to_force_latency()); });
+  health_->AddLatency("controller_round_trip", [bridge] { return LatencyOf(bridge->link_round_trip()); });
+  ids_.status_ok = health_->AddCounter("status_frames_accepted");
+  ids_.status_bad = health_->AddCounter("status_frames_rejected");
+  ids_.foreign = health_->AddCounter("status_frames_from_strangers");
+  ids_.models = health_->AddCounter("force_models");
+  ids_.models_bad = health_->AddCounter("force_models_rejected");
+  ids_.lost = health_->AddCounter("device_lost_events");
+  ids_.gap = health_->AddCounter("tick_gap_disarms");
+  ids_.nan = health_->AddCounter("non_finite_forces");
+  FillFingerStates(*bridge_, &states_);  // sized once, before the loop
+}
+
+void BridgeLoop::ReadController(std::span<const std::byte> datagram, double arrival_s, double t_s,
+                                bool from_controller) {
+  if (!from_controller) {
+    ++foreign_frames_;
+    return;
+  }
+  // the kernel's stamp, so that motion-to-force latency includes the wait in our socket
+  bridge_->OnStatusDatagram(datagram, std::min(arrival_s, t_s));
+}
+
+void BridgeLoop::Read(const v1::Envelope& envelope, double t_s) {
+  if (envelope.body_case() != v1::Envelope::kForceModel) return;
+  for (const v1::FingerForceModel& m : envelope.force_model().fingers()) {
+    device::Manipulator manipulator;
+    if (!ToManipulator(m.finger(), &manipulator) || !IsWellFormed(m)) {
+      ++bad_models_;
+      continue;
+    }
+    bridge_->SetForceModel(manipulator, ToForceModel(m), t_s);
+  }
+}
+
+void BridgeLoop::OnControl(v1::Control::Command command) {
+  // SHUTDOWN is the service's: it stops through RequestShutdown (zero force first)
+  if (command == v1::Control::COMMAND_ZERO_FORCE) bridge_->SetZeroForceHold(true);
+  if (command == v1::Control::COMMAND_ENABLE_FORCE) bridge_->SetZeroForceHold(false);
+}
+
+void BridgeLoop::Update(double t_s, double dt_s) {
+  // Predict one link latency ahead: from a pose's measurement to its force acting on the finger =
+  // the wait in our socket (motion-to-force) + the way up and the way back down (about one
+  // controller round trip).
+  if (config_.measured_prediction_horizon && tick_ % horizon_update_every_ == 0 &&
+      bridge_->link_round_trip().count() > 100 && bridge_->motion_to_force_latency().count() > 100) {
+    bridge_->SetPredictionHorizon(bridge_->motion_to_force_latency().p50_s() + bridge_->link_round_trip().p50_s());
+  }
+  bridge_->Tick(t_s, dt_s, command_);
+}
+
+void BridgeLoop::Write(services::Outbox& out) {
+  const auto k = static_cast<std::int64_t>(tick_);
+  const bool to_local = peers_.local_contact && k % local_every_ == 0;
+  const bool to_global = peers_.global_sim && k % global_every_ == 0;
+  if (to_local || to_global) {
+    FillFingerStates(*bridge_, &states_);
+    if (to_local) out.Send(*peers_.local_contact, states_);
+    if (to_global) out.Send(*peers_.global_sim, states_);
+  }
+  ++tick_;
+  std::uint64_t non_finite = 0;
+  for (std::size_t i = 0; i < device::kManipulatorCount; ++i) {
+    non_finite += bridge_->safety(static_cast<device::Manipulator>(i)).counters().non_finite;
+  }
+  health_->SetCounter(ids_.status_ok, bridge_->frame_counters().accepted());
+  health_->SetCounter(ids_.status_bad, bridge_->frame_counters().TotalRejected());
+  health_->SetCounter(ids_.foreign, foreign_frames_);
+  health_->SetCounter(ids_.models, bridge_->counters().force_models);
+  health_->SetCounter(ids_.models_bad, bad_models_);
+  health_->SetCounter(ids_.lost, bridge_->counters().device_lost_events);
+  health_->SetCounter(ids_.gap, bridge_->counters().tick_gap_disarms);
+  health_->SetCounter(ids_.nan, non_finite);
+  health_->SetState(bridge_->device_lost() ? v1::Health::STATE_DEGRADED : v1::Health::STATE_READY);
+}
+
+std::string BridgeLoop::Summary() const {
+  const auto& m2f = bridge_->motion_to_force_latency();
+  const auto& rtt = bridge_->link_round_trip();
+  char text[400];
+  std::snprintf(text, sizeof text,
+                "status frames %llu accepted, %llu rejected, %llu from strangers; %llu force models (%llu rejected); "
+                "motion-to-force p50 %.1f us p99 %.1f us max %.1f us; controller round trip p50 %.1f us p99 %.1f us "
+                "max %.1f us",
+                static_cast<unsigned long long>(bridge_->frame_counters().accepted()),
+                static_cast<unsigned long long>(bridge_->frame_counters().TotalRejected()),
+                static_cast<unsigned long long>(foreign_frames_),
+                static_cast<unsigned long long>(bridge_->counters().force_models),
+                static_cast<unsigned long long>(bad_models_), m2f.p50_s() * 1e6, m2f.p99_s() * 1e6, m2f.max_s() * 1e6,
+                rtt.p50_s() * 1e6, rtt.p99_s() * 1e6, rtt.max_s() * 1e6);
+  return text;
+}
+
+}  // namespace haptex::device_bridge

@@ -1,0 +1,57 @@
+#include "services/device_bridge/device_bridge_codec.h"
+
+#include <algorithm>
+
+#include "libs/codec/message_conversion.h"
+
+namespace haptex::device_bridge {
+
+bool ToManipulator(v1::Finger finger, device::Manipulator* out) {
+  const int slot = codec::FingerSlot(finger);
+  if (slot < 0) return false;
+  *out = slot == codec::kThumbSlot ? device::Manipulator::kThumb : device::Manipulator::kIndex;
+  return true;
+}
+
+v1::Finger ToFinger(device::Manipulator manipulator) {
+  return codec::FingerOfSlot(manipulator == device::Manipulator::kThumb ? codec::kThumbSlot : codec::kIndexSlot);
+}
+
+device::ForceModel ToForceModel(const v1::FingerForceModel& in) {
+  device::ForceModel model;
+  model.force0_W_N = codec::ToEigen(in.f0_w_n());
+  model.x0_W_m = codec::ToEigen(in.x0_w_m());
+  if (in.stiffness_w_n_per_m_size() == 9) {
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) model.stiffness_W_N_per_m(r, c) = in.stiffness_w_n_per_m(3 * r + c);
+    }
+  }
+  model.ttl_s = in.ttl_s();
+  return model;
+}
+
+bool IsWellFormed(const v1::FingerForceModel& in) {
+  return in.stiffness_w_n_per_m_size() == 9 || in.stiffness_w_n_per_m_size() == 0;
+}
+
+void FillFingerStates(const device::DeviceBridge& bridge, v1::FingerStates* out) {
+  while (out->fingers_size() < 2) out->add_fingers();
+  std::uint64_t newest = 0;
+  for (int i = 0; i < 2; ++i) {
+    const auto m = static_cast<device::Manipulator>(i);
+    const device::FingerState& s = bridge.finger_state(m);
+    v1::FingerState* f = out->mutable_fingers(i);
+    f->set_finger(ToFinger(m));
+    codec::ToMessage(s.p_W_m, f->mutable_position_w_m());
+    codec::ToMessage(s.q_WF, f->mutable_orientation_wf());
+    codec::ToMessage(s.v_W_m_per_s, f->mutable_velocity_w_m_per_s());
+    codec::ToMessage(s.p_pred_W_m, f->mutable_predicted_position_w_m());
+    f->set_prediction_horizon_s(s.prediction_horizon_s);
+    codec::ToMessage(s.force_measured_W_N, f->mutable_measured_force_w_n());
+    newest = std::max<std::uint64_t>(newest, s.controller_sequence);
+  }
+  out->set_controller_sequence(newest);
+  out->set_device_ok(!bridge.device_lost());
+}
+
+}  // namespace haptex::device_bridge

@@ -1,0 +1,101 @@
+#include "services/local_contact/local_contact_loop.h"
+
+#include "services/local_contact/local_contact_codec.h"
+
+namespace haptex::local_contact {
+
+LocalContactLoop::LocalContactLoop(const LocalContactConfig& config, const LocalContactPeers& peers,
+                                   PatchBuilder* builder, runtime::HealthReporter* health)
+    : config_(config), peers_(peers), builder_(builder), health_(health) {
+  ids_.models = health_->AddCounter("force_models_sent");
+  ids_.patches = health_->AddCounter("patches_received");
+  ids_.busy = health_->AddCounter("patches_dropped_busy");
+  ids_.rejected = health_->AddCounter("patches_rejected");
+  ids_.handoffs = health_->AddCounter("patch_handoffs");
+  ids_.results = health_->AddCounter("patch_results_sent");
+  static constexpr std::array<const char*, 9> kStateNames = {
+      "state_I_ticks", "state_II_ticks", "state_III_ticks", "state_IV_ticks", "state_V_ticks",
+      "state_VI_ticks", "state_VII_ticks", "state_VIII_ticks", "state_IX_ticks"};
+  for (std::size_t i = 0; i < kStateNames.size(); ++i) ids_.states[i] = health_->AddCounter(kStateNames[i]);
+  // the messages' repeated fields sized once, before the loop
+  FillForceModel(nullptr, fingers_, 0, config_.force_model_ttl_s, &force_model_);
+  touch_.add_fingers();
+  touch_.add_fingers();
+}
+
+void LocalContactLoop::Read(const v1::Envelope& envelope, double /*t_s*/) {
+  switch (envelope.body_case()) {
+    case v1::Envelope::kFingerStates:
+      if (!newest_states_.Accept(envelope)) return;
+      controller_sequence_ = envelope.finger_states().controller_sequence();
+      fingers_ = FingerInputs(envelope.finger_states(), config_.scene_fingers);
+      return;
+    case v1::Envelope::kLocalPatch:
+      ++counters_.patches_received;
+      switch (builder_->Submit(envelope.local_patch())) {
+        case PatchBuilder::Submitted::kQueued:
+          global_step_ = envelope.local_patch().global_step();
+          return;
+        case PatchBuilder::Submitted::kBusy:
+          ++counters_.patches_dropped_busy;
+          return;
+        case PatchBuilder::Submitted::kRejected:
+          ++counters_.patches_rejected;
+          return;
+      }
+      return;
+    default:
+      return;
+  }
+}
+
+void LocalContactLoop::Update(double /*t_s*/, double /*dt_s*/) {
+  // Swap in what the builder finished (the newest last), carrying the local state across.
+  while (std::unique_ptr<dual_layer::LocalPatch> fresh = builder_->TakeBuilt()) {
+    if (patch_) {
+      dual_layer::HandOff(*patch_, fresh.get());
+      builder_->Dispose(std::move(patch_));
+    }
+    patch_ = std::move(fresh);
+    ++counters_.patch_handoffs;
+  }
+  // Contact and one patch step at the fingers' newest poses; zero force while there is no fabric.
+  contact_ = nullptr;
+  if (patch_) {
+    contact_ = &patch_->Tick(fingers_[0], fingers_[1]);
+    ++counters_.state_ticks[static_cast<std::size_t>(static_cast<int>(contact_->state) - 1)];
+  }
+  result_due_ = patch_ && peers_.global_sim && patch_->ResultDue(1.0 / config_.rate_hz);
+}
+
+void LocalContactLoop::Write(services::Outbox& out) {
+  FillForceModel(contact_, fingers_, controller_sequence_, config_.force_model_ttl_s, &force_model_);
+  if (out.Send(peers_.bridge, force_model_)) ++counters_.force_models_sent;
+  if (contact_ != nullptr && peers_.tactile) {
+    FillTouchTrace(*contact_, patch_->sim->state().time_s, &touch_);
+    out.Send(*peers_.tactile, touch_);
+  }
+  if (result_due_) {
+    dual_layer::FillPatchResult(global_step_, patch_.get(), &result_);
+    ToMessage(result_, &result_message_);
+    if (out.Send(*peers_.global_sim, result_message_)) ++counters_.patch_results_sent;
+  }
+  PublishCounters();
+}
+
+void LocalContactLoop::WriteZeroForce(services::Outbox& out) {
+  ZeroForceModel(&force_model_);
+  out.Send(peers_.bridge, force_model_);
+}
+
+void LocalContactLoop::PublishCounters() {
+  health_->SetCounter(ids_.models, counters_.force_models_sent);
+  health_->SetCounter(ids_.patches, counters_.patches_received);
+  health_->SetCounter(ids_.busy, counters_.patches_dropped_busy);
+  health_->SetCounter(ids_.rejected, counters_.patches_rejected + builder_->build_failures());
+  health_->SetCounter(ids_.handoffs, counters_.patch_handoffs);
+  health_->SetCounter(ids_.results, counters_.patch_results_sent);
+  for (std::size_t i = 0; i < counters_.state_ticks.size(); ++i) health_->SetCounter(ids_.states[i], counters_.state_ticks[i]);
+}
+
+}  // namespace haptex::local_contact

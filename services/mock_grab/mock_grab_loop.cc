@@ -1,0 +1,52 @@
+#include "services/mock_grab/mock_grab_loop.h"
+
+#include <cmath>
+
+namespace haptex::mock_grab {
+
+MockGrabLoop::MockGrabLoop(const device::MockControllerConfig& config, device::ScriptParams script, ForceLog* log,
+                           std::int64_t log_origin_ns, runtime::HealthReporter* health)
+    : controller_(std::make_unique<device::MockGrabController>(config, std::move(script))),
+      log_(log),
+      log_origin_ns_(log_origin_ns),
+      health_(health) {
+  ids_.steps = health_->AddCounter("steps");
+  ids_.accepted = health_->AddCounter("commands_accepted");
+  ids_.rejected = health_->AddCounter("commands_rejected");
+  ids_.timeouts = health_->AddCounter("host_timeouts");
+  ids_.log_dropped = health_->AddCounter("force_log_dropped");
+}
+
+void MockGrabLoop::ReadHost(std::span<const std::byte> datagram, double t_s) {
+  controller_->OnCommandDatagram(datagram, t_s);
+}
+
+void MockGrabLoop::Update(double t_s, double dt_s) {
+  t_s_ = t_s;
+  controller_->Step(t_s, dt_s, status_);
+}
+
+void MockGrabLoop::Write(services::Outbox& /*out*/) {
+  if (log_ != nullptr) {
+    device::ForceLogRow row;
+    row.time_ns = log_origin_ns_ + std::llround(t_s_ * 1e9);
+    for (std::size_t f = 0; f < device::kManipulatorCount; ++f) {
+      const device::MockFingerState& finger = controller_->finger(static_cast<device::Manipulator>(f));
+      for (int k = 0; k < 3; ++k) {
+        // the log keeps what a float carries, as the real controller's sensors do
+        row.commanded_D_N[f][static_cast<std::size_t>(k)] = static_cast<float>(finger.commanded_force_D_N(k));
+        row.applied_D_N[f][static_cast<std::size_t>(k)] = static_cast<float>(finger.applied_force_D_N(k));
+      }
+    }
+    row.host_timed_out = controller_->host_timed_out();
+    row.host_sequence = controller_->host_sequence();
+    log_->Push(row);
+  }
+  health_->SetCounter(ids_.steps, controller_->counters().steps);
+  health_->SetCounter(ids_.accepted, controller_->frame_counters().accepted());
+  health_->SetCounter(ids_.rejected, controller_->frame_counters().TotalRejected());
+  health_->SetCounter(ids_.timeouts, controller_->counters().host_timeouts);
+  if (log_ != nullptr) health_->SetCounter(ids_.log_dropped, log_->dropped());
+}
+
+}  // namespace haptex::mock_grab

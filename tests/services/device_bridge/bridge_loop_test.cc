@@ -1,0 +1,147 @@
+// BridgeLoop in process against the mock controller's loop (MockGrabLoop), the two exchanging
+// GRAB datagrams directly: the StatusFrames move the fingers and the FingerStates the bridge sends,
+// the ForceModels it receives reach the controller as commanded force after the start-up ramp,
+// Control holds force at zero, strangers and malformed models are counted; and no allocation in
+// its warmed-up tick.
+
+#include "services/device_bridge/bridge_loop.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "libs/codec/message_conversion.h"
+#include "services/mock_grab/mock_grab_loop.h"
+#include "tests/support/allocation_counter.h"
+#include "tests/support/captured_outbox.h"
+#include "tests/support/wrap_envelope.h"
+
+namespace haptex::device_bridge {
+namespace {
+
+using V = Eigen::Vector3d;
+constexpr services::PeerId kLocal = 0, kGlobal = 1;
+constexpr double kDt = 0.0002;
+
+v1::ForceModel ThumbForce(double force_z_N, v1::Finger finger = v1::FINGER_THUMB, int stiffness_values = 9) {
+  v1::ForceModel model;
+  v1::FingerForceModel* m = model.add_fingers();
+  m->set_finger(finger);
+  m->mutable_f0_w_n()->set_z(force_z_N);
+  for (int i = 0; i < stiffness_values; ++i) m->add_stiffness_w_n_per_m(0.0);
+  m->set_ttl_s(0.010);
+  return model;
+}
+
+class BridgeLoopTest : public ::testing::Test {
+ protected:
+  BridgeLoopTest()
+      : health_("device_bridge"),
+        mock_health_("mock_grab"),
+        bridge_(BridgeLoopConfig{}, {kLocal, kGlobal}, &health_),
+        mock_(device::MockControllerConfig{}, device::ScriptParams{}, nullptr, 0, &mock_health_) {}
+
+  // One 5 kHz period of both: the controller steps and reports, the bridge reads, computes and
+  // commands, the controller reads the command. A ForceModel, when given, arrives this tick.
+  void Tick(services::Outbox& out, const v1::ForceModel* model = nullptr) {
+    const double t = tick_ * kDt;
+    mock_.Update(t, kDt);
+    bridge_.ReadController(mock_.status(), t, t, true);
+    if (model != nullptr) bridge_.Read(haptex::testing::WrapEnvelope(*model, ++sequence_), t);
+    bridge_.Update(t, kDt);
+    bridge_.Write(out);
+    mock_.ReadHost(bridge_.command(), t);
+    ++tick_;
+  }
+  double CommandedThumbZ() const {
+    return mock_.controller().finger(device::Manipulator::kThumb).commanded_force_D_N.z();
+  }
+
+  runtime::HealthReporter health_, mock_health_;
+  BridgeLoop bridge_;
+  mock_grab::MockGrabLoop mock_;
+  std::uint64_t tick_ = 0, sequence_ = 0;
+};
+
+TEST_F(BridgeLoopTest, FingerStatesFollowTheControllerAtTheirRates) {
+  haptex::testing::CapturedOutbox out;
+  for (int k = 0; k < 500; ++k) Tick(out);  // 0.1 s
+  const auto local = out.Of<v1::FingerStates>(kLocal);
+  const auto global = out.Of<v1::FingerStates>(kGlobal);
+  EXPECT_EQ(local.size(), 100u);  // 1 kHz
+  EXPECT_EQ(global.size(), 10u);  // 100 Hz
+  const v1::FingerStates& last = local.back();
+  EXPECT_TRUE(last.device_ok());
+  EXPECT_GT(last.controller_sequence(), 400u);
+  ASSERT_EQ(last.fingers_size(), 2);
+  EXPECT_EQ(last.fingers(0).finger(), v1::FINGER_THUMB);
+  const V reported = codec::ToEigen(last.fingers(0).position_w_m());
+  const V truth = mock_.controller().finger(device::Manipulator::kThumb).p_D_m;  // X_WD = identity
+  EXPECT_LT((reported - truth).norm(), 0.001) << "within a few quantisation steps and 1 ms of motion";
+}
+
+TEST_F(BridgeLoopTest, ForceModelsReachTheControllerAfterTheRampAndControlHoldsThemAtZero) {
+  haptex::testing::CapturedOutbox out;
+  out.capture = false;
+  const v1::ForceModel one_newton = ThumbForce(1.0);
+  for (int k = 0; k < 3000; ++k) Tick(out, k % 5 == 0 ? &one_newton : nullptr);  // 0.6 s: past the 0.5 s ramp
+  EXPECT_NEAR(CommandedThumbZ(), 1.0, 1e-3);
+  bridge_.OnControl(v1::Control::COMMAND_ZERO_FORCE);
+  for (int k = 0; k < 50; ++k) Tick(out, k % 5 == 0 ? &one_newton : nullptr);
+  EXPECT_EQ(CommandedThumbZ(), 0.0);
+  bridge_.OnControl(v1::Control::COMMAND_ENABLE_FORCE);
+  for (int k = 0; k < 3000; ++k) Tick(out, k % 5 == 0 ? &one_newton : nullptr);
+  EXPECT_NEAR(CommandedThumbZ(), 1.0, 1e-3);
+  // models stop: the watchdog ramps to zero
+  for (int k = 0; k < 200; ++k) Tick(out);
+  EXPECT_EQ(CommandedThumbZ(), 0.0);
+  // shutdown: zero at once, whatever the models say
+  for (int k = 0; k < 3000; ++k) Tick(out, k % 5 == 0 ? &one_newton : nullptr);
+  bridge_.RequestShutdown();
+  Tick(out, &one_newton);
+  Tick(out, &one_newton);
+  EXPECT_EQ(CommandedThumbZ(), 0.0);
+}
+
+TEST_F(BridgeLoopTest, StrangersAndMalformedModelsAreCounted) {
+  haptex::testing::CapturedOutbox out;
+  Tick(out);
+  bridge_.ReadController(mock_.status(), 0.0, 0.0, false);
+  const v1::ForceModel unknown_finger = ThumbForce(1.0, v1::FINGER_UNSPECIFIED);
+  const v1::ForceModel three_values = ThumbForce(1.0, v1::FINGER_THUMB, 3);
+  Tick(out, &unknown_finger);
+  Tick(out, &three_values);
+  EXPECT_EQ(bridge_.foreign_frames(), 1u);
+  EXPECT_EQ(bridge_.bad_models(), 2u);
+  std::uint64_t strangers = 0, rejected = 0;
+  for (const auto& c : health_.Build(0.0).counters()) {
+    if (c.name() == "status_frames_from_strangers") strangers = c.value();
+    if (c.name() == "force_models_rejected") rejected = c.value();
+  }
+  EXPECT_EQ(strangers, 1u);
+  EXPECT_EQ(rejected, 2u);
+}
+
+TEST_F(BridgeLoopTest, WarmedUpTickDoesNotAllocate) {
+  if (!haptex::testing::AllocationCountingSupported()) GTEST_SKIP() << "allocation counting is off in this build";
+  haptex::testing::CapturedOutbox out;
+  out.capture = false;
+  const v1::Envelope model = haptex::testing::WrapEnvelope(ThumbForce(1.0), 1);
+  for (int k = 0; k < 1000; ++k) Tick(out);
+  haptex::testing::AllocationCounter counter;
+  for (int k = 0; k < 1000; ++k) {
+    const double t = static_cast<double>(tick_++) * kDt;
+    mock_.Update(t, kDt);
+    bridge_.ReadController(mock_.status(), t, t, true);
+    bridge_.Read(model, t);
+    bridge_.Update(t, kDt);
+    bridge_.Write(out);
+    mock_.ReadHost(bridge_.command(), t);
+    mock_.Write(out);
+  }
+  EXPECT_EQ(counter.count(), 0);
+  EXPECT_EQ(out.Count<v1::FingerStates>(), 2u * 200u + 2u * 20u);
+}
+
+}  // namespace
+}  // namespace haptex::device_bridge

@@ -1,0 +1,173 @@
+// GlobalSimLoop in process: FingerStates and PatchResults in, and what it sends out (LocalPatch to
+// local_contact, ClothFrames to the viewer); and no allocation in its warmed-up step.
+
+#include "services/global_sim/global_sim_loop.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+
+#include "libs/codec/message_conversion.h"
+#include "services/local_contact/local_contact_codec.h"
+#include "tests/support/allocation_counter.h"
+#include "tests/support/captured_outbox.h"
+#include "tests/support/test_paths.h"
+#include "tests/support/wrap_envelope.h"
+
+namespace haptex::global_sim {
+namespace {
+
+using V = Eigen::Vector3d;
+constexpr services::PeerId kLocal = 0, kViewer = 1;
+constexpr double kDt = 0.01;
+
+// A 10 x 10 cm denim at 5 mm hanging from a stand at the origin (plane y = 0, along -z).
+scene::LoadedScene TestScene() {
+  const scene::FabricDatabase db(haptex::testing::SourceDir() + "/data/fabrics");
+  return scene::ParseScene(R"(name: "loop"
+fabric { database_name: "wang2011_black_denim_11oz" }
+cloth { width_m: 0.1 height_m: 0.1 particles_u: 21 particles_v: 21 }
+fingers { finger: FINGER_THUMB }
+fingers { finger: FINGER_INDEX }
+device { mock {} }
+rates { cloth_frame_hz: 25 }
+)", "loop", db);
+}
+
+v1::FingerStates ThumbAt(const V& p_W_m, bool device_ok = true) {
+  v1::FingerStates states;
+  states.set_device_ok(device_ok);
+  v1::FingerState* f = states.add_fingers();
+  f->set_finger(v1::FINGER_THUMB);
+  codec::ToMessage(p_W_m, f->mutable_position_w_m());
+  codec::ToMessage(p_W_m, f->mutable_predicted_position_w_m());
+  return states;
+}
+
+class GlobalSimLoopTest : public ::testing::Test {
+ protected:
+  GlobalSimLoopTest() : scene_(TestScene()), health_("global_sim"), loop_(scene_, 1.0 / kDt, {kLocal, kViewer}, &health_) {}
+
+  void Step(services::Outbox& out) {
+    loop_.Update(step_ * kDt, kDt);
+    loop_.Write(out);
+    ++step_;
+  }
+  std::uint64_t Counter(const std::string& name) {
+    for (const auto& c : health_.Build(0.0).counters()) {
+      if (c.name() == name) return c.value();
+    }
+    ADD_FAILURE() << "no counter " << name;
+    return 0;
+  }
+
+  scene::LoadedScene scene_;
+  runtime::HealthReporter health_;
+  GlobalSimLoop loop_;
+  int step_ = 0;
+  std::uint64_t sequence_ = 0;
+};
+
+TEST_F(GlobalSimLoopTest, ClothFramesAtTheirRateAndPatchesOnlyNearAFinger) {
+  haptex::testing::CapturedOutbox out;
+  for (int s = 0; s < 20; ++s) Step(out);
+  EXPECT_TRUE(out.Of<v1::LocalPatch>(kLocal).empty()) << "no finger: nothing to cut";
+  const auto frames = out.Of<v1::ClothFrame>(kViewer);
+  EXPECT_EQ(frames.size(), 5u);  // 25 Hz over 0.2 s at a 10 ms step
+  EXPECT_EQ(frames.back().particles_u(), 21u);
+  EXPECT_EQ(frames.back().chunk_count(), 1u);
+  EXPECT_EQ(frames.back().position_w_m_size(), 3 * 441);
+  EXPECT_FLOAT_EQ(frames.back().position_w_m(3 * 440 + 2), static_cast<float>(loop_.state().x(440).z()));
+
+  // the thumb near the cloth's centre: a patch every step around it
+  out.Clear();
+  loop_.Read(haptex::testing::WrapEnvelope(ThumbAt(V(0, 0.009, -0.05)), ++sequence_), step_ * kDt);
+  for (int s = 0; s < 3; ++s) Step(out);
+  const auto patches = out.Of<v1::LocalPatch>(kLocal);
+  ASSERT_EQ(patches.size(), 3u);
+  const v1::LocalPatch& p = patches.back();
+  EXPECT_EQ(p.global_step(), 23u);
+  EXPECT_EQ(p.global_dt_s(), kDt);
+  EXPECT_GT(p.patch_id(), patches.front().patch_id());
+  int border = 0;
+  for (bool b : p.is_border()) border += b;
+  EXPECT_GT(border, 0);
+  EXPECT_LT(border, p.particle_ids_size());
+  dual_layer::PatchData copy(4096);
+  EXPECT_EQ(local_contact::CopyPatch(p, 441, &copy), local_contact::PatchCopy::kOk) << "local_contact can build it";
+
+  // the device lost: no patch
+  out.Clear();
+  loop_.Read(haptex::testing::WrapEnvelope(ThumbAt(V(0, 0.009, -0.05), false), ++sequence_), step_ * kDt);
+  Step(out);
+  EXPECT_TRUE(out.Of<v1::LocalPatch>(kLocal).empty());
+  EXPECT_EQ(Counter("patches_sent"), 3u);
+}
+
+TEST_F(GlobalSimLoopTest, ResultsAreHeldThroughTheStepAndBadOnesCounted) {
+  haptex::testing::CapturedOutbox out;
+  for (int s = 0; s < 5; ++s) Step(out);
+  const int p = 10 + 21 * 10;  // the centre
+  const V pushed = loop_.state().x(p) + V(0, -0.002, 0);
+  v1::PatchResult result;
+  result.set_patch_id(1);
+  result.add_particle_ids(static_cast<std::uint32_t>(p));
+  for (int k = 0; k < 3; ++k) {
+    result.add_position_w_m(pushed[k]);
+    result.add_velocity_w_m_per_s(0.0);
+    result.add_external_force_w_n(0.0);
+  }
+  loop_.Read(haptex::testing::WrapEnvelope(result, ++sequence_), step_ * kDt);
+  Step(out);
+  EXPECT_EQ(loop_.state().x(p), pushed) << "held where local_contact put it through the step";
+  EXPECT_EQ(loop_.state().mode[static_cast<std::size_t>(p)], textile::ParticleMode::kFree) << "released after it";
+  Step(out);
+  EXPECT_NE(loop_.state().x(p), pushed) << "free again: it moves";
+
+  v1::PatchResult short_arrays = result;
+  short_arrays.mutable_position_w_m()->RemoveLast();
+  loop_.Read(haptex::testing::WrapEnvelope(short_arrays, ++sequence_), step_ * kDt);
+  v1::PatchResult outside = result;
+  outside.set_particle_ids(0, 100000);
+  loop_.Read(haptex::testing::WrapEnvelope(outside, ++sequence_), step_ * kDt);
+  v1::PatchResult nan = result;
+  nan.set_position_w_m(1, std::nan(""));
+  loop_.Read(haptex::testing::WrapEnvelope(nan, ++sequence_), step_ * kDt);
+  Step(out);
+  EXPECT_TRUE(loop_.state().x_W_m.allFinite());
+  EXPECT_EQ(Counter("patch_results_merged"), 3u);  // the good one, and the two with one bad particle each
+  EXPECT_EQ(Counter("patch_results_rejected"), 3u);
+}
+
+TEST_F(GlobalSimLoopTest, WarmedUpStepDoesNotAllocate) {
+  if (!haptex::testing::AllocationCountingSupported()) GTEST_SKIP() << "allocation counting is off in this build";
+  haptex::testing::CapturedOutbox out;
+  out.capture = false;
+  const v1::Envelope states = haptex::testing::WrapEnvelope(ThumbAt(V(0, 0.009, -0.05)), 1);
+  loop_.Read(states, 0.0);
+  for (int s = 0; s < 30; ++s) Step(out);  // warm-up
+  v1::PatchResult result;
+  for (int p = 200; p < 230; ++p) {
+    result.add_particle_ids(static_cast<std::uint32_t>(p));
+    for (int k = 0; k < 3; ++k) {
+      result.add_position_w_m(loop_.state().x(p)[k]);
+      result.add_velocity_w_m_per_s(0.0);
+      result.add_external_force_w_n(0.0);
+    }
+  }
+  std::vector<v1::Envelope> results;
+  for (int s = 0; s < 21; ++s) results.push_back(haptex::testing::WrapEnvelope(result, 2 + static_cast<std::uint64_t>(s)));
+  loop_.Read(results.back(), 0.0);
+  Step(out);
+  haptex::testing::AllocationCounter counter;
+  for (int s = 0; s < 20; ++s) {
+    loop_.Read(results[static_cast<std::size_t>(s)], step_ * kDt);
+    Step(out);
+  }
+  EXPECT_EQ(counter.count(), 0);
+  EXPECT_EQ(out.Count<v1::LocalPatch>(), 51u);
+}
+
+}  // namespace
+}  // namespace haptex::global_sim
