@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "libs/base/clock.h"
 #include "libs/net/udp_address.h"
 
 namespace haptex::net {
@@ -71,16 +72,16 @@ std::optional<std::size_t> UdpEndpoint::ReceiveOne(std::span<std::uint8_t> buffe
     from->resize(message.msg_namelen);
     std::memcpy(from->data(), &address, message.msg_namelen);
     // the kernel stamps in CLOCK_REALTIME; move it onto the steady clock by the clocks' offset now
-    timespec real_now{}, steady_now{};
+    timespec real_now{};
     clock_gettime(CLOCK_REALTIME, &real_now);
-    clock_gettime(CLOCK_MONOTONIC, &steady_now);
+    const std::int64_t steady_now_ns = base::SteadyNowNs();
     const auto ns = [](const timespec& t) { return std::int64_t{t.tv_sec} * 1000000000 + t.tv_nsec; };
-    *arrival_ns = ns(steady_now);
+    *arrival_ns = steady_now_ns;
     for (cmsghdr* c = CMSG_FIRSTHDR(&message); c != nullptr; c = CMSG_NXTHDR(&message, c)) {
       if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_TIMESTAMPNS) {
         timespec stamp{};
         std::memcpy(&stamp, CMSG_DATA(c), sizeof(stamp));
-        *arrival_ns = ns(steady_now) - (ns(real_now) - ns(stamp));
+        *arrival_ns = steady_now_ns - (ns(real_now) - ns(stamp));
       }
     }
     return static_cast<std::size_t>(bytes);

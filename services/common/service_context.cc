@@ -8,7 +8,7 @@
 #include <iostream>
 
 #include "libs/net/udp_address.h"
-#include "libs/runtime/clock.h"
+#include "libs/base/clock.h"
 #include "libs/runtime/logging.h"
 #include "libs/runtime/shutdown_signal.h"
 #include "libs/scene/session_key_source.h"
@@ -19,7 +19,7 @@ ServiceContext::ServiceContext(std::string name, const ServiceOptions& options)
     : name_(std::move(name)),
       logger_(runtime::SetupLogging(name_, options.log_level, options.log_file)),
       health_(name_),
-      start_ns_(runtime::SteadyNowNs()),
+      start_ns_(base::SteadyNowNs()),
       stop_at_ns_(options.duration_s > 0
                       ? start_ns_ + static_cast<std::int64_t>(options.duration_s * 1e9)
                       : std::numeric_limits<std::int64_t>::max()) {

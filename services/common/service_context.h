@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 
+#include "libs/base/clock.h"
 #include "libs/net/messenger.h"
 #include "libs/runtime/health_publisher.h"
 #include "libs/runtime/health_reporter.h"
@@ -46,7 +47,7 @@ class ServiceContext final {
   /// no blocking). Services send through this so that their run is recorded.
   template <class Body>
   bool Send(net::Messenger::PeerId peer, const Body& body) {
-    if (recorder_) recorder_->Record(body, net::Messenger::SteadyNowNs());
+    if (recorder_) recorder_->Record(body, base::SteadyNowNs());
     return messenger_->Send(peer, body);
   }
 

@@ -19,7 +19,7 @@
 #include "libs/device/device_bridge.h"
 #include "libs/net/udp_address.h"
 #include "libs/net/udp_endpoint.h"
-#include "libs/runtime/clock.h"
+#include "libs/base/clock.h"
 #include "libs/runtime/periodic_loop.h"
 #include "services/common/service_context.h"
 #include "services/device_bridge/proto_conversion.h"
@@ -98,7 +98,7 @@ int Run(services::ServiceContext& context, const Options& options) {
   net::UdpEndpoint::Endpoint from;
   std::uint64_t bad_models = 0;
   std::uint64_t foreign_frames = 0;
-  const std::int64_t start_ns = runtime::SteadyNowNs();
+  const std::int64_t start_ns = base::SteadyNowNs();
   std::int64_t stop_at_ns = std::numeric_limits<std::int64_t>::max();
   bool stopping = false;
   loop.Run(
@@ -180,7 +180,7 @@ int Run(services::ServiceContext& context, const Options& options) {
         health.SetState(bridge->device_lost() ? v1::Health::STATE_DEGRADED : v1::Health::STATE_READY);
         context.Tick(tick.now_ns);
       },
-      [&] { return stopping && runtime::SteadyNowNs() >= stop_at_ns; });
+      [&] { return stopping && base::SteadyNowNs() >= stop_at_ns; });
 
   const auto& m2f = bridge->motion_to_force_latency();
   const auto& rtt = bridge->link_round_trip();

@@ -16,7 +16,7 @@
 #include <memory>
 #include <vector>
 
-#include "libs/runtime/clock.h"
+#include "libs/base/clock.h"
 #include "libs/runtime/periodic_loop.h"
 #include "libs/scene/cloth_setup.h"
 #include "libs/scene/scene_defaults.h"
@@ -80,7 +80,7 @@ int Run(services::ServiceContext& context, const Options& options) {
   v1::ClothFrame frame;
   std::uint64_t patch_id = 0, step = 0, patches = 0, patches_unsent = 0, results = 0, results_bad = 0, frames = 0;
   std::int64_t next_frame_ns = 0;
-  std::int64_t now_ns = runtime::SteadyNowNs();
+  std::int64_t now_ns = base::SteadyNowNs();
   const double dt = setup.step_options.dt_s;
 
   loop.Run(

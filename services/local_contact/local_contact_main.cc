@@ -21,7 +21,7 @@
 #include <memory>
 #include <thread>
 
-#include "libs/runtime/clock.h"
+#include "libs/base/clock.h"
 #include "libs/runtime/latency_histogram.h"
 #include "libs/runtime/periodic_loop.h"
 #include "libs/runtime/spsc_ring.h"
@@ -130,7 +130,7 @@ int Run(services::ServiceContext& context, const Options& options) {
     force_model.add_fingers()->mutable_stiffness_w_n_per_m()->Resize(9, 0.0);
     touch.add_fingers();
   }
-  std::int64_t now_ns = runtime::SteadyNowNs();
+  std::int64_t now_ns = base::SteadyNowNs();
 
   loop.Run(
       [&](const runtime::TickInfo& tick) {
@@ -172,7 +172,7 @@ int Run(services::ServiceContext& context, const Options& options) {
           }
         });
 
-        const std::int64_t t0 = runtime::SteadyNowNs();
+        const std::int64_t t0 = base::SteadyNowNs();
         PatchRuntime* ready = nullptr;
         while (built.TryPop(&ready)) {
           std::unique_ptr<PatchRuntime> fresh(ready);
@@ -236,7 +236,7 @@ int Run(services::ServiceContext& context, const Options& options) {
           FillPatchResult(global_step, patch.get(), &result);
           if (context.Send(*global, result)) ++results;
         }
-        compute.Record(runtime::SteadyNowNs() - t0);
+        compute.Record(base::SteadyNowNs() - t0);
 
         health.SetCounter(c_models, models);
         health.SetCounter(c_patches, patches);

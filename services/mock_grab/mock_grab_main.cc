@@ -17,7 +17,7 @@
 #include "libs/device/trajectory_csv.h"
 #include "libs/net/udp_address.h"
 #include "libs/net/udp_endpoint.h"
-#include "libs/runtime/clock.h"
+#include "libs/base/clock.h"
 #include "libs/runtime/periodic_loop.h"
 #include "services/common/service_context.h"
 #include "services/mock_grab/force_log.h"
@@ -159,7 +159,7 @@ int Run(services::ServiceContext& context, const Options& options) {
   std::array<std::uint8_t, 2048> rx{};
   std::array<std::byte, device::kStatusFrameSize> status{};
   net::UdpEndpoint::Endpoint from;
-  const std::int64_t start_ns = runtime::SteadyNowNs();
+  const std::int64_t start_ns = base::SteadyNowNs();
   std::int64_t now_ns = start_ns;
   loop.Run(
       [&](const runtime::TickInfo& tick) {

@@ -9,7 +9,7 @@
 
 #include <memory>
 
-#include "libs/runtime/clock.h"
+#include "libs/base/clock.h"
 #include "libs/runtime/periodic_loop.h"
 #include "libs/scene/tactile_fabric.h"
 #include "services/common/service_context.h"
@@ -60,7 +60,7 @@ int Run(services::ServiceContext& context, const Options& options) {
 
   v1::PinFrame frame;
   std::uint64_t frames = 0, traces = 0;
-  const std::int64_t start_ns = runtime::SteadyNowNs();
+  const std::int64_t start_ns = base::SteadyNowNs();
   std::int64_t now_ns = start_ns;
   loop.Run(
       [&](const runtime::TickInfo& tick) {

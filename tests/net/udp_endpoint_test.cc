@@ -7,6 +7,8 @@
 #include <thread>
 #include <vector>
 
+#include "libs/base/clock.h"
+
 namespace haptex::net {
 namespace {
 
@@ -46,10 +48,6 @@ TEST(UdpEndpointTest, ArrivalTimeIsWhenTheKernelReceivedNotWhenWeRead) {
   UdpEndpoint::Endpoint from;
   std::int64_t arrival = 0;
   EXPECT_FALSE(b.ReceiveOne(buffer, &from, &arrival).has_value());  // enables timestamps
-  const auto now_ns = [] {
-    return std::chrono::duration_cast<std::chrono::nanoseconds>(
-               std::chrono::steady_clock::now().time_since_epoch()).count();
-  };
   // Linux turns receive timestamps on for the whole stack through deferred work: until that has
   // run, a datagram is stamped when it is read. So a warm-up datagram first, and a few tries.
   ASSERT_TRUE(a.SendTo(std::vector<std::uint8_t>{0}, b.local_endpoint()));
@@ -58,10 +56,10 @@ TEST(UdpEndpointTest, ArrivalTimeIsWhenTheKernelReceivedNotWhenWeRead) {
   bool stamped_on_arrival = false;
   for (int attempt = 0; attempt < 3 && !stamped_on_arrival; ++attempt) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    const std::int64_t sent = now_ns();
+    const std::int64_t sent = base::SteadyNowNs();
     ASSERT_TRUE(a.SendTo(std::vector<std::uint8_t>{1, 2, 3}, b.local_endpoint()));
     std::this_thread::sleep_for(std::chrono::milliseconds(30));  // the datagram waits in the socket
-    const std::int64_t read = now_ns();
+    const std::int64_t read = base::SteadyNowNs();
     ASSERT_EQ(b.ReceiveOne(buffer, &from, &arrival), 3u);
     EXPECT_EQ(from.port(), a.local_port());
     EXPECT_GE(arrival, sent - 1'000'000);  // clock conversion tolerance
