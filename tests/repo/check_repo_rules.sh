@@ -48,7 +48,13 @@ if [[ -d "$root/libs/base" ]]; then
   [[ -z "$not_std" ]] || fail "libs/base is not std only: $not_std"
 fi
 
-# 6. scripts the README names exist and are executable
+# 6. no silent guards in the build: folders and tests are listed, so a missing one fails the
+#    configure instead of vanishing (no existence or target checks, no globbed folders)
+guards=$(files | grep -E '(^|/)(CMakeLists\.txt|[^/]*\.cmake)$' | (cd "$root" && xargs grep -HnE \
+  'if\s*\(\s*(NOT\s+)?(EXISTS|TARGET)\b|LIST_DIRECTORIES\s+true' 2>/dev/null) || true)
+[[ -z "$guards" ]] || fail "silent guards in the build: $guards"
+
+# 7. scripts the README names exist and are executable
 for s in scripts/demo scripts/test scripts/setup .ci/run; do
   [[ -x "$root/$s" ]] || fail "$s is missing or not executable"
 done

@@ -11,7 +11,7 @@ echo "$out"
 for rule in "generated protobuf code" "build files that download" "vendored code" \
             "README quick start" ".ci/run does more" "libs/textile is not pure" "scripts/demo is missing" \
             "libs/base is not pure: libs/base/timer.h" "libs/base is not std only: libs/base/maths.h" \
-            "libs/contact uses the clock"; do
+            "libs/contact uses the clock" "silent guards in the build: CMakeLists.txt:2"; do
   grep -qF "$rule" <<<"$out" || { echo "checker missed: $rule"; exit 1; }
 done
 # the one clock may read the time

@@ -7,7 +7,7 @@ rm -rf "$dir" && mkdir -p "$dir"/{proto,libs/textile,libs/contact,libs/base,.ci,
 printf '## Quick start\n\n```\nmake\n```\n' > "$dir/README.md"
 printf '#!/bin/sh\nmake test\n' > "$dir/.ci/run"
 touch "$dir/proto/a.pb.h" "$dir/third_party/x/x.h"
-echo 'include(FetchContent)' > "$dir/CMakeLists.txt"
+printf 'include(FetchContent)\nif(EXISTS ${dir}/x)\nendif()\n' > "$dir/CMakeLists.txt"
 echo '#include <thread>' > "$dir/libs/textile/step.cc"
 # libs/base may read the clock in clock.h only, must stay std only, and no core may use the clock
 printf '#include <chrono>\n#include <time.h>\n' > "$dir/libs/base/clock.h"
