@@ -7,7 +7,7 @@
 #include <iostream>
 #include <memory>
 
-#include "cli/json_writer.h"
+#include "launch/json_writer.h"
 #include "libs/base/clock.h"
 #include "libs/runtime/latency_histogram.h"
 #include "libs/scene/cloth_setup.h"
@@ -106,7 +106,7 @@ int Sim(const SimOptions& options) {
   WriteParticles(out_dir + "/particles.csv", cloth.model, cloth.state);
   WriteObj(out_dir + "/mesh.obj", cloth.model, cloth.state);
   const auto& diag = cloth.state.diagnostics;
-  JsonWriter json;
+  launch::JsonWriter json;
   json.BeginObject()
       .Field("scene", loaded.scene.name())
       .Field("fabric", loaded.fabric.name())

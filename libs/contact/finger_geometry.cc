@@ -5,6 +5,18 @@
 
 namespace haptex::contact {
 
+FingerPose PoseFacing(const Eigen::Vector3d& centre_W, const Eigen::Vector3d& pad_normal_W,
+                      const Eigen::Vector3d& distal_W) {
+  FingerPose pose;
+  pose.p_W_m = centre_W;
+  const Eigen::Vector3d z = pad_normal_W.normalized();
+  const Eigen::Vector3d x = (distal_W - distal_W.dot(z) * z).normalized();
+  pose.R_WF.col(0) = x;
+  pose.R_WF.col(1) = z.cross(x);
+  pose.R_WF.col(2) = z;
+  return pose;
+}
+
 Segment CapsuleSegment(const FingerShape& shape, const FingerPose& pose) {
   const Eigen::Vector3d half = pose.R_WF.col(0) * (0.5 * shape.length_m);
   return {pose.p_W_m - half, pose.p_W_m + half};

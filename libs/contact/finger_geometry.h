@@ -25,6 +25,12 @@ struct FingerPose {
   }
 };
 
+/// A pose centred at `centre_W` whose pad (+z_F) faces `pad_normal_W`, with the distal axis (+x_F)
+/// along `distal_W` (its part along the pad normal removed). Neither may be zero, nor may they be
+/// parallel.
+FingerPose PoseFacing(const Eigen::Vector3d& centre_W, const Eigen::Vector3d& pad_normal_W,
+                      const Eigen::Vector3d& distal_W);
+
 /// Segment end points of a capsule in W.
 struct Segment {
   Eigen::Vector3d a_W, b_W;
