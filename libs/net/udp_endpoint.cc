@@ -3,6 +3,7 @@
 #include <poll.h>
 #include <sys/socket.h>
 #include <time.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
@@ -18,7 +19,16 @@ namespace haptex::net {
 UdpEndpoint::UdpEndpoint(std::string_view bind_address) : socket_(io_) {
   const Endpoint endpoint = ResolveUdpAddress(bind_address);
   asio::error_code error;
-  socket_.open(endpoint.protocol(), error);
+  // Close-on-exec from its first instant (SOCK_CLOEXEC: no window for a fork in another thread),
+  // so no process this one starts inherits the socket. Asio's open() would not set it.
+  const int fd = ::socket(endpoint.protocol().family(), endpoint.protocol().type() | SOCK_CLOEXEC,
+                          endpoint.protocol().protocol());
+  if (fd < 0) {
+    error = asio::error_code(errno, asio::error::get_system_category());
+  } else {
+    socket_.assign(endpoint.protocol(), fd, error);
+    if (error) ::close(fd);
+  }
   if (!error) socket_.bind(endpoint, error);
   if (error) {
     throw std::runtime_error("cannot bind UDP " + std::string(bind_address) + ": " +

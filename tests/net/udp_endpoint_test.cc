@@ -1,6 +1,12 @@
 #include "libs/net/udp_endpoint.h"
 
+#include <arpa/inet.h>
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+
+#include <optional>
 
 #include <chrono>
 #include <stdexcept>
@@ -83,6 +89,28 @@ TEST(UdpEndpointTest, BindFailureNamesTheAddress) {
 TEST(UdpEndpointTest, WaitReadableTimesOut) {
   UdpEndpoint a("127.0.0.1:0");
   EXPECT_FALSE(a.WaitReadable(std::chrono::milliseconds(5)));
+}
+
+// The descriptor of this process's IPv4 UDP socket bound to `port`, if any.
+std::optional<int> SocketBoundTo(std::uint16_t port) {
+  for (int fd = 0; fd < 4096; ++fd) {
+    sockaddr_in address{};
+    socklen_t length = sizeof(address);
+    if (getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) == 0 && address.sin_family == AF_INET &&
+        ntohs(address.sin_port) == port) {
+      return fd;
+    }
+  }
+  return std::nullopt;
+}
+
+TEST(UdpEndpointTest, SocketIsCloseOnExec) {
+  UdpEndpoint endpoint("127.0.0.1:0");
+  const std::optional<int> fd = SocketBoundTo(endpoint.local_port());
+  ASSERT_TRUE(fd.has_value());
+  const int flags = fcntl(*fd, F_GETFD);
+  ASSERT_NE(flags, -1);
+  EXPECT_NE(flags & FD_CLOEXEC, 0);
 }
 
 }  // namespace
