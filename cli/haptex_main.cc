@@ -10,12 +10,12 @@
 
 #include "cli/fabric_command.h"
 #include "cli/key_command.h"
-#include "cli/launch_command.h"
 #include "cli/netcheck_command.h"
 #include "cli/scene_command.h"
 #include "cli/sim_command.h"
 #include "cli/tactile_command.h"
 #include "cli/trace_command.h"
+#include "launch/launch_command.h"
 #include "libs/scene/text_proto.h"
 
 int main(int argc, char** argv) {
@@ -28,7 +28,7 @@ int main(int argc, char** argv) {
   haptex::cli::AddFabricCommand(app, &exit_code);
   haptex::cli::AddSimCommand(app, &exit_code);
   haptex::cli::AddTactileCommand(app, &exit_code);
-  haptex::cli::AddLaunchCommand(app, &exit_code);
+  haptex::launch::AddLaunchCommand(app, &exit_code);
   haptex::cli::AddTraceCommand(app, &exit_code);
   try {
     app.parse(argc, argv);

@@ -8,13 +8,13 @@
 
 #include <unistd.h>
 
-#include "libs/scene/session_key_source.h"
 #include "cli/netcheck_report.h"
+#include "libs/base/clock.h"
 #include "libs/net/messenger.h"
 #include "libs/net/udp_address.h"
-#include "libs/runtime/clock.h"
 #include "libs/runtime/periodic_loop.h"
 #include "libs/runtime/shutdown_signal.h"
+#include "libs/scene/session_key_source.h"
 
 namespace haptex::cli {
 namespace {
@@ -107,7 +107,7 @@ int Probe(const ProbeOptions& options) {
       messenger.Drain([&](const v1::Envelope& envelope, const net::Messenger::Endpoint&) {
         if (envelope.body_case() != v1::Envelope::kNetProbe || !envelope.net_probe().is_reply()) return;
         const auto& probe = envelope.net_probe();
-        recorder.OnReply(probe.probe_sequence(), runtime::SteadyNowNs() - probe.probe_send_time_ns());
+        recorder.OnReply(probe.probe_sequence(), base::SteadyNowNs() - probe.probe_send_time_ns());
       });
     }
   });
@@ -119,7 +119,7 @@ int Probe(const ProbeOptions& options) {
   loop.Run(
       [&](const runtime::TickInfo&) {
         probe.set_probe_sequence(sent + 1);
-        probe.set_probe_send_time_ns(runtime::SteadyNowNs());
+        probe.set_probe_send_time_ns(base::SteadyNowNs());
         messenger.Send(server, probe);
         ++sent;
       },

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "cli/json_writer.h"
+#include "launch/json_writer.h"
 
 namespace haptex::cli {
 namespace {
@@ -94,7 +94,7 @@ void ClassifyLink(const LinkVerdictLimits& limits, NetcheckReport* report) {
 }
 
 std::string ReportToJson(const NetcheckReport& r) {
-  JsonWriter json;
+  launch::JsonWriter json;
   json.BeginObject()
       .Field("target", r.target)
       .Field("rate_hz", r.rate_hz)

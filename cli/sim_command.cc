@@ -7,8 +7,8 @@
 #include <iostream>
 #include <memory>
 
-#include "cli/json_writer.h"
-#include "libs/runtime/clock.h"
+#include "launch/json_writer.h"
+#include "libs/base/clock.h"
 #include "libs/runtime/latency_histogram.h"
 #include "libs/scene/cloth_setup.h"
 #include "libs/textile/fabric_stepper.h"
@@ -87,13 +87,13 @@ int Sim(const SimOptions& options) {
 
   runtime::LatencyHistogram step_time;
   std::int64_t status_counts[4] = {0, 0, 0, 0};
-  const std::int64_t start_ns = runtime::SteadyNowNs();
+  const std::int64_t start_ns = base::SteadyNowNs();
   std::int64_t next_progress_ns = start_ns + 1000000000;
   for (std::int64_t k = 0; k < steps; ++k) {
     loads.Apply(cloth.state.time_s, &cloth.state);
-    const std::int64_t t0 = runtime::SteadyNowNs();
+    const std::int64_t t0 = base::SteadyNowNs();
     const textile::StepResult result = stepper.Step(&cloth.state);
-    const std::int64_t t1 = runtime::SteadyNowNs();
+    const std::int64_t t1 = base::SteadyNowNs();
     step_time.Record(t1 - t0);
     ++status_counts[static_cast<int>(result.status)];
     if (!options.quiet && t1 > next_progress_ns) {
@@ -101,12 +101,12 @@ int Sim(const SimOptions& options) {
       std::cerr << "  t = " << cloth.state.time_s << " s (" << (100 * (k + 1)) / steps << " %)\n";
     }
   }
-  const double wall_s = static_cast<double>(runtime::SteadyNowNs() - start_ns) * 1e-9;
+  const double wall_s = static_cast<double>(base::SteadyNowNs() - start_ns) * 1e-9;
 
   WriteParticles(out_dir + "/particles.csv", cloth.model, cloth.state);
   WriteObj(out_dir + "/mesh.obj", cloth.model, cloth.state);
   const auto& diag = cloth.state.diagnostics;
-  JsonWriter json;
+  launch::JsonWriter json;
   json.BeginObject()
       .Field("scene", loaded.scene.name())
       .Field("fabric", loaded.fabric.name())

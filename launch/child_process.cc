@@ -29,6 +29,8 @@ ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::vect
   const int log = open(log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
   if (log < 0) throw std::runtime_error("cannot write log " + log_path + ": " + std::strerror(errno));
   const pid_t parent = getpid();
+  const long open_max = sysconf(_SC_OPEN_MAX);  // for the fallback below (close_range missing)
+  const int max_fd = open_max > 0 && open_max < 1 << 20 ? static_cast<int>(open_max) : 1 << 20;
   pid_ = fork();
   if (pid_ < 0) {
     close(log);
@@ -42,6 +44,11 @@ ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::vect
     if (devnull >= 0) dup2(devnull, 0);
     dup2(log, 1);
     dup2(log, 2);
+    // Only 0-2 cross exec: the launcher's sockets (its Health socket), the other services' logs
+    // and whatever else it holds stay behind, close-on-exec or not.
+    if (close_range(3, ~0U, 0) != 0) {
+      for (int fd = 3; fd < max_fd; ++fd) close(fd);
+    }
     // the launcher's signal dispositions are not the service's
     signal(SIGINT, SIG_DFL);
     signal(SIGTERM, SIG_DFL);

@@ -1,7 +1,8 @@
 #pragma once
-// One service process: fork + execve with its own environment, stdout and stderr appended to a
-// log file, its own process group (a terminal's Ctrl-C reaches the launcher only, which then
-// stops the services in order) and SIGTERM when the launcher dies.
+// One service process: fork + execve with its own environment, stdin /dev/null, stdout and stderr
+// appended to a log file and no other file descriptor of the launcher, its own process group (a
+// terminal's Ctrl-C reaches the launcher only, which then stops the services in order) and SIGTERM
+// when the launcher dies.
 
 #include <sys/types.h>
 

@@ -1,11 +1,11 @@
 #include "launch/run_summary.h"
 
-#include "cli/json_writer.h"
+#include "launch/json_writer.h"
 
 namespace haptex::launch {
 namespace {
 
-void WriteForce(cli::JsonWriter& j, std::string_view key, const FingerForceStats& s) {
+void WriteForce(JsonWriter& j, std::string_view key, const FingerForceStats& s) {
   j.BeginObject(key)
       .Field("samples", s.samples)
       .Field("peak_n", s.peak_n)
@@ -14,7 +14,7 @@ void WriteForce(cli::JsonWriter& j, std::string_view key, const FingerForceStats
       .EndObject();
 }
 
-void WriteHealth(cli::JsonWriter& j, const v1::Health& h) {
+void WriteHealth(JsonWriter& j, const v1::Health& h) {
   j.Field("state", v1::Health::State_Name(h.state())).Field("uptime_s", h.uptime_s());
   j.BeginArray("loops");
   for (const v1::LoopStats& l : h.loops()) {
@@ -61,7 +61,7 @@ bool IsWatchdogCounter(const std::string& name) {
 std::string SummaryJson(const RunRecord& run, const std::vector<RecordingFiles>& recordings,
                         const RecordingAnalysis& analysis, const std::optional<ForceLog>& force_log,
                         const std::vector<PlotResult>& plots) {
-  cli::JsonWriter j;
+  JsonWriter j;
   j.BeginObject();
   j.Field("scene", run.scene_name).Field("scene_path", run.scene_path).Field("run_dir", run.run_dir);
   j.Field("host", run.host.empty() ? std::string("all") : run.host);

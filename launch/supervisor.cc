@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "launch/child_process.h"
+#include "libs/base/clock.h"
 #include "libs/net/udp_address.h"
 #include "libs/runtime/shutdown_signal.h"
 
@@ -28,8 +29,6 @@ struct Supervisor::Live {
 namespace {
 
 using P = v1::ServicePlacement;
-
-std::int64_t SteadyNs() { return net::Messenger::SteadyNowNs(); }
 
 std::string Fixed(double value, int digits) {
   std::ostringstream s;
@@ -85,7 +84,7 @@ Supervisor::Supervisor(SupervisorConfig config, const net::SessionKey& key, std:
 
 Supervisor::~Supervisor() = default;
 
-double Supervisor::Now() const { return static_cast<double>(SteadyNs() - start_ns_) * 1e-9; }
+double Supervisor::Now() const { return static_cast<double>(base::SteadyNowNs() - start_ns_) * 1e-9; }
 
 void Supervisor::Event(const std::string& service, const std::string& kind, const std::string& detail) {
   record_->events.push_back({Now(), service, kind, detail});
@@ -101,7 +100,7 @@ void Supervisor::DrainHealth() {
       if (Spec(live->service.placed.service.kind).name != e.health().service()) continue;
       // Health of an earlier instance (before a restart) is not this one's
       if (!live->child || static_cast<pid_t>(e.health().pid()) != live->child->pid()) return;
-      live->last_health_ns = SteadyNs();
+      live->last_health_ns = base::SteadyNowNs();
       record_->services[live->record_index].last_health = e.health();
       if (e.health().state() == v1::Health::STATE_READY || e.health().state() == v1::Health::STATE_DEGRADED) {
         live->ready = true;
@@ -147,7 +146,7 @@ bool Supervisor::Start(Live& live) {
     record_->errors.push_back(std::string(Spec(live.service.placed.service.kind).name) + ": " + e.what());
     return false;
   }
-  live.last_health_ns = SteadyNs();
+  live.last_health_ns = base::SteadyNowNs();
   record.pids.push_back(live.child->pid());
   Event(std::string(Spec(live.service.placed.service.kind).name), "started",
         "pid " + std::to_string(live.child->pid()) + ", " + live.service.placed.haptex.Peer());
@@ -156,7 +155,7 @@ bool Supervisor::Start(Live& live) {
 
 bool Supervisor::WaitReady(Live& live) {
   const std::string name(Spec(live.service.placed.service.kind).name);
-  const std::int64_t deadline = SteadyNs() + static_cast<std::int64_t>(config_.ready_timeout_s * 1e9);
+  const std::int64_t deadline = base::SteadyNowNs() + static_cast<std::int64_t>(config_.ready_timeout_s * 1e9);
   while (true) {
     messenger_->WaitReadable(std::chrono::milliseconds(10));
     DrainHealth();
@@ -171,7 +170,7 @@ bool Supervisor::WaitReady(Live& live) {
       return false;
     }
     if (runtime::ShutdownRequested()) return false;
-    if (SteadyNs() > deadline) {
+    if (base::SteadyNowNs() > deadline) {
       record_->errors.push_back(name + " sent no healthy Health within " + Fixed(config_.ready_timeout_s, 0) +
                                 " s; see " + live.service.log_path);
       live.child->Signal(SIGKILL);
@@ -241,8 +240,8 @@ void Supervisor::PrintStatus(bool final_line) {
 void Supervisor::Stop() {
   Event("", "stopping", "zero force first, then each service, the device bridge last");
   HoldZeroForce(true, "stopping");
-  const std::int64_t settle_until = SteadyNs() + static_cast<std::int64_t>(config_.zero_force_settle_s * 1e9);
-  while (SteadyNs() < settle_until) {
+  const std::int64_t settle_until = base::SteadyNowNs() + static_cast<std::int64_t>(config_.zero_force_settle_s * 1e9);
+  while (base::SteadyNowNs() < settle_until) {
     messenger_->WaitReadable(std::chrono::milliseconds(5));
     DrainHealth();
   }
@@ -261,8 +260,8 @@ void Supervisor::Stop() {
     }
     SendControl(v1::Control::COMMAND_SHUTDOWN, live->service.placed.haptex.Peer(), name, "run ends");
     const auto wait_exit = [&](double seconds) {
-      const std::int64_t until = SteadyNs() + static_cast<std::int64_t>(seconds * 1e9);
-      while (SteadyNs() < until) {
+      const std::int64_t until = base::SteadyNowNs() + static_cast<std::int64_t>(seconds * 1e9);
+      while (base::SteadyNowNs() < until) {
         if (live->child->Poll()) return true;
         messenger_->WaitReadable(std::chrono::milliseconds(5));
         DrainHealth();
@@ -286,7 +285,7 @@ void Supervisor::Stop() {
 
 int Supervisor::Run(RunRecord* record) {
   record_ = record;
-  start_ns_ = SteadyNs();
+  start_ns_ = base::SteadyNowNs();
   runtime::InstallShutdownHandlers();
   for (const SupervisedService& s : config_.services) {
     auto live = std::make_unique<Live>();
@@ -315,12 +314,12 @@ int Supervisor::Run(RunRecord* record) {
     HoldZeroForce(false, "every service is healthy");
     Event("", "running", config_.duration_s > 0 ? "for " + Fixed(config_.duration_s, 1) + " s" : "until Ctrl-C");
   }
-  const std::int64_t run_start_ns = SteadyNs();
+  const std::int64_t run_start_ns = base::SteadyNowNs();
 
   // supervise
   while (all_started && !failed_) {
     if (runtime::ShutdownRequested()) break;
-    if (config_.duration_s > 0 && SteadyNs() - run_start_ns >= static_cast<std::int64_t>(config_.duration_s * 1e9)) break;
+    if (config_.duration_s > 0 && base::SteadyNowNs() - run_start_ns >= static_cast<std::int64_t>(config_.duration_s * 1e9)) break;
     // 2 ms: a dead service is found within that, so the zero-force hold of its restart reaches
     // the device well inside 20 ms even when nothing else wakes the loop
     messenger_->WaitReadable(std::chrono::milliseconds(2));
@@ -329,7 +328,7 @@ int Supervisor::Run(RunRecord* record) {
       std::string how;
       if (live->child->Poll()) {
         how = live->child->exit_text();
-      } else if (SteadyNs() - live->last_health_ns > static_cast<std::int64_t>(config_.silent_after_s * 1e9)) {
+      } else if (base::SteadyNowNs() - live->last_health_ns > static_cast<std::int64_t>(config_.silent_after_s * 1e9)) {
         how = "silent for " + Fixed(config_.silent_after_s, 1) + " s";
         live->child->Signal(SIGKILL);
         while (!live->child->Poll()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
@@ -339,9 +338,9 @@ int Supervisor::Run(RunRecord* record) {
         break;
       }
     }
-    if (SteadyNs() >= next_status_ns_) {
+    if (base::SteadyNowNs() >= next_status_ns_) {
       PrintStatus(false);
-      next_status_ns_ = SteadyNs() + static_cast<std::int64_t>(config_.status_period_s * 1e9);
+      next_status_ns_ = base::SteadyNowNs() + static_cast<std::int64_t>(config_.status_period_s * 1e9);
     }
   }
   if (config_.status_in_place) out_ << "\n";

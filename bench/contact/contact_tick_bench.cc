@@ -13,12 +13,12 @@
 
 #include <benchmark/benchmark.h>
 
+#include "libs/contact/finger_geometry.h"
 #include "libs/contact/haptic_step_options.h"
 #include "libs/contact/patch_simulation.h"
+#include "libs/scene/fabric_conversion.h"
 #include "libs/textile/fabric_model.h"
 #include "libs/textile/kes_material.h"
-#include "tests/contact/contact_test_util.h"
-#include "tests/textile/fabric_textproto.h"
 
 namespace haptex::contact {
 namespace {
@@ -26,7 +26,7 @@ namespace {
 using V = Eigen::Vector3d;
 
 FingerPose Facing(const V& centre, const V& pad_normal) {
-  return testing::PoseFacing(centre, pad_normal, V::UnitX());
+  return PoseFacing(centre, pad_normal, V::UnitX());
 }
 
 // 20 x 20 = 400 particles over 2 x 2 cm (about 1 mm spacing), border fixed, lying at z = 0,
@@ -37,7 +37,7 @@ FingerPose Facing(const V& centre, const V& pad_normal) {
 // reference. cap > 0 overrides the iteration cap.
 std::unique_ptr<PatchSimulation> MakePatch(int config, int cap = 0) {
   const textile::FabricMaterial material =
-      textile::MaterialFromKes(textile::testing::LoadDatabaseFabric("wang2011_black_denim_11oz"));
+      textile::MaterialFromKes(scene::LoadKesFabric("wang2011_black_denim_11oz"));
   textile::FabricModel model = textile::BuildFabricModel(material, {0.02, 0.02, 20, 20});
   textile::Placement placement;
   placement.origin_W = V(-0.01, -0.01, 0.0);

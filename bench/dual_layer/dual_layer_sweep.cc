@@ -20,7 +20,7 @@
 #include "libs/textile/kes_material.h"
 #include "libs/dual_layer/dual_layer_sim.h"
 #include "libs/dual_layer/pinch_stretch_strip.h"
-#include "tests/textile/textile_test_util.h"
+#include "libs/textile/validation.h"
 
 namespace haptex::dual_layer {
 namespace {
@@ -107,7 +107,7 @@ int main(int argc, char** argv) {
   for (int i = 1; i + 1 < argc; ++i) {
     if (std::strcmp(argv[i], "--out") == 0) out = argv[i + 1];
   }
-  const textile::FabricMaterial material = textile::MaterialFromKes(textile::testing::CompositeDenim());
+  const textile::FabricMaterial material = textile::MaterialFromKes(textile::validation::CompositeDenim());
   contact::ContactOptions o;
   o.finger_fabric = {0.8, 0.6};
   const Run ref = Reference(material, o);

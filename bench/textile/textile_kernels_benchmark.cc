@@ -9,11 +9,11 @@
 
 #include <benchmark/benchmark.h>
 
+#include "libs/scene/fabric_conversion.h"
 #include "libs/textile/fabric_forces.h"
 #include "libs/textile/gauss_seidel_preconditioner.h"
 #include "libs/textile/kes_material.h"
-#include "tests/textile/fabric_textproto.h"
-#include "tests/textile/force_jacobian_check.h"
+#include "libs/textile/validation.h"
 
 namespace haptex::textile {
 namespace {
@@ -28,13 +28,13 @@ struct Setup {
 
   explicit Setup(int n)
       : model(BuildFabricModel(
-            MaterialFromKes(testing::LoadDatabaseFabric("wang2011_black_denim_11oz")),
+            MaterialFromKes(scene::LoadKesFabric("wang2011_black_denim_11oz")),
             {0.2, 0.2, n, n})),
         state(MakeRestState(model)) {
     for (int p = 0; p < model.num_particles; ++p) {
       state.x(p) = state.x(p).cwiseProduct(Eigen::Vector3d(1.01, 0.995, 1.0));
     }
-    testing::Perturb(&state, 2e-4, 0.05, 7);
+    validation::Perturb(&state, 2e-4, 0.05, 7);
     for (int p = 0; p < n; ++p) state.Fix(p);  // one edge constrained, as on the stand
     f = Eigen::VectorXd::Zero(3 * model.num_particles);
     dfdx_v = f;

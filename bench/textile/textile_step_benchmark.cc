@@ -12,11 +12,11 @@
 
 #include <benchmark/benchmark.h>
 
+#include "libs/scene/fabric_conversion.h"
 #include "libs/textile/external_force.h"
 #include "libs/textile/fabric_stepper.h"
 #include "libs/textile/kes_material.h"
-#include "tests/textile/fabric_textproto.h"
-#include "tests/textile/textile_test_util.h"
+#include "libs/textile/validation.h"
 
 namespace haptex::textile {
 namespace {
@@ -34,10 +34,10 @@ Placement HangingPlacement() {
 void BM_Step(benchmark::State& bm, Integrator method, Preconditioner preconditioner) {
   const int n = static_cast<int>(bm.range(0));
   const FabricModel model =
-      BuildFabricModel(MaterialFromKes(testing::LoadDatabaseFabric(kFabrics[bm.range(2)])),
+      BuildFabricModel(MaterialFromKes(scene::LoadKesFabric(kFabrics[bm.range(2)])),
                        {0.2, 0.2, n, n});
   FabricState s = MakeRestState(model, HangingPlacement());
-  for (int p : testing::WarpRow(model, 0)) s.Fix(p);
+  for (int p : validation::WarpRow(model, 0)) s.Fix(p);
   StepOptions opt;
   opt.method = method;
   opt.preconditioner = preconditioner;
@@ -99,13 +99,13 @@ BENCHMARK(BM_StepSymplectic)->Args({11, 0, 1, 1000})->Args({21, 0, 1, 1000})
 // Validation 1 with each integrator: static elongation of the 20 x 38 cm strip (448 triangles)
 // under 2.4 N plus self-weight, relative error against the analytic integral.
 void BM_TensileAccuracy(benchmark::State& bm, Integrator method) {
-  const FabricMaterial material = MaterialFromKes(testing::CompositeDenim());
+  const FabricMaterial material = MaterialFromKes(validation::CompositeDenim());
   const FabricModel model = BuildFabricModel(material, {0.38, 0.2, 17, 15});
   double rel = 0.0, steps = 0.0, substeps = 0.0;
   for (auto _ : bm) {
     FabricState s = MakeRestState(model, HangingPlacement());
-    for (int p : testing::WarpRow(model, 0)) s.Fix(p);
-    const auto bottom = testing::WarpRow(model, 16);
+    for (int p : validation::WarpRow(model, 0)) s.Fix(p);
+    const auto bottom = validation::WarpRow(model, 16);
     AddEdgeLoad(model, bottom, Eigen::Vector3d(0, 0, -2.4), &s);
     StepOptions opt;
     opt.method = method;
@@ -119,11 +119,11 @@ void BM_TensileAccuracy(benchmark::State& bm, Integrator method) {
       return;
     }
     substeps = stepper->substeps();
-    steps = testing::RunToRest(stepper.get(), &s, 3000, 1e-6);
+    steps = validation::RunToRest(stepper.get(), &s, 3000, 1e-6);
     double z = 0.0;
     for (int p : bottom) z += s.x(p).z();
     const double simulated = -z / static_cast<double>(bottom.size()) - 0.38;
-    const double exact = testing::AnalyticHangingElongation(material.tensile_warp, 0.38, 0.2,
+    const double exact = validation::AnalyticHangingElongation(material.tensile_warp, 0.38, 0.2,
                                                             material.density_kg_per_m2, 2.4, 9.81);
     rel = std::abs(simulated - exact) / exact;
   }

@@ -5,8 +5,8 @@
 
 namespace haptex::contact {
 
-FingerPose FingerPose::Facing(const Eigen::Vector3d& centre_W, const Eigen::Vector3d& pad_normal_W,
-                              const Eigen::Vector3d& distal_W) {
+FingerPose PoseFacing(const Eigen::Vector3d& centre_W, const Eigen::Vector3d& pad_normal_W,
+                      const Eigen::Vector3d& distal_W) {
   FingerPose pose;
   pose.p_W_m = centre_W;
   const Eigen::Vector3d z = pad_normal_W.normalized();

@@ -23,12 +23,13 @@ struct FingerPose {
   Eigen::Vector3d ToFinger(const Eigen::Vector3d& p_W) const {
     return R_WF.transpose() * (p_W - p_W_m);
   }
-
-  /// The pose at `centre_W` whose pad (+z_F) faces `pad_normal_W`, with the distal axis (+x_F)
-  /// along `distal_W` (its part normal to the pad).
-  static FingerPose Facing(const Eigen::Vector3d& centre_W, const Eigen::Vector3d& pad_normal_W,
-                           const Eigen::Vector3d& distal_W);
 };
+
+/// A pose centred at `centre_W` whose pad (+z_F) faces `pad_normal_W`, with the distal axis (+x_F)
+/// along `distal_W` (its part along the pad normal removed). Neither may be zero, nor may they be
+/// parallel.
+FingerPose PoseFacing(const Eigen::Vector3d& centre_W, const Eigen::Vector3d& pad_normal_W,
+                      const Eigen::Vector3d& distal_W);
 
 /// Segment end points of a capsule in W.
 struct Segment {

@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "libs/base/cpu_features.h"
 #include "libs/contact/coulomb_friction.h"
 #include "libs/contact/finger_finger_contact.h"
-#include "libs/textile/cpu_features.h"
 
 namespace haptex::contact {
 namespace {
@@ -100,7 +100,7 @@ PinchContact::PinchContact(const textile::FabricModel& patch, const ContactOptio
   };
   far(radius_thumb_m_, &thresholds_.far_thumb_r2, &thresholds_.far_thumb_diam);
   far(radius_index_m_, &thresholds_.far_index_r2, &thresholds_.far_index_diam);
-  avx2_ = textile::internal::CpuHasAvx2();
+  avx2_ = base::CpuHasAvx2();
   triangle_p_.reserve(patch.triangles.size());
   for (const auto& t : patch.triangles) triangle_p_.push_back(t.p);
   const std::size_t lanes = patch.triangles.size() * static_cast<std::size_t>(lanes_per_triangle_);

@@ -4,23 +4,23 @@
 #include <bit>
 #include <cstdint>
 
-#include "libs/textile/check.h"
-#include "libs/textile/cpu_features.h"
-#include "libs/textile/lanes.h"
+#include "libs/base/cpu_features.h"
+#include "libs/base/demand.h"
+#include "libs/base/lanes.h"
 
 // The kernels are built twice (portable and AVX2) from the same source: see lanes.h.
 
 namespace haptex::contact::internal {
 namespace {
 
-using textile::lanes::Any;
-using textile::lanes::LaneSums;
-using textile::lanes::M4;
-using textile::lanes::Splat;
-using textile::lanes::Sqrt;
-using textile::lanes::Transpose;
-using textile::lanes::V4;
-using textile::lanes::Where;
+using base::lanes::Any;
+using base::lanes::LaneSums;
+using base::lanes::M4;
+using base::lanes::Splat;
+using base::lanes::Sqrt;
+using base::lanes::Transpose;
+using base::lanes::V4;
+using base::lanes::Where;
 
 // Sum of the four lanes of a count (masks subtracted: +1 per set lane).
 HAPTEX_LANES_INLINE int LaneCount(M4 count) {
@@ -336,7 +336,7 @@ PinchFrictionTotals FrictionPortable(const PinchSampleLayout& layout, const Pinc
                             : FrictionKernel<0>(layout, in, s, sums, w_sums);
 }
 
-#ifdef HAPTEX_TEXTILE_X86_KERNELS
+#ifdef HAPTEX_X86_KERNELS
 // The same kernels on 256-bit registers. No FMA: the products round as in the portable build.
 __attribute__((target("avx2"))) void LocateAvx2(const PinchLocateInput& in, const PinchParticleArrays& out) {
   LocateKernel(in, out);
@@ -359,11 +359,11 @@ __attribute__((target("avx2"))) PinchFrictionTotals FrictionAvx2(const PinchSamp
 }  // namespace
 
 void LocatePinchParticles(const PinchLocateInput& in, const PinchParticleArrays& out, bool avx2) {
-#ifdef HAPTEX_TEXTILE_X86_KERNELS
-  HAPTEX_TEXTILE_DEMAND(!avx2 || textile::internal::CpuHasAvx2());  // else SIGILL
+#ifdef HAPTEX_X86_KERNELS
+  HAPTEX_DEMAND(!avx2 || base::CpuHasAvx2());  // else SIGILL
   if (avx2) return LocateAvx2(in, out);
 #else
-  HAPTEX_TEXTILE_DEMAND(!avx2);
+  HAPTEX_DEMAND(!avx2);
 #endif
   LocatePortable(in, out);
 }
@@ -371,11 +371,11 @@ void LocatePinchParticles(const PinchLocateInput& in, const PinchParticleArrays&
 PinchClassifyTotals ClassifyPinchSamples(const PinchSampleLayout& layout, const PinchClassifyInput& in,
                                          const PinchSampleArrays& samples, PinchTriangleHold* hold,
                                          bool avx2) {
-#ifdef HAPTEX_TEXTILE_X86_KERNELS
-  HAPTEX_TEXTILE_DEMAND(!avx2 || textile::internal::CpuHasAvx2());  // else SIGILL
+#ifdef HAPTEX_X86_KERNELS
+  HAPTEX_DEMAND(!avx2 || base::CpuHasAvx2());  // else SIGILL
   if (avx2) return ClassifyAvx2(layout, in, samples, hold);
 #else
-  HAPTEX_TEXTILE_DEMAND(!avx2);
+  HAPTEX_DEMAND(!avx2);
 #endif
   return ClassifyPortable(layout, in, samples, hold);
 }
@@ -383,11 +383,11 @@ PinchClassifyTotals ClassifyPinchSamples(const PinchSampleLayout& layout, const 
 PinchFrictionTotals ApplyPinchFriction(const PinchSampleLayout& layout, const PinchFrictionInput& in,
                                        const PinchSampleArrays& samples, PinchParticleSums* sums,
                                        double* w_sums, bool avx2) {
-#ifdef HAPTEX_TEXTILE_X86_KERNELS
-  HAPTEX_TEXTILE_DEMAND(!avx2 || textile::internal::CpuHasAvx2());  // else SIGILL
+#ifdef HAPTEX_X86_KERNELS
+  HAPTEX_DEMAND(!avx2 || base::CpuHasAvx2());  // else SIGILL
   if (avx2) return FrictionAvx2(layout, in, samples, sums, w_sums);
 #else
-  HAPTEX_TEXTILE_DEMAND(!avx2);
+  HAPTEX_DEMAND(!avx2);
 #endif
   return FrictionPortable(layout, in, samples, sums, w_sums);
 }

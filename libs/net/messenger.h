@@ -17,6 +17,7 @@
 
 #include <google/protobuf/arena.h>
 
+#include "libs/base/clock.h"
 #include "libs/net/envelope_codec.h"
 #include "libs/net/udp_endpoint.h"
 
@@ -53,12 +54,12 @@ class Messenger final {
   }
   template <class Body>
   bool SendTo(const Endpoint& to, const Body& body) {
-    const std::size_t bytes = sealer_.Seal(body, SteadyNowNs(), send_buffer_);
+    const std::size_t bytes = sealer_.Seal(body, base::SteadyNowNs(), send_buffer_);
     return Transmit(bytes, to);
   }
   /// Same, for a body chosen at run time (`body_field_number`: its field in the Envelope oneof).
   bool SendBody(PeerId peer, const google::protobuf::MessageLite& body, int body_field_number) {
-    const std::size_t bytes = sealer_.SealBody(body, body_field_number, SteadyNowNs(), send_buffer_);
+    const std::size_t bytes = sealer_.SealBody(body, body_field_number, base::SteadyNowNs(), send_buffer_);
     return Transmit(bytes, peers_[peer].endpoint);
   }
 
@@ -94,13 +95,6 @@ class Messenger final {
   Endpoint local_endpoint() const { return endpoint_.local_endpoint(); }
   std::uint16_t local_port() const { return endpoint_.local_port(); }
   const SenderIdentity& identity() const { return sealer_.identity(); }
-
-  /// The steady clock that send times are written in [ns].
-  static std::int64_t SteadyNowNs() {
-    return std::chrono::duration_cast<std::chrono::nanoseconds>(
-               std::chrono::steady_clock::now().time_since_epoch())
-        .count();
-  }
 
  private:
   struct Peer {

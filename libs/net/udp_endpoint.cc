@@ -3,6 +3,7 @@
 #include <poll.h>
 #include <sys/socket.h>
 #include <time.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
@@ -10,6 +11,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "libs/base/clock.h"
 #include "libs/net/udp_address.h"
 
 namespace haptex::net {
@@ -17,7 +19,16 @@ namespace haptex::net {
 UdpEndpoint::UdpEndpoint(std::string_view bind_address) : socket_(io_) {
   const Endpoint endpoint = ResolveUdpAddress(bind_address);
   asio::error_code error;
-  socket_.open(endpoint.protocol(), error);
+  // Close-on-exec from its first instant (SOCK_CLOEXEC: no window for a fork in another thread),
+  // so no process this one starts inherits the socket. Asio's open() would not set it.
+  const int fd = ::socket(endpoint.protocol().family(), endpoint.protocol().type() | SOCK_CLOEXEC,
+                          endpoint.protocol().protocol());
+  if (fd < 0) {
+    error = asio::error_code(errno, asio::error::get_system_category());
+  } else {
+    socket_.assign(endpoint.protocol(), fd, error);
+    if (error) ::close(fd);
+  }
   if (!error) socket_.bind(endpoint, error);
   if (error) {
     throw std::runtime_error("cannot bind UDP " + std::string(bind_address) + ": " +
@@ -71,16 +82,16 @@ std::optional<std::size_t> UdpEndpoint::ReceiveOne(std::span<std::uint8_t> buffe
     from->resize(message.msg_namelen);
     std::memcpy(from->data(), &address, message.msg_namelen);
     // the kernel stamps in CLOCK_REALTIME; move it onto the steady clock by the clocks' offset now
-    timespec real_now{}, steady_now{};
+    timespec real_now{};
     clock_gettime(CLOCK_REALTIME, &real_now);
-    clock_gettime(CLOCK_MONOTONIC, &steady_now);
+    const std::int64_t steady_now_ns = base::SteadyNowNs();
     const auto ns = [](const timespec& t) { return std::int64_t{t.tv_sec} * 1000000000 + t.tv_nsec; };
-    *arrival_ns = ns(steady_now);
+    *arrival_ns = steady_now_ns;
     for (cmsghdr* c = CMSG_FIRSTHDR(&message); c != nullptr; c = CMSG_NXTHDR(&message, c)) {
       if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_TIMESTAMPNS) {
         timespec stamp{};
         std::memcpy(&stamp, CMSG_DATA(c), sizeof(stamp));
-        *arrival_ns = ns(steady_now) - (ns(real_now) - ns(stamp));
+        *arrival_ns = steady_now_ns - (ns(real_now) - ns(stamp));
       }
     }
     return static_cast<std::size_t>(bytes);

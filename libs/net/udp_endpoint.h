@@ -18,8 +18,9 @@ class UdpEndpoint final {
  public:
   using Endpoint = asio::ip::udp::endpoint;
 
-  /// Binds to "host:port" (port 0: any free port). Throws std::runtime_error with the address and
-  /// the system's reason when the bind fails.
+  /// Binds to "host:port" (port 0: any free port). The socket is close-on-exec: processes this one
+  /// starts do not inherit it. Throws std::runtime_error with the address and the system's reason
+  /// when the bind fails.
   explicit UdpEndpoint(std::string_view bind_address);
   UdpEndpoint(const UdpEndpoint&) = delete;
   UdpEndpoint& operator=(const UdpEndpoint&) = delete;

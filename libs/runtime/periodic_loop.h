@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "libs/runtime/clock.h"
+#include "libs/base/clock.h"
 #include "libs/runtime/loop_stats.h"
 
 namespace haptex::runtime {
@@ -15,7 +15,7 @@ namespace haptex::runtime {
 /// What a tick is told about its timing.
 struct TickInfo {
   std::uint64_t tick = 0;               // 0, 1, 2, ... (skipped cycles are not numbered)
-  std::int64_t now_ns = 0;              // when the tick started (SteadyNowNs)
+  std::int64_t now_ns = 0;              // when the tick started (base::SteadyNowNs)
   std::int64_t deadline_ns = 0;         // when it was due
   std::int64_t measured_period_ns = 0;  // since the previous tick started (0 for the first)
   std::uint64_t skipped = 0;            // cycles skipped just before this tick
@@ -31,12 +31,12 @@ class PeriodicLoop final {
   /// every tick). Neither allocates nor logs.
   template <class Tick, class ShouldStop>
   void Run(Tick&& tick, ShouldStop&& should_stop) {
-    std::int64_t next_ns = SteadyNowNs() + period_ns_;
+    std::int64_t next_ns = base::SteadyNowNs() + period_ns_;
     std::int64_t previous_start_ns = 0;
     while (!should_stop()) {
       SleepUntil(next_ns);
       TickInfo info;
-      info.now_ns = SteadyNowNs();
+      info.now_ns = base::SteadyNowNs();
       const std::int64_t late_ns = info.now_ns - next_ns;
       if (late_ns >= period_ns_) {
         // skip the cycles we missed rather than running them back to back
@@ -53,7 +53,7 @@ class PeriodicLoop final {
       info.tick = stats_.ticks;
       info.dt_s = dt_s_;
       tick(static_cast<const TickInfo&>(info));
-      stats_.compute.Record(SteadyNowNs() - info.now_ns);
+      stats_.compute.Record(base::SteadyNowNs() - info.now_ns);
       ++stats_.ticks;
       next_ns += period_ns_;
     }

@@ -4,12 +4,12 @@
 
 #include <chrono>
 
-#include "libs/runtime/clock.h"
+#include "libs/base/clock.h"
 
 namespace haptex::runtime {
 
 void RtEventLog::Push(RtLogLevel level, const char* message, double value) {
-  if (!ring_.TryPush(RtEvent{level, message, value, SteadyNowNs()})) {
+  if (!ring_.TryPush(RtEvent{level, message, value, base::SteadyNowNs()})) {
     dropped_.fetch_add(1, std::memory_order_relaxed);
   }
 }

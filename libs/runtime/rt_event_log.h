@@ -21,7 +21,7 @@ struct RtEvent {
   RtLogLevel level = RtLogLevel::kInfo;
   const char* message = "";  // must be a string literal (static storage)
   double value = 0.0;        // printed after the message
-  std::int64_t time_ns = 0;  // SteadyNowNs when pushed
+  std::int64_t time_ns = 0;  // base::SteadyNowNs when pushed
 };
 
 class RtEventLog final {

@@ -50,4 +50,12 @@ textile::kes::Fabric ToKesFabric(const v1::Fabric& f) {
   return out;
 }
 
+textile::kes::Fabric LoadKesFabric(const FabricDatabase& database, const std::string& name) {
+  return ToKesFabric(database.Load(name));
+}
+
+textile::kes::Fabric LoadKesFabric(const std::string& name) {
+  return LoadKesFabric(FabricDatabase(FabricDatabase::DefaultDirectory()), name);
+}
+
 }  // namespace haptex::scene

@@ -2,9 +2,10 @@
 // The fingertip pin array: 6 x 4 contactors at 2 mm pitch (Exeter HAPTEX stimulator).
 
 #include <cmath>
-#include <cstdlib>
 
 #include <Eigen/Core>
+
+#include "libs/base/demand.h"
 
 namespace haptex::tactile {
 
@@ -22,7 +23,7 @@ struct PinLayout {
 
   /// Offset of pin `index` in the fingertip frame [m].
   Eigen::Vector2d OffsetOnFingerM(int index) const {
-    if (index < 0 || index >= kPinCount) std::abort();  // a caller bug
+    HAPTEX_DEMAND(index >= 0 && index < kPinCount);  // a caller bug
     const int i = index % kColumns;
     const int j = index / kColumns;
     return {(i - 0.5 * (kColumns - 1)) * pitch_m, (j - 0.5 * (kRows - 1)) * pitch_m};

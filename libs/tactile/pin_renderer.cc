@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "libs/base/demand.h"
+
 namespace haptex::tactile {
 namespace {
 
@@ -123,7 +125,7 @@ void FingerRenderState::Reset() {
 
 int RenderStep(const RendererModel& model, const FingerInput& in, double dt_s, FingerRenderState* state,
                RenderWorkspace* ws) {
-  if (state == nullptr || ws == nullptr) std::abort();  // a caller bug, not a runtime fault
+  HAPTEX_DEMAND(state != nullptr && ws != nullptr);  // a caller bug, not a runtime fault
   const RendererConfig& c = model.config();
   FingerRenderState& s = *state;
 

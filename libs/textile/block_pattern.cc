@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <utility>
 
-#include "libs/textile/check.h"
+#include "libs/base/demand.h"
 
-#include "libs/textile/cpu_features.h"
+#include "libs/base/cpu_features.h"
 
-#ifdef HAPTEX_TEXTILE_X86_KERNELS
+#ifdef HAPTEX_X86_KERNELS
 #include <immintrin.h>
 #endif
 
@@ -18,12 +18,12 @@ int BlockPattern::Slot(int r, int c) const {
   const auto begin = cols.begin() + row_start[static_cast<std::size_t>(r)];
   const auto end = cols.begin() + row_start[static_cast<std::size_t>(r) + 1];
   const auto it = std::find(begin, end, c);
-  HAPTEX_TEXTILE_DEMAND(it != end);
+  HAPTEX_DEMAND(it != end);
   return static_cast<int>(it - cols.begin());
 }
 
 void BlockPattern::MoveToRowEnds(const std::vector<unsigned char>& to_end) {
-  HAPTEX_TEXTILE_DEMAND(to_end.size() == cols.size());
+  HAPTEX_DEMAND(to_end.size() == cols.size());
   std::vector<int> reordered;
   reordered.reserve(cols.size());
   for (int r = 0; r < rows(); ++r) {
@@ -45,7 +45,7 @@ BlockPattern BlockPattern::FromPairs(int rows, const std::vector<std::pair<int, 
   std::vector<std::vector<int>> adj(static_cast<std::size_t>(rows));
   for (int r = 0; r < rows; ++r) adj[static_cast<std::size_t>(r)].push_back(r);
   for (const auto& [i, j] : pairs) {
-    HAPTEX_TEXTILE_DEMAND(i >= 0 && i < rows && j >= 0 && j < rows);
+    HAPTEX_DEMAND(i >= 0 && i < rows && j >= 0 && j < rows);
     adj[static_cast<std::size_t>(i)].push_back(j);
     adj[static_cast<std::size_t>(j)].push_back(i);
   }
@@ -66,7 +66,7 @@ BlockPattern BlockPattern::FromPairs(int rows, const std::vector<std::pair<int, 
 
 SplitRows SplitRows::FromPattern(const BlockPattern& pattern,
                                  const std::vector<unsigned char>& is_scalar) {
-  HAPTEX_TEXTILE_DEMAND(is_scalar.size() == pattern.cols.size());
+  HAPTEX_DEMAND(is_scalar.size() == pattern.cols.size());
   SplitRows s;
   s.general_start.push_back(0);
   s.general_first_slot.assign(static_cast<std::size_t>(pattern.rows()), 0);
@@ -76,13 +76,13 @@ SplitRows SplitRows::FromPattern(const BlockPattern& pattern,
          k < pattern.row_start[static_cast<std::size_t>(r) + 1]; ++k) {
       const int c = pattern.cols[static_cast<std::size_t>(k)];
       if (is_scalar[static_cast<std::size_t>(k)]) {
-        HAPTEX_TEXTILE_DEMAND(c != r);
+        HAPTEX_DEMAND(c != r);
         s.scalar_slot.push_back(k);
         s.scalar_col.push_back(c);
       } else {
         const int g = static_cast<int>(s.general_col.size()) - s.general_start.back();
         if (g == 0) s.general_first_slot[static_cast<std::size_t>(r)] = k;
-        HAPTEX_TEXTILE_DEMAND(k == s.general_first_slot[static_cast<std::size_t>(r)] + g);  // contiguous
+        HAPTEX_DEMAND(k == s.general_first_slot[static_cast<std::size_t>(r)] + g);  // contiguous
         s.general_col.push_back(c);
       }
     }
@@ -139,7 +139,7 @@ double RangeGeneric(const SplitRows& split, const Eigen::Matrix3d* blocks, const
   return xy;
 }
 
-#ifdef HAPTEX_TEXTILE_X86_KERNELS
+#ifdef HAPTEX_X86_KERNELS
 // One block's columns times x_c's entries, added to (c0, c1, c2): column 0 and 1 are loaded
 // from m and m + 3 (lanes 0..2 are rows 0..2), column 2 from m + 5 (lanes 1..3 are rows 0..2),
 // so no load leaves the block. No FMA: the products round as in RangeGeneric.
@@ -225,12 +225,12 @@ __attribute__((target("avx"))) double RangeAvx(const SplitRows& split,
 
 double MultiplySplitRowRange(const SplitRows& split, const Eigen::Matrix3d* blocks,
                              const double* scalars, const double* x, double* y, int r0, int r1) {
-  return MultiplySplitRowRange(split, blocks, scalars, x, y, r0, r1, CpuHasAvx());
+  return MultiplySplitRowRange(split, blocks, scalars, x, y, r0, r1, base::CpuHasAvx());
 }
 
 double MultiplySplitRowRange(const SplitRows& split, const Eigen::Matrix3d* blocks,
                              const double* scalars, const double* x, double* y, int r0, int r1, bool avx) {
-#ifdef HAPTEX_TEXTILE_X86_KERNELS
+#ifdef HAPTEX_X86_KERNELS
   if (avx) return RangeAvx(split, blocks, scalars, x, y, r0, r1);
 #endif
   (void)avx;

@@ -90,7 +90,7 @@ namespace internal {
 /// elsewhere the same sums in the same order, so both give identical results. Never allocates.
 double MultiplySplitRowRange(const SplitRows& split, const Eigen::Matrix3d* blocks,
                              const double* scalars, const double* x, double* y, int r0, int r1);
-/// The same with the kernel picked: the AVX one if `avx` (only where internal::CpuHasAvx()),
+/// The same with the kernel picked: the AVX one if `avx` (only where base::CpuHasAvx()),
 /// else the portable one (tests compare their bits).
 double MultiplySplitRowRange(const SplitRows& split, const Eigen::Matrix3d* blocks,
                              const double* scalars, const double* x, double* y, int r0, int r1, bool avx);

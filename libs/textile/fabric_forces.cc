@@ -11,11 +11,11 @@
 
 #include <Eigen/Geometry>
 
-#include "libs/textile/check.h"
-#include "libs/textile/cpu_features.h"
-#include "libs/textile/lanes.h"
+#include "libs/base/cpu_features.h"
+#include "libs/base/demand.h"
+#include "libs/base/lanes.h"
 
-#ifdef HAPTEX_TEXTILE_X86_KERNELS
+#ifdef HAPTEX_X86_KERNELS
 #include <immintrin.h>
 #endif
 
@@ -34,17 +34,17 @@ namespace {
 // and (df/dx) v are the one-triangle formulas, added per lane in triangle order (triangles of a
 // group share particles). Blocks (l, k) are blocks (k, l) transposed, and a group's terms reach
 // a shared block in block order: the system differs from a triangle-by-triangle sum by rounding.
-// The lane helpers (V4, Splat, Sqrt, Any, Transpose, ...) are libs/textile/lanes.h's.
-using lanes::Abs;
-using lanes::Any;
-using lanes::Dot3;
-using lanes::kLanes;
-using lanes::M4;
-using lanes::Splat;
-using lanes::Sqrt;
-using lanes::Transpose;
-using lanes::V2;
-using lanes::V4;
+// The lane helpers (V4, Splat, Sqrt, Any, Transpose, ...) are libs/base/lanes.h's.
+using base::lanes::Abs;
+using base::lanes::Any;
+using base::lanes::Dot3;
+using base::lanes::kLanes;
+using base::lanes::M4;
+using base::lanes::Splat;
+using base::lanes::Sqrt;
+using base::lanes::Transpose;
+using base::lanes::V2;
+using base::lanes::V4;
 
 // base[index[j]] in lane j.
 HAPTEX_LANES_INLINE V4 Gather(const double* base, const int index[kLanes]) {
@@ -185,7 +185,7 @@ struct CurveLanes {
 
 CurveLanes LanesOf(const StrainCurve& curve) {
   const MonotoneSpline& s = curve.loading();
-  HAPTEX_TEXTILE_DEMAND(s.knots_x().size() >= 2);
+  HAPTEX_DEMAND(s.knots_x().size() >= 2);
   const int last = static_cast<int>(s.knots_x().size()) - 1;
   // Steps top_step, top_step / 2, ..., 1 reach segment 2 top_step - 1 from segment 0.
   int top_step = 0, reach = 0;
@@ -321,9 +321,9 @@ HAPTEX_LANES_INLINE void TriangleKernel(const FabricModel& model, const double* 
   // Model data in locals: the force stores could alias it, so it would be reloaded.
   const TriangleElement* triangles = model.triangles.data();
   const std::size_t num_triangles = model.triangles.size();
-  HAPTEX_TEXTILE_DEMAND(model.triangle_block_offsets.size() == num_triangles);
+  HAPTEX_DEMAND(model.triangle_block_offsets.size() == num_triangles);
   const std::array<std::int32_t, 9>* offsets_all = model.triangle_block_offsets.data();
-  HAPTEX_TEXTILE_DEMAND(model.triangle_first_blocks.size() == num_triangles);
+  HAPTEX_DEMAND(model.triangle_first_blocks.size() == num_triangles);
   const std::array<std::uint8_t, 9>* first_blocks = model.triangle_first_blocks.data();
   const Eigen::Matrix3d* const sources[2] = {system, base};
   // One group of four triangles from t0; `lanes` of them real. The tail group repeats its last
@@ -556,7 +556,7 @@ void AddTriangleForcesGeneric(const FabricModel& model, const double* x, const d
   TriangleKernel(model, x, v, sink);
 }
 
-#ifdef HAPTEX_TEXTILE_X86_KERNELS
+#ifdef HAPTEX_X86_KERNELS
 // The same kernel on 256-bit registers. No FMA: the products round as in the generic build.
 __attribute__((target("avx2"))) void AddTriangleForcesAvx2(const FabricModel& model,
                                                            const double* x, const double* v,
@@ -576,16 +576,16 @@ __attribute__((target("avx2,avx512f,avx512vl"))) void AddTriangleForcesAvx2On32R
 void AddTriangleForces(const FabricModel& model, const Eigen::VectorXd& x,
                        const Eigen::VectorXd& v, internal::ForceKernels kernels, ForceSink* sink) {
   using internal::ForceKernels;
-#ifdef HAPTEX_TEXTILE_X86_KERNELS
+#ifdef HAPTEX_X86_KERNELS
   // Else SIGILL.
-  HAPTEX_TEXTILE_DEMAND(kernels == ForceKernels::kPortable || internal::CpuHasAvx2());
-  HAPTEX_TEXTILE_DEMAND(kernels != ForceKernels::kAvx2On32Registers || internal::CpuHasAvx512Vl());
+  HAPTEX_DEMAND(kernels == ForceKernels::kPortable || base::CpuHasAvx2());
+  HAPTEX_DEMAND(kernels != ForceKernels::kAvx2On32Registers || base::CpuHasAvx512Vl());
   if (kernels == ForceKernels::kAvx2On32Registers) {
     return AddTriangleForcesAvx2On32Registers(model, x.data(), v.data(), sink);
   }
   if (kernels == ForceKernels::kAvx2) return AddTriangleForcesAvx2(model, x.data(), v.data(), sink);
 #else
-  HAPTEX_TEXTILE_DEMAND(kernels == ForceKernels::kPortable);
+  HAPTEX_DEMAND(kernels == ForceKernels::kPortable);
 #endif
   AddTriangleForcesGeneric(model, x.data(), v.data(), sink);
 }
@@ -623,7 +623,7 @@ void AddBendingBlocks(const FabricModel& model, ForceSink* sink) {
 // Bending on (x, y, z, -) in one V4 per particle: the IEEE operations of the scalar formulas,
 // per component (lane 3 is never stored). A particle is one masked load in the avx2 build (it
 // never reads past the particle), an (x, y) pair and z in the portable one.
-#ifdef HAPTEX_TEXTILE_X86_KERNELS
+#ifdef HAPTEX_X86_KERNELS
 // Not always_inline: its avx2 target would not match the template's; flatten on the avx2
 // kernel inlines it there.
 __attribute__((target("avx2"))) inline V4 Load3Avx2(const double* p) {
@@ -632,7 +632,7 @@ __attribute__((target("avx2"))) inline V4 Load3Avx2(const double* p) {
 #endif
 template <bool kAvx2>
 HAPTEX_LANES_INLINE V4 Load3(const double* p) {
-#ifdef HAPTEX_TEXTILE_X86_KERNELS
+#ifdef HAPTEX_X86_KERNELS
   if constexpr (kAvx2) return Load3Avx2(p);
 #endif
   V2 xy;
@@ -727,7 +727,7 @@ void AddBendingGeneric(const FabricModel& model, const double* x, const double* 
   BendingKernel<false, false>(model, x, v, f, dfv);
 }
 
-#ifdef HAPTEX_TEXTILE_X86_KERNELS
+#ifdef HAPTEX_X86_KERNELS
 __attribute__((target("avx2"), flatten)) void AddBendingAvx2(const FabricModel& model,
                                                              const double* x, const double* v,
                                                              double* f, double* dfv) {
@@ -741,7 +741,7 @@ void AddBending(const FabricModel& model, const Eigen::VectorXd& x, const Eigen:
                 bool avx2, ForceSink* sink) {
   double* fp = sink->force_N->data();
   double* dfv = sink->wants_jacobians() ? sink->dfdx_v->data() : nullptr;
-#ifdef HAPTEX_TEXTILE_X86_KERNELS
+#ifdef HAPTEX_X86_KERNELS
   if (avx2) {
     AddBendingAvx2(model, x.data(), v.data(), fp, dfv);
   } else {
@@ -803,8 +803,8 @@ void AccumulateForces(const FabricModel& model, const FabricState& state, ForceS
 }
 
 internal::ForceKernels internal::BestForceKernels() {
-  if (CpuHasAvx2() && CpuHasAvx512Vl()) return ForceKernels::kAvx2On32Registers;
-  return CpuHasAvx2() ? ForceKernels::kAvx2 : ForceKernels::kPortable;
+  if (base::CpuHasAvx2() && base::CpuHasAvx512Vl()) return ForceKernels::kAvx2On32Registers;
+  return base::CpuHasAvx2() ? ForceKernels::kAvx2 : ForceKernels::kPortable;
 }
 
 void internal::AccumulateForces(const FabricModel& model, const FabricState& state, ForceKernels kernels,

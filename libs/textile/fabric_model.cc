@@ -8,7 +8,7 @@
 
 #include <Eigen/Dense>
 
-#include "libs/textile/check.h"
+#include "libs/base/demand.h"
 #include "libs/textile/fabric_forces.h"
 
 namespace haptex::textile {
@@ -142,7 +142,7 @@ FabricModel BuildFabricModel(const FabricMaterial& material, const GridSpec& gri
   for (const auto& slots : model.triangle_slots) {
     std::array<std::int32_t, 9> offsets{};
     for (std::size_t k = 0; k < 9; ++k) {
-      HAPTEX_TEXTILE_DEMAND(slots[k] <= INT32_MAX / static_cast<int>(sizeof(Eigen::Matrix3d)));
+      HAPTEX_DEMAND(slots[k] <= INT32_MAX / static_cast<int>(sizeof(Eigen::Matrix3d)));
       offsets[k] = slots[k] * static_cast<std::int32_t>(sizeof(Eigen::Matrix3d));
     }
     model.triangle_block_offsets.push_back(offsets);

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "libs/textile/check.h"
+#include "libs/base/demand.h"
 #include "libs/textile/symplectic_euler.h"
 
 namespace haptex::textile {
@@ -29,7 +29,7 @@ FabricStepper::FabricStepper(const FabricModel& model, const StepOptions& option
 }
 
 StepResult FabricStepper::Step(FabricState* state) {
-  HAPTEX_TEXTILE_DEMAND(state->num_particles() == model_.num_particles);
+  HAPTEX_DEMAND(state->num_particles() == model_.num_particles);
   StepResult result;
   ws_.x_backup = state->x_W_m;  // v rolls back to rest
   const double t0 = state->time_s;

@@ -4,10 +4,10 @@
 #include <cmath>
 #include <cstring>
 
-#include "libs/textile/check.h"
-#include "libs/textile/cpu_features.h"
+#include "libs/base/cpu_features.h"
+#include "libs/base/demand.h"
 
-#ifdef HAPTEX_TEXTILE_X86_KERNELS
+#ifdef HAPTEX_X86_KERNELS
 #include <immintrin.h>
 #endif
 
@@ -183,7 +183,7 @@ inline double RowGeneric(const GaussSeidelSweepArgs& a, int r, const SweepVector
   return 0.0;
 }
 
-#ifdef HAPTEX_TEXTILE_X86_KERNELS
+#ifdef HAPTEX_X86_KERNELS
 // The broadcasts of lanes 0, 1, 2 of a row's solution: a row's products with its solution (D_w
 // times it) and the next row's (the adjacent block times it) share them (port 5 shuffles).
 struct Broadcasts {
@@ -471,7 +471,7 @@ __attribute__((target("avx2"))) double StepResidualAvx2(const internal::SweepRow
 
 template <SweepKind kKind>
 double Sweep(const GaussSeidelSweepArgs& a, const SweepVectors& v) {
-#ifdef HAPTEX_TEXTILE_X86_KERNELS
+#ifdef HAPTEX_X86_KERNELS
   if (a.avx2) return SweepAvx2<kKind>(a, v);
 #endif
   double xy = 0.0;
@@ -483,7 +483,7 @@ double Sweep(const GaussSeidelSweepArgs& a, const SweepVectors& v) {
 // Two kForwardDiagonal sweeps in one pass over the rows (independent: the bits of two sweeps).
 void SweepForwardDiagonalPair(const GaussSeidelSweepArgs& a, const SweepVectors& v0, const SweepVectors& v1,
                               double* xy) {
-#ifdef HAPTEX_TEXTILE_X86_KERNELS
+#ifdef HAPTEX_X86_KERNELS
   if (a.avx2) return SweepForwardDiagonalPairAvx2(a, v0, v1, xy);
 #endif
   double xy0 = 0.0, xy1 = 0.0;
@@ -610,7 +610,7 @@ inline __attribute__((always_inline)) bool RowUpdatesKernel(const RowUpdate& in)
 
 bool RowUpdatesGeneric(const RowUpdate& u) { return RowUpdatesKernel(u); }
 
-#ifdef HAPTEX_TEXTILE_X86_KERNELS
+#ifdef HAPTEX_X86_KERNELS
 __attribute__((target("avx2"))) bool RowUpdatesAvx2(const RowUpdate& u) { return RowUpdatesKernel(u); }
 #endif
 
@@ -620,7 +620,7 @@ bool RowBlocksGeneric(const Eigen::Matrix3d& a, double omega, const Eigen::Matri
   return RowBlocksKernel(a, omega, 1.0 / omega, lower_block, upper_block, d, d_inv, lower, upper);
 }
 
-#ifdef HAPTEX_TEXTILE_X86_KERNELS
+#ifdef HAPTEX_X86_KERNELS
 __attribute__((target("avx2"))) bool RowBlocksAvx2(const Eigen::Matrix3d& a, double omega,
                                                    const Eigen::Matrix3d* lower_block,
                                                    const Eigen::Matrix3d* upper_block, PaddedBlock* d,
@@ -635,7 +635,7 @@ namespace internal {
 bool SetRowBlocks(const Eigen::Matrix3d& a, double omega, const Eigen::Matrix3d* lower_block,
                   const Eigen::Matrix3d* upper_block, bool avx2, PaddedBlock* d, PaddedBlock* d_inv,
                   PaddedBlock* lower, PaddedBlock* upper) {
-#ifdef HAPTEX_TEXTILE_X86_KERNELS
+#ifdef HAPTEX_X86_KERNELS
   if (avx2) return RowBlocksAvx2(a, omega, lower_block, upper_block, d, d_inv, lower, upper);
 #endif
   (void)avx2;
@@ -644,7 +644,7 @@ bool SetRowBlocks(const Eigen::Matrix3d& a, double omega, const Eigen::Matrix3d*
 }  // namespace internal
 
 GaussSeidelPreconditioner::GaussSeidelPreconditioner(const SplitRows& split) {
-  avx2_ = internal::CpuHasAvx2();
+  avx2_ = base::CpuHasAvx2();
   const int rows = static_cast<int>(split.general_start.size()) - 1;
   diag_slot_.assign(static_cast<std::size_t>(rows), 0);
   row_data_.assign(static_cast<std::size_t>(rows), internal::SweepRowData{});
@@ -661,11 +661,11 @@ GaussSeidelPreconditioner::GaussSeidelPreconditioner(const SplitRows& split) {
     for (int k = split.general_start[row]; k < split.general_start[row + 1]; ++k) {
       const int c = split.general_col[static_cast<std::size_t>(k)];
       if (k > split.general_start[row]) {
-        HAPTEX_TEXTILE_DEMAND(split.general_col[static_cast<std::size_t>(k) - 1] < c);  // sorted
+        HAPTEX_DEMAND(split.general_col[static_cast<std::size_t>(k) - 1] < c);  // sorted
       }
       if (c == r) diag = k;
     }
-    HAPTEX_TEXTILE_DEMAND(diag >= 0);
+    HAPTEX_DEMAND(diag >= 0);
     // Slot of general index k: k + slot_offset.
     const int slot_offset = split.general_first_slot[row] - split.general_start[row];
     diag_slot_[row] = slot_offset + diag;
@@ -677,15 +677,15 @@ GaussSeidelPreconditioner::GaussSeidelPreconditioner(const SplitRows& split) {
     int upper = split.scalar_start[row];
     for (int k = split.scalar_start[row]; k < split.scalar_start[row + 1]; ++k) {
       if (k > split.scalar_start[row]) {
-        HAPTEX_TEXTILE_DEMAND(split.scalar_col[static_cast<std::size_t>(k) - 1] <
-                              split.scalar_col[static_cast<std::size_t>(k)]);
+        HAPTEX_DEMAND(split.scalar_col[static_cast<std::size_t>(k) - 1] <
+                      split.scalar_col[static_cast<std::size_t>(k)]);
       }
       if (split.scalar_col[static_cast<std::size_t>(k)] < r) upper = k + 1;
     }
     // Forward: general blocks [g0, diag - lower_adjacent) and scalar blocks [s0, upper);
     // backward: [diag + 1 + upper_adjacent, g1) and [upper, s1).
     const auto shape = [&](int g0, int g1, int s0, int s1, int adjacent) {
-      HAPTEX_TEXTILE_DEMAND(g1 - g0 <= 255 && s1 - s0 <= 255);
+      HAPTEX_DEMAND(g1 - g0 <= 255 && s1 - s0 <= 255);
       internal::SweepRow q{};
       q.block_bytes = static_cast<int>(sizeof(Eigen::Matrix3d)) * (slot_offset + g0);
       q.scalar_bytes = static_cast<int>(sizeof(double)) * s0;
@@ -721,7 +721,7 @@ bool GaussSeidelPreconditioner::UpdateRows(const std::vector<Eigen::Matrix3d>& b
   diag_excess_ = 2.0 - omega;
   const RowUpdate u{diag_slot_.data(), row_free_.data(), blocks.data(), omega, 1.0 / omega, rows(),
                     row_data_.data(), row_zero_.data()};
-#ifdef HAPTEX_TEXTILE_X86_KERNELS
+#ifdef HAPTEX_X86_KERNELS
   if (avx2_) return RowUpdatesAvx2(u);
 #endif
   return RowUpdatesGeneric(u);
@@ -741,7 +741,7 @@ internal::GaussSeidelSweepArgs GaussSeidelPreconditioner::Args(const std::vector
 }
 
 namespace {
-void DemandRows(const PaddedVector& v, int rows) { HAPTEX_TEXTILE_DEMAND(v.rows() == rows); }
+void DemandRows(const PaddedVector& v, int rows) { HAPTEX_DEMAND(v.rows() == rows); }
 }  // namespace
 
 void GaussSeidelPreconditioner::ForwardSolve(const std::vector<Eigen::Matrix3d>& blocks,
@@ -816,7 +816,7 @@ double GaussSeidelPreconditioner::MultiplyDiagonal(const PaddedVector& x, Padded
   const int rows = this->rows();
   const double* xp = x.data();
   double* yp = y->data();
-#ifdef HAPTEX_TEXTILE_X86_KERNELS
+#ifdef HAPTEX_X86_KERNELS
   if (avx2_) return MultiplyDiagonalAvx2(row_data_.data(), rows, xp, yp);
 #endif
   double xy = 0.0;
@@ -844,7 +844,7 @@ double GaussSeidelPreconditioner::StepResidual(double alpha, const PaddedVector&
   const bool every_row = !std::isfinite(alpha);
   const int* runs = every_row ? all : runs_.data();
   const int num_runs = every_row ? 1 : num_runs_;
-#ifdef HAPTEX_TEXTILE_X86_KERNELS
+#ifdef HAPTEX_X86_KERNELS
   if (avx2_) {
     return y_zero ? StepResidualAvx2<true>(row_data_.data(), runs, num_runs, rows, alpha, tp, qp, yp, rp, sp)
                   : StepResidualAvx2<false>(row_data_.data(), runs, num_runs, rows, alpha, tp, qp, yp, rp, sp);

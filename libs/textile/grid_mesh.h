@@ -1,12 +1,11 @@
 #pragma once
-// Rectangular fabric mesh: particles on a (warp u) x (weft v) grid, triangulated, with half-edge
-// topology (OpenMesh) for border, one-ring and hinge queries.
+// Rectangular fabric mesh: particles on a (warp u) x (weft v) grid, triangulated. Its topology is
+// the grid's own (index arithmetic): no half-edge mesh is needed (docs/fabric-model.md section 3).
 
 #include <array>
 #include <vector>
 
 #include <Eigen/Core>
-#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
 namespace haptex::textile {
 
@@ -18,16 +17,9 @@ struct GridSpec {
   int particles_weft = 41;     ///< particles along v (>= 2)
 };
 
-/// A hinge: interior edge (c, d) shared by triangles (a, c, d) and (b, d, c).
-struct Hinge {
-  int a = 0, b = 0, c = 0, d = 0;
-};
-
-/// Particle grid with rest coordinates and OpenMesh topology. Particle index = i_u + nu * i_v.
+/// Particle grid with rest coordinates and triangles. Particle index = i_u + nu * i_v.
 class GridMesh {
  public:
-  using Mesh = OpenMesh::TriMesh_ArrayKernelT<>;
-
   /// @throws std::invalid_argument for non-positive or non-finite sizes or fewer than 2x2 particles.
   explicit GridMesh(const GridSpec& spec);
 
@@ -37,20 +29,18 @@ class GridMesh {
   int Index(int i_u, int i_v) const { return i_u + nu_ * i_v; }
   /// Rest coordinates (u = warp, v = weft) [m] of particle p.
   const Eigen::Vector2d& rest_uv_m(int p) const { return rest_uv_m_[static_cast<std::size_t>(p)]; }
+  /// Two per grid cell, counter-clockwise in (u, v); the diagonal alternates cell by cell.
   const std::vector<std::array<int, 3>>& triangles() const { return triangles_; }
 
+  /// Whether p lies on the fabric's edge (first or last row or column of the grid).
   bool IsBorder(int p) const;
-  /// Particles sharing an edge with p, in OpenMesh circulator order.
-  std::vector<int> OneRing(int p) const;
+  /// Every particle on the fabric's edge, in increasing index.
   std::vector<int> BorderParticles() const;
-  std::vector<Hinge> Hinges() const;
-  const Mesh& mesh() const { return mesh_; }
 
  private:
   int nu_ = 0, nv_ = 0;
   std::vector<Eigen::Vector2d> rest_uv_m_;
   std::vector<std::array<int, 3>> triangles_;
-  Mesh mesh_;
 };
 
 }  // namespace haptex::textile

@@ -6,8 +6,8 @@
 
 #include <Eigen/Dense>
 
+#include "libs/base/demand.h"
 #include "libs/textile/anchor_spring_force.h"
-#include "libs/textile/check.h"
 #include "libs/textile/fabric_forces.h"
 
 namespace haptex::textile {
@@ -82,7 +82,7 @@ void BuildSystemBase(const FabricModel& model, double h, ForceSink* sink, Fabric
   const SplitRows& split = model.product_rows;
   for (std::size_t k = 0; k < split.scalar_slot.size(); ++k) {
     const Eigen::Matrix3d& b = ws->system_base[static_cast<std::size_t>(split.scalar_slot[k])];
-    HAPTEX_TEXTILE_DEMAND(b == b(0, 0) * Eigen::Matrix3d::Identity());  // bending only
+    HAPTEX_DEMAND(b == b(0, 0) * Eigen::Matrix3d::Identity());  // bending only
     ws->system_scalars[k] = b(0, 0);
   }
   ws->system_base_model = &model;
@@ -359,7 +359,7 @@ CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options,
   if (options.preconditioner == Preconditioner::kMultilevel) {
     ws->multilevel.Update(model, *state, ws->system);
   } else if (options.preconditioner == Preconditioner::kGaussSeidel) {
-    HAPTEX_TEXTILE_DEMAND(ws->gauss_seidel.rows() == n);  // a workspace built for it
+    HAPTEX_DEMAND(ws->gauss_seidel.rows() == n);  // a workspace built for it
     gauss_seidel_ok = ws->gauss_seidel.Update(ws->system, options.ssor_omega,
                                               [mode](int r) { return mode[r] == ParticleMode::kFree; });
   } else {

@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "libs/textile/check.h"
+#include "libs/base/demand.h"
 
 namespace haptex::textile {
 
@@ -69,7 +69,7 @@ MonotoneSpline::MonotoneSpline(std::vector<double> x, std::vector<double> y)
 }
 
 void MonotoneSpline::Evaluate(double x, double* y, double* dy_dx) const {
-  HAPTEX_TEXTILE_DEMAND(x_.size() >= 2);
+  HAPTEX_DEMAND(x_.size() >= 2);
   const std::size_t n = x_.size();
   if (x <= x_[0]) {
     *y = y_[0] + m_[0] * (x - x_[0]);

@@ -6,7 +6,7 @@
 
 #include <Eigen/Dense>
 
-#include "libs/textile/check.h"
+#include "libs/base/demand.h"
 
 namespace haptex::textile {
 namespace {

@@ -1,11 +1,11 @@
 #include "libs/textile/padded_vector.h"
 
-#include "libs/textile/check.h"
+#include "libs/base/demand.h"
 
 namespace haptex::textile {
 
 void PaddedVector::SetRows(const Eigen::VectorXd& x) {
-  HAPTEX_TEXTILE_DEMAND(x.size() == 3 * rows());
+  HAPTEX_DEMAND(x.size() == 3 * rows());
   for (std::size_t r = 0; r < rows_.size(); ++r) {
     for (int i = 0; i < 3; ++i) rows_[r].v[i] = x[static_cast<Eigen::Index>(3 * r) + i];
     rows_[r].v[3] = 0.0;
@@ -13,7 +13,7 @@ void PaddedVector::SetRows(const Eigen::VectorXd& x) {
 }
 
 void PaddedVector::AddRowsTo(Eigen::VectorXd* y) const {
-  HAPTEX_TEXTILE_DEMAND(y->size() == 3 * rows());
+  HAPTEX_DEMAND(y->size() == 3 * rows());
   for (std::size_t r = 0; r < rows_.size(); ++r) {
     for (int i = 0; i < 3; ++i) (*y)[static_cast<Eigen::Index>(3 * r) + i] += rows_[r].v[i];
   }

@@ -9,7 +9,7 @@
 
 #include <cstddef>
 
-#include "libs/runtime/clock.h"
+#include "libs/base/clock.h"
 #include "libs/runtime/latency_histogram.h"
 #include "libs/runtime/periodic_loop.h"
 #include "services/common/service_context.h"
@@ -51,10 +51,10 @@ void RunLoop(ServiceContext& context, runtime::PeriodicLoop& periodic, Loop& loo
         now_ns = tick.now_ns;
         const double t_s = context.SecondsSinceStart(tick.now_ns);
         ReadMessages(context, loop, t_s);
-        const std::int64_t update_start_ns = update_time != nullptr ? runtime::SteadyNowNs() : 0;
+        const std::int64_t update_start_ns = update_time != nullptr ? base::SteadyNowNs() : 0;
         loop.Update(t_s, tick.dt_s * static_cast<double>(1 + tick.skipped));
         loop.Write(context);
-        if (update_time != nullptr) update_time->Record(runtime::SteadyNowNs() - update_start_ns);
+        if (update_time != nullptr) update_time->Record(base::SteadyNowNs() - update_start_ns);
         context.Tick(tick.now_ns);
       },
       [&] { return context.StopRequested(now_ns); });

@@ -7,8 +7,8 @@
 #include <limits>
 #include <iostream>
 
+#include "libs/base/clock.h"
 #include "libs/net/udp_address.h"
-#include "libs/runtime/clock.h"
 #include "libs/runtime/logging.h"
 #include "libs/runtime/shutdown_signal.h"
 #include "libs/scene/session_key_source.h"
@@ -19,7 +19,7 @@ ServiceContext::ServiceContext(std::string name, const ServiceOptions& options)
     : name_(std::move(name)),
       logger_(runtime::SetupLogging(name_, options.log_level, options.log_file)),
       health_(name_),
-      start_ns_(runtime::SteadyNowNs()),
+      start_ns_(base::SteadyNowNs()),
       stop_at_ns_(options.duration_s > 0
                       ? start_ns_ + static_cast<std::int64_t>(options.duration_s * 1e9)
                       : std::numeric_limits<std::int64_t>::max()) {
@@ -68,7 +68,7 @@ PeerId ServiceContext::RequirePeer(std::string_view name) const {
 }
 
 bool ServiceContext::SendBody(PeerId peer, const google::protobuf::MessageLite& body, int body_field_number) {
-  if (recorder_) recorder_->RecordBody(body, body_field_number, net::Messenger::SteadyNowNs());
+  if (recorder_) recorder_->RecordBody(body, body_field_number, base::SteadyNowNs());
   return messenger_->SendBody(peer, body, body_field_number);
 }
 

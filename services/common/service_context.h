@@ -12,6 +12,7 @@
 #include <string>
 #include <string_view>
 
+#include "libs/base/clock.h"
 #include "libs/net/messenger.h"
 #include "libs/runtime/health_publisher.h"
 #include "libs/runtime/health_reporter.h"

@@ -61,7 +61,7 @@ int Run(services::ServiceContext& context, const Options& options) {
         work.Write(context);
         context.Tick(tick.now_ns);
       },
-      [&] { return runtime::SteadyNowNs() >= stop_at_ns; });
+      [&] { return base::SteadyNowNs() >= stop_at_ns; });
 
   context.log().info("device_bridge: {} ticks, overruns {}, tick compute p50 {:.1f} us p99 {:.1f} us; {}",
                      loop.stats().ticks, loop.stats().overruns, loop.stats().compute.Percentile(0.5) * 1e-3,

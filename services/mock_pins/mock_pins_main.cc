@@ -10,7 +10,7 @@
 #include <iostream>
 #include <memory>
 
-#include "libs/runtime/clock.h"
+#include "libs/base/clock.h"
 #include "services/common/service_context.h"
 #include "services/mock_pins/pin_frame_check.h"
 #include "services/mock_pins/pin_frame_csv.h"
@@ -39,7 +39,7 @@ int Run(services::ServiceContext& context, const Options& options) {
   std::int64_t next_heat_map_ns = 0;
   const auto heat_map_period_ns = static_cast<std::int64_t>(1e9 / options.heat_map_hz);
 
-  while (!context.StopRequested(runtime::SteadyNowNs())) {
+  while (!context.StopRequested(base::SteadyNowNs())) {
     context.messenger().WaitReadable(std::chrono::milliseconds(20));
     context.messenger().Drain([&](const v1::Envelope& envelope, const net::Messenger::Endpoint&) {
       if (context.HandleControl(envelope) != services::ServiceContext::ControlResult::kNotControl) return;
@@ -54,9 +54,9 @@ int Run(services::ServiceContext& context, const Options& options) {
       ++frames;
       latest = envelope.pin_frame();
       have_latest = true;
-      if (csv) csv->Append(static_cast<double>(runtime::SteadyNowNs() - context.start_ns()) * 1e-9, latest);
+      if (csv) csv->Append(static_cast<double>(base::SteadyNowNs() - context.start_ns()) * 1e-9, latest);
     });
-    const std::int64_t now = runtime::SteadyNowNs();
+    const std::int64_t now = base::SteadyNowNs();
     health.SetCounter(frames_counter, frames);
     health.SetCounter(rejected_counter, rejected);
     context.Tick(now);

@@ -25,11 +25,6 @@ std::unique_ptr<PatchSimulation> MakeFlatPatch(const textile::FabricMaterial& ma
   return std::make_unique<PatchSimulation>(std::move(model), std::move(state), step, options);
 }
 
-FingerPose PoseFacing(const Eigen::Vector3d& centre_W, const Eigen::Vector3d& pad_normal_W,
-                      const Eigen::Vector3d& distal_W) {
-  return FingerPose::Facing(centre_W, pad_normal_W, distal_W);
-}
-
 Eigen::Vector3d Ramp(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double t, double t0,
                      double t1) {
   const double s = std::clamp((t - t0) / (t1 - t0), 0.0, 1.0);

@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 
 #include "libs/contact/contact_options.h"
+#include "libs/contact/finger_geometry.h"
 #include "libs/contact/patch_simulation.h"
 #include "libs/textile/kes_material.h"
 #include "libs/textile/step_options.h"
@@ -25,9 +26,9 @@ std::unique_ptr<PatchSimulation> MakeFlatPatch(const textile::FabricMaterial& ma
                                                const textile::StepOptions& step,
                                                double pretension_strain = 0.0);
 
-/// A pose whose pad (+z_F) faces `pad_normal_W` with the distal axis (+x_F) along `distal_W`.
-FingerPose PoseFacing(const Eigen::Vector3d& centre_W, const Eigen::Vector3d& pad_normal_W,
-                      const Eigen::Vector3d& distal_W);
+/// A pose whose pad (+z_F) faces `pad_normal_W` with the distal axis (+x_F) along `distal_W`
+/// (libs/contact/finger_geometry.h, shared with the benchmarks).
+using contact::PoseFacing;
 
 /// Linear interpolation from a to b as t goes from t0 to t1 (clamped).
 Eigen::Vector3d Ramp(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double t, double t0,

@@ -41,5 +41,14 @@ TEST(FingerGeometryTest, ClosestPointsBetweenSegments) {
   EXPECT_NEAR((a - b).norm(), std::sqrt(2.0), 1e-12);
 }
 
+TEST(FingerGeometryTest, PoseFacingIsARotationWithThePadOnTheNormal) {
+  const FingerPose pose = PoseFacing({1, 2, 3}, {0, 0, -2}, {1, 0, 0.5});
+  EXPECT_TRUE(pose.p_W_m.isApprox(Eigen::Vector3d(1, 2, 3)));
+  EXPECT_TRUE((pose.R_WF.transpose() * pose.R_WF).isApprox(Eigen::Matrix3d::Identity(), 1e-12));
+  EXPECT_NEAR(pose.R_WF.determinant(), 1.0, 1e-12);
+  EXPECT_TRUE(pose.R_WF.col(2).isApprox(Eigen::Vector3d(0, 0, -1)));  // pad faces the normal
+  EXPECT_TRUE(pose.R_WF.col(0).isApprox(Eigen::Vector3d(1, 0, 0)));   // distal, normal part removed
+}
+
 }  // namespace
 }  // namespace haptex::contact

@@ -11,7 +11,7 @@
 #include <random>
 #include <vector>
 
-#include "libs/textile/cpu_features.h"
+#include "libs/base/cpu_features.h"
 
 namespace haptex::contact::internal {
 namespace {
@@ -293,7 +293,7 @@ TEST(PinchSampleLanesTest, ClassificationGivesEachSampleItsRampedSpring) {
 // only counted: its samples come out as a full classification leaves them, bit for bit.
 TEST(PinchSampleLanesTest, UnchangedDeepTrianglesAreCountedAndLeftAsTheyAre) {
   for (const bool avx2 : {false, true}) {
-    if (avx2 && !textile::internal::CpuHasAvx2()) continue;
+    if (avx2 && !base::CpuHasAvx2()) continue;
     for (int per : {1, 4, 9}) {
       Fixture f(per, 11u + static_cast<unsigned>(per));
       std::vector<int> triangles;
@@ -332,7 +332,7 @@ TEST(PinchSampleLanesTest, UnchangedDeepTrianglesAreCountedAndLeftAsTheyAre) {
 }
 
 TEST(PinchSampleLanesTest, Avx2AndPortableKernelsGiveTheSameBits) {
-  if (!textile::internal::CpuHasAvx2()) GTEST_SKIP() << "no AVX2 on this CPU: nothing to compare";
+  if (!base::CpuHasAvx2()) GTEST_SKIP() << "no AVX2 on this CPU: nothing to compare";
   for (int per : {1, 4, 9}) {
     Fixture a(per, 11u + static_cast<unsigned>(per)), b = a;
     std::vector<int> triangles;
@@ -401,7 +401,7 @@ TEST(PinchSampleLanesTest, Avx2AndPortableKernelsGiveTheSameBits) {
       LocatePinchParticles(fewer,
                            {xc_f.data(), dt_f.data(), di_f.data(), near_f.data(), deep_f.data(), owned_f.data(),
                             beyond_f.data()},
-                           v == 1 && textile::internal::CpuHasAvx2());
+                           v == 1 && base::CpuHasAvx2());
       const std::size_t n = static_cast<std::size_t>(fewer.num_particles);
       EXPECT_EQ(std::memcmp(xc_f.data(), xc[0].data(), 4 * n * sizeof(double)), 0);
       EXPECT_EQ(std::memcmp(dt_f.data(), dt[0].data(), n * sizeof(double)), 0);

@@ -5,7 +5,7 @@
 // its tactile pair (tactile, mock_pins: no force, and two more processes on this 2-core machine);
 // those two in the whole demo. The mock controller itself (the device) restarts at zero force.
 // Time is compared on one clock: the mock's force log is CLOCK_MONOTONIC, as is
-// std::chrono::steady_clock here.
+// base::SteadyNowNs here.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -45,7 +45,7 @@ TEST_P(LaunchForceKillTest, ForceIsZeroWithin20msAndTheRunRecovers) {
   // Wait until the pinch presses both fingers (the demo pinches from about 2.2 s).
   const std::string log = run + "/mock_grab_forces.csv";
   ASSERT_TRUE(testing::WaitUntilBothFingersPress(log)) << "the demo never pinched\n" << launcher.Stdout();
-  const double killed_ns = static_cast<double>(testing::MonotonicNs());
+  const double killed_ns = static_cast<double>(base::SteadyNowNs());
   ASSERT_EQ(kill(pid, SIGKILL), 0);
   testing::WaitForOutput(launcher, name + ": restarted");
   std::this_thread::sleep_for(500ms);

@@ -42,11 +42,11 @@ TEST_P(LaunchSilentServiceTest, SilentServiceIsRestartedAndTheDeviceStaysSafe) {
   const std::string log = run + "/mock_grab_forces.csv";
   ASSERT_TRUE(testing::WaitUntilBothFingersPress(log)) << "the demo never pinched\n" << launcher.Stdout();
 
-  const double stopped_ns = static_cast<double>(testing::MonotonicNs());
+  const double stopped_ns = static_cast<double>(base::SteadyNowNs());
   ASSERT_EQ(kill(pid, SIGSTOP), 0);
   // The launcher must find it silent by itself (no exit status to see: the process lives on).
   testing::WaitForOutput(launcher, name + ": restarted", 60s);
-  const double restarted_seen_ns = static_cast<double>(testing::MonotonicNs());
+  const double restarted_seen_ns = static_cast<double>(base::SteadyNowNs());
   std::this_thread::sleep_for(500ms);
   launcher.Signal(SIGINT);
   const auto code = launcher.WaitFor(90s);

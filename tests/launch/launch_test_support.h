@@ -13,6 +13,7 @@
 #include <unistd.h>
 #include <vector>
 
+#include "libs/base/clock.h"
 #include "libs/scene/scene_loader.h"
 #include "tests/support/mock_force_log.h"
 #include "tests/support/subprocess.h"
@@ -90,12 +91,6 @@ inline int RunningServicePid(haptex::testing::Subprocess& launcher, const std::s
   WaitForOutput(launcher, "running \\(until Ctrl-C\\)");
   const std::string pid = WaitForOutput(launcher, service + ": started \\(pid ([0-9]+)");
   return pid.empty() ? 0 : std::stoi(pid);
-}
-
-/// CLOCK_MONOTONIC now, the clock of the mock controller's force log.
-inline std::int64_t MonotonicNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
-      .count();
 }
 
 /// Waits until the mock's force log shows both fingers pressed (over 0.5 N each), at most 60 s.

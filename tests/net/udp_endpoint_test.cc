@@ -1,11 +1,19 @@
 #include "libs/net/udp_endpoint.h"
 
+#include <arpa/inet.h>
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+
+#include <optional>
 
 #include <chrono>
 #include <stdexcept>
 #include <thread>
 #include <vector>
+
+#include "libs/base/clock.h"
 
 namespace haptex::net {
 namespace {
@@ -46,10 +54,6 @@ TEST(UdpEndpointTest, ArrivalTimeIsWhenTheKernelReceivedNotWhenWeRead) {
   UdpEndpoint::Endpoint from;
   std::int64_t arrival = 0;
   EXPECT_FALSE(b.ReceiveOne(buffer, &from, &arrival).has_value());  // enables timestamps
-  const auto now_ns = [] {
-    return std::chrono::duration_cast<std::chrono::nanoseconds>(
-               std::chrono::steady_clock::now().time_since_epoch()).count();
-  };
   // Linux turns receive timestamps on for the whole stack through deferred work: until that has
   // run, a datagram is stamped when it is read. So a warm-up datagram first, and a few tries.
   ASSERT_TRUE(a.SendTo(std::vector<std::uint8_t>{0}, b.local_endpoint()));
@@ -58,10 +62,10 @@ TEST(UdpEndpointTest, ArrivalTimeIsWhenTheKernelReceivedNotWhenWeRead) {
   bool stamped_on_arrival = false;
   for (int attempt = 0; attempt < 3 && !stamped_on_arrival; ++attempt) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    const std::int64_t sent = now_ns();
+    const std::int64_t sent = base::SteadyNowNs();
     ASSERT_TRUE(a.SendTo(std::vector<std::uint8_t>{1, 2, 3}, b.local_endpoint()));
     std::this_thread::sleep_for(std::chrono::milliseconds(30));  // the datagram waits in the socket
-    const std::int64_t read = now_ns();
+    const std::int64_t read = base::SteadyNowNs();
     ASSERT_EQ(b.ReceiveOne(buffer, &from, &arrival), 3u);
     EXPECT_EQ(from.port(), a.local_port());
     EXPECT_GE(arrival, sent - 1'000'000);  // clock conversion tolerance
@@ -85,6 +89,28 @@ TEST(UdpEndpointTest, BindFailureNamesTheAddress) {
 TEST(UdpEndpointTest, WaitReadableTimesOut) {
   UdpEndpoint a("127.0.0.1:0");
   EXPECT_FALSE(a.WaitReadable(std::chrono::milliseconds(5)));
+}
+
+// The descriptor of this process's IPv4 UDP socket bound to `port`, if any.
+std::optional<int> SocketBoundTo(std::uint16_t port) {
+  for (int fd = 0; fd < 4096; ++fd) {
+    sockaddr_in address{};
+    socklen_t length = sizeof(address);
+    if (getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) == 0 && address.sin_family == AF_INET &&
+        ntohs(address.sin_port) == port) {
+      return fd;
+    }
+  }
+  return std::nullopt;
+}
+
+TEST(UdpEndpointTest, SocketIsCloseOnExec) {
+  UdpEndpoint endpoint("127.0.0.1:0");
+  const std::optional<int> fd = SocketBoundTo(endpoint.local_port());
+  ASSERT_TRUE(fd.has_value());
+  const int flags = fcntl(*fd, F_GETFD);
+  ASSERT_NE(flags, -1);
+  EXPECT_NE(flags & FD_CLOEXEC, 0);
 }
 
 }  // namespace

@@ -27,15 +27,34 @@ quick=$(awk '/^## Quick start/{f=1;next} /^## /{f=0} f' "$root/README.md" | awk 
 ci=$(grep -vE '^\s*(#|$)|^set -|^cd ' "$root/.ci/run")
 [[ "$ci" == "exec scripts/test" ]] || fail ".ci/run does more than 'exec scripts/test': $ci"
 
-# 5. the cores are pure: no sockets, threads, clocks, logging or messages
+# 5. the cores and libs/base are pure: no sockets, threads, clocks, logging or messages. libs/base
+#    holds the one clock: <chrono>, <ctime> and <time.h> are allowed in libs/base/clock.h only,
+#    which the cores must not include (time comes into a core as dt). libs/base is std only.
+impure_re='#include\s*[<"](asio|spdlog|thread|chrono|mutex|condition_variable|future|sys/socket\.h|netinet/|google/protobuf|haptex/v1/|ctime|time\.h|iostream)'
+for lib in libs/textile libs/contact libs/tactile libs/device libs/base; do
+  [[ -d "$root/$lib" ]] || continue
+  impure=$(grep -rnE "$impure_re" "$root/$lib" 2>/dev/null | sed "s|$root/||" \
+    | grep -vE '^libs/base/clock\.h:[0-9]+:#include\s*<(chrono|ctime|time\.h)>' || true)
+  [[ -z "$impure" ]] || fail "$lib is not pure: $impure"
+done
 for core in libs/textile libs/contact libs/tactile libs/device; do
   [[ -d "$root/$core" ]] || continue
-  impure=$(grep -rnE '#include\s*[<"](asio|spdlog|thread|chrono|mutex|condition_variable|future|sys/socket\.h|netinet/|google/protobuf|haptex/v1/|ctime|time\.h|iostream)' \
-    "$root/$core" 2>/dev/null | sed "s|$root/||" || true)
-  [[ -z "$impure" ]] || fail "$core is not pure: $impure"
+  clock=$(grep -rnE '#include\s*"libs/base/clock\.h"' "$root/$core" 2>/dev/null | sed "s|$root/||" || true)
+  [[ -z "$clock" ]] || fail "$core uses the clock: $clock"
 done
+if [[ -d "$root/libs/base" ]]; then
+  not_std=$(grep -rnE '#include\s*("|<(Eigen|OpenMesh|google|spdlog|asio|CLI|sodium|gtest|gmock|benchmark|haptex)/)' \
+    "$root/libs/base" 2>/dev/null | sed "s|$root/||" | grep -vE '#include\s*"libs/base/' || true)
+  [[ -z "$not_std" ]] || fail "libs/base is not std only: $not_std"
+fi
 
-# 6. scripts the README names exist and are executable
+# 6. no silent guards in the build: folders and tests are listed, so a missing one fails the
+#    configure instead of vanishing (no existence or target checks, no globbed folders)
+guards=$(files | grep -E '(^|/)(CMakeLists\.txt|[^/]*\.cmake)$' | (cd "$root" && xargs grep -HnE \
+  'if\s*\(\s*(NOT\s+)?(EXISTS|TARGET)\b|LIST_DIRECTORIES\s+true' 2>/dev/null) || true)
+[[ -z "$guards" ]] || fail "silent guards in the build: $guards"
+
+# 7. scripts the README names exist and are executable
 for s in scripts/demo scripts/test scripts/setup .ci/run; do
   [[ -x "$root/$s" ]] || fail "$s is missing or not executable"
 done

@@ -3,9 +3,14 @@
 # usage: make_broken_tree.sh DIR
 set -euo pipefail
 dir=$1
-rm -rf "$dir" && mkdir -p "$dir"/{proto,libs/textile,.ci,scripts,third_party/x}
+rm -rf "$dir" && mkdir -p "$dir"/{proto,libs/textile,libs/contact,libs/base,.ci,scripts,third_party/x}
 printf '## Quick start\n\n```\nmake\n```\n' > "$dir/README.md"
 printf '#!/bin/sh\nmake test\n' > "$dir/.ci/run"
 touch "$dir/proto/a.pb.h" "$dir/third_party/x/x.h"
-echo 'include(FetchContent)' > "$dir/CMakeLists.txt"
+printf 'include(FetchContent)\nif(EXISTS ${dir}/x)\nendif()\n' > "$dir/CMakeLists.txt"
 echo '#include <thread>' > "$dir/libs/textile/step.cc"
+# libs/base may read the clock in clock.h only, must stay std only, and no core may use the clock
+printf '#include <chrono>\n#include <time.h>\n' > "$dir/libs/base/clock.h"
+echo '#include <chrono>' > "$dir/libs/base/timer.h"
+echo '#include <Eigen/Core>' > "$dir/libs/base/maths.h"
+echo '#include "libs/base/clock.h"' > "$dir/libs/contact/timed.cc"

@@ -6,6 +6,7 @@
 #include <thread>
 #include <vector>
 
+#include "libs/base/clock.h"
 #include "libs/runtime/periodic_loop.h"
 #include "tests/support/allocation_counter.h"
 
@@ -40,7 +41,7 @@ TEST(HealthPublisherTest, LoopPublishesItsStatisticsAtTheHealthRate) {
   reporter.AddLoop(&loop.stats());
   const auto ticks_counter = reporter.AddCounter("ticks_seen");
   reporter.SetState(v1::Health::STATE_READY);
-  const std::int64_t start = SteadyNowNs();
+  const std::int64_t start = base::SteadyNowNs();
   HealthPublisher publisher(&reporter, &service, to_launcher, 50.0, start);
 
   std::uint64_t ticks = 0;

@@ -33,5 +33,14 @@ TEST(FabricConversionTest, CopiesEveryValueInKesUnits) {
   EXPECT_EQ(k.flags[0].field, "weight_mg_per_cm2");
 }
 
+TEST(FabricConversionTest, LoadsADatabaseFabricValidatedAndConverted) {
+  const FabricDatabase db(testing::TestDataDir() + "/fabrics");
+  const textile::kes::Fabric k = LoadKesFabric(db, "test_cotton");
+  EXPECT_EQ(k.name, "test_cotton");
+  EXPECT_DOUBLE_EQ(k.warp_tensile.emt_percent, 5.0);
+  EXPECT_DOUBLE_EQ(k.weight_mg_per_cm2, 15.0);
+  EXPECT_THROW(LoadKesFabric(db, "no_such_fabric"), std::exception);
+}
+
 }  // namespace
 }  // namespace haptex::scene

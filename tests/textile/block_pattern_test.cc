@@ -10,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-#include "libs/textile/cpu_features.h"
+#include "libs/base/cpu_features.h"
 
 namespace haptex::textile {
 namespace {
@@ -87,7 +87,7 @@ TEST(BlockPatternTest, MovedBlocksGoToTheRowEndsAndTheSplitProductAgrees) {
   EXPECT_NEAR(xy, x.dot(y_ref), 1e-12 * y_ref.norm() * x.norm());
 
   // The AVX and the portable kernel give the same bits (rows 2..3 reach x's last row).
-  if (internal::CpuHasAvx()) {
+  if (base::CpuHasAvx()) {
     Eigen::VectorXd y_avx = Eigen::VectorXd::Zero(12), y_portable = Eigen::VectorXd::Zero(12);
     const double xy_avx = internal::MultiplySplitRowRange(split, blocks.data(), scalars.data(), x.data(),
                                                           y_avx.data(), 0, 4, true);
@@ -157,7 +157,7 @@ TEST(BlockPatternTest, GridRowShapesGiveThePortableBits) {
   const double xy = MultiplySplitRows(split, blocks, scalars, active, x, &y);
   EXPECT_LT((y - y_ref).norm(), 1e-12 * y_ref.norm());
   EXPECT_NEAR(xy, x.dot(y_ref), 1e-12 * y_ref.norm() * x.norm());
-  if (internal::CpuHasAvx()) {
+  if (base::CpuHasAvx()) {
     Eigen::VectorXd y_avx = Eigen::VectorXd::Zero(3 * kRows), y_portable = y_avx;
     const double xy_avx = internal::MultiplySplitRowRange(split, blocks.data(), scalars.data(), x.data(),
                                                           y_avx.data(), 0, kRows, true);

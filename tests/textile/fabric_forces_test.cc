@@ -7,8 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "libs/base/cpu_features.h"
 #include "libs/textile/bending_force.h"
-#include "libs/textile/cpu_features.h"
 #include "libs/textile/drag_force.h"
 #include "libs/textile/external_force.h"
 #include "libs/textile/kes_material.h"
@@ -156,8 +156,8 @@ TEST(FabricForcesTest, FusedAssemblyHandlesTailCollapsedElementsAndNoDrag) {
 // The builds this CPU runs, vector ones first.
 std::vector<internal::ForceKernels> VectorKernels() {
   std::vector<internal::ForceKernels> kernels;
-  if (internal::CpuHasAvx2()) kernels.push_back(internal::ForceKernels::kAvx2);
-  if (internal::CpuHasAvx2() && internal::CpuHasAvx512Vl()) {
+  if (base::CpuHasAvx2()) kernels.push_back(internal::ForceKernels::kAvx2);
+  if (base::CpuHasAvx2() && base::CpuHasAvx512Vl()) {
     kernels.push_back(internal::ForceKernels::kAvx2On32Registers);
   }
   return kernels;
@@ -166,7 +166,7 @@ std::vector<internal::ForceKernels> VectorKernels() {
 // The AVX2 kernels (on 16 and, where the CPU has AVX-512VL, 32 registers) and their portable
 // build give the same bits, with a tail group, a collapsed quad, with and without quadratic drag.
 TEST(FabricForcesTest, Avx2AndPortableKernelsGiveTheSameBits) {
-  if (!internal::CpuHasAvx2()) GTEST_SKIP() << "no AVX2 on this CPU";
+  if (!base::CpuHasAvx2()) GTEST_SKIP() << "no AVX2 on this CPU";
   const auto same_bits = [](const auto& a, const auto& b) {
     return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof a[0]) == 0;
   };

@@ -15,8 +15,7 @@ kes::Fabric ParseFabricTextproto(const std::string& text) {
 }
 
 kes::Fabric LoadDatabaseFabric(const std::string& name) {
-  const scene::FabricDatabase db(SourceDir() + "/data/fabrics");
-  return scene::ToKesFabric(db.Load(name));
+  return scene::LoadKesFabric(scene::FabricDatabase(SourceDir() + "/data/fabrics"), name);
 }
 
 std::string SourceDir() { return haptex::testing::SourceDir(); }

@@ -8,7 +8,7 @@
 #include <Eigen/LU>
 #include <gtest/gtest.h>
 
-#include "libs/textile/cpu_features.h"
+#include "libs/base/cpu_features.h"
 #include "libs/textile/fabric_forces.h"
 #include "libs/textile/fabric_stepper.h"
 #include "libs/textile/fabric_workspace.h"
@@ -381,7 +381,7 @@ TEST(GaussSeidelPreconditionerTest, RowBlocksInvertAndPremultiplyExactly) {
     }
     return m;
   };
-  for (bool avx2 : {false, internal::CpuHasAvx2()}) {
+  for (bool avx2 : {false, base::CpuHasAvx2()}) {
     internal::PaddedBlock d, d_inv, lower, upper;
     ASSERT_TRUE(internal::SetRowBlocks(a, omega, &lower_block, &upper_block, avx2, &d, &d_inv, &lower, &upper));
     EXPECT_LT((read(d) - d_w).cwiseAbs().maxCoeff(), 1e-15) << avx2;
@@ -405,7 +405,7 @@ TEST(GaussSeidelPreconditionerTest, RowBlocksInvertAndPremultiplyExactly) {
   // Both builds give the same bits.
   internal::PaddedBlock d1, i1, l1, u1, d2, i2, l2, u2;
   internal::SetRowBlocks(a, omega, &lower_block, &upper_block, false, &d1, &i1, &l1, &u1);
-  internal::SetRowBlocks(a, omega, &lower_block, &upper_block, internal::CpuHasAvx2(), &d2, &i2, &l2, &u2);
+  internal::SetRowBlocks(a, omega, &lower_block, &upper_block, base::CpuHasAvx2(), &d2, &i2, &l2, &u2);
   EXPECT_EQ(read(i1), read(i2));
   EXPECT_EQ(read(l1), read(l2));
   // The bits of the textbook order: adj(a)'s columns are cross products of a's rows, and

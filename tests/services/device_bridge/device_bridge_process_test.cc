@@ -22,7 +22,7 @@
 #include "libs/device/grab_protocol.h"
 #include "libs/net/messenger.h"
 #include "libs/net/udp_address.h"
-#include "libs/runtime/clock.h"
+#include "libs/base/clock.h"
 #include "tests/support/subprocess.h"
 #include "tests/support/test_paths.h"
 
@@ -119,7 +119,7 @@ class DeviceBridgeProcessTest : public ::testing::Test {
     while (std::chrono::steady_clock::now() < until) {
       model.set_based_on_controller_sequence(last_states_.controller_sequence());
       contact_->Send(to_bridge_, model);
-      last = runtime::SteadyNowNs();
+      last = base::SteadyNowNs();
       std::this_thread::sleep_for(1ms);
       DrainContact();
     }

@@ -40,8 +40,8 @@ device { mock {} }
 v1::FingerStates Thumb(double depth_m, std::uint64_t controller_sequence, bool device_ok = true) {
   const contact::ContactOptions o;
   const V centre(0.0, o.thumb.radius_m + o.fabric_half_thickness_m - depth_m, -0.05);
-  const contact::FingerPose thumb = contact::FingerPose::Facing(centre, V(0, -1, 0), V::UnitX());
-  const contact::FingerPose index = contact::FingerPose::Facing(V(0, -0.05, -0.05), V(0, 1, 0), V::UnitX());
+  const contact::FingerPose thumb = contact::PoseFacing(centre, V(0, -1, 0), V::UnitX());
+  const contact::FingerPose index = contact::PoseFacing(V(0, -0.05, -0.05), V(0, 1, 0), V::UnitX());
   v1::FingerStates states;
   states.set_controller_sequence(controller_sequence);
   states.set_device_ok(device_ok);

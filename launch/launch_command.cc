@@ -1,4 +1,4 @@
-#include "cli/launch_command.h"
+#include "launch/launch_command.h"
 
 #include <netinet/in.h>
 #include <sys/socket.h>
@@ -28,11 +28,10 @@
 
 extern char** environ;
 
-namespace haptex::cli {
+namespace haptex::launch {
 namespace {
 
 namespace fs = std::filesystem;
-using launch::ServiceKind;
 
 struct LaunchOptions {
   std::string scene;
@@ -102,38 +101,38 @@ int Launch(const LaunchOptions& o) {
   const std::string scene_path = fs::absolute(o.scene).string();
 
   // what it needs, and why
-  const std::vector<launch::PlannedService> services = launch::DeriveServices(scene);
+  const std::vector<PlannedService> services = DeriveServices(scene);
   std::set<std::string> skip(o.skip.begin(), o.skip.end());
   for (const std::string& name : skip) {
     const bool planned = std::any_of(services.begin(), services.end(),
-                                     [&](const auto& s) { return launch::Spec(s.kind).name == name; });
+                                     [&](const auto& s) { return Spec(s.kind).name == name; });
     if (!planned) throw std::invalid_argument("--skip " + name + ": the scene does not need a service of that name");
   }
-  if (launch::IsMultiHost(scene) && o.host.empty()) {
+  if (IsMultiHost(scene) && o.host.empty()) {
     throw std::invalid_argument("scene " + scene.name() +
                                 " places services on several hosts: run `haptex launch SCENE --host NAME` on each");
   }
-  const auto hosts = launch::HostAddresses(scene);
+  const auto hosts = HostAddresses(scene);
   if (!o.host.empty() && !hosts.count(o.host)) {
     std::string known;
     for (const auto& [name, address] : hosts) known += (known.empty() ? "" : ", ") + name;
     throw std::invalid_argument("--host " + o.host + ": the scene has no such host (hosts: " + known + ")");
   }
   const std::string here = o.host.empty() ? "local" : o.host;
-  const auto runs_here = [&](const launch::PlannedService& s) {
-    return launch::HostOf(scene, s.kind) == here && !skip.count(std::string(launch::Spec(s.kind).name));
+  const auto runs_here = [&](const PlannedService& s) {
+    return HostOf(scene, s.kind) == here && !skip.count(std::string(Spec(s.kind).name));
   };
 
   std::cout << "scene " << scene.name() << " (" << scene_path << ")" << (o.host.empty() ? "" : ", host " + o.host)
             << "\n";
   for (const auto& s : services) {
-    const std::string name(launch::Spec(s.kind).name);
-    const std::string where = launch::HostOf(scene, s.kind);
+    const std::string name(Spec(s.kind).name);
+    const std::string where = HostOf(scene, s.kind);
     std::cout << "  " << (skip.count(name) ? "skip   " : runs_here(s) ? "start  " : "remote ") << name
               << (runs_here(s) || skip.count(name) ? "" : " (on " + where + ")") << ": " << s.reason << "\n";
   }
-  for (const auto& s : launch::OmittedServices(scene)) {
-    std::cout << "  not    " << launch::Spec(s.kind).name << ": " << s.reason << "\n";
+  for (const auto& s : OmittedServices(scene)) {
+    std::cout << "  not    " << Spec(s.kind).name << ": " << s.reason << "\n";
   }
 
   // every executable started here must exist
@@ -141,9 +140,9 @@ int Launch(const LaunchOptions& o) {
   std::string missing;
   for (const auto& s : services) {
     if (!runs_here(s)) continue;
-    const std::string path = launch::ExecutablePath(build_dir, s.kind);
+    const std::string path = ExecutablePath(build_dir, s.kind);
     if (access(path.c_str(), X_OK) != 0) {
-      const auto& spec = launch::Spec(s.kind);
+      const auto& spec = Spec(s.kind);
       missing += "\n  " + fs::path(path).filename().string() + " is not built (" + std::string(spec.built_by) +
                  "; looked for " + path + "); the scene needs it: " + s.reason + ". Build it, or pass --skip " +
                  std::string(spec.name) + " and start it yourself.";
@@ -153,26 +152,26 @@ int Launch(const LaunchOptions& o) {
 
   // ports and command lines
   const std::uint16_t base_port = static_cast<std::uint16_t>(
-      o.base_port >= 0 ? o.base_port : launch::IsMultiHost(scene) ? launch::kDefaultMultiHostBasePort : 0);
-  const launch::PortPlan plan = launch::AssignPorts(scene, services, base_port, FreeUdpPort);
+      o.base_port >= 0 ? o.base_port : IsMultiHost(scene) ? kDefaultMultiHostBasePort : 0);
+  const PortPlan plan = AssignPorts(scene, services, base_port, FreeUdpPort);
   const std::string run_dir =
       fs::absolute(o.out.empty() ? "runs/" + scene.name() + "-" + TimeStamp() + (o.host.empty() ? "" : "-" + o.host)
                                  : o.out)
           .string();
-  launch::CommandOptions command_options{build_dir, scene_path, run_dir, o.log_level};
-  launch::SupervisorConfig config;
+  CommandOptions command_options{build_dir, scene_path, run_dir, o.log_level};
+  SupervisorConfig config;
   config.launcher = plan.launchers.at(here);
   config.identity = o.host.empty() ? "launcher" : "launcher@" + o.host;
   if (const auto* bridge = plan.Find(v1::ServicePlacement::SERVICE_DEVICE_BRIDGE)) {
     if (!skip.count("device_bridge")) config.bridge_address = bridge->haptex.Peer();
   }
   std::string plan_text;
-  for (const launch::PlacedService& s : plan.services) {
-    const auto argv = launch::CommandLine(s, plan, scene, command_options);
-    plan_text += std::string(launch::Spec(s.service.kind).name) + " (" + s.haptex.host + "): " +
-                 launch::JoinCommandLine(argv) + "\n";
+  for (const PlacedService& s : plan.services) {
+    const auto argv = CommandLine(s, plan, scene, command_options);
+    plan_text += std::string(Spec(s.service.kind).name) + " (" + s.haptex.host + "): " +
+                 JoinCommandLine(argv) + "\n";
     if (!runs_here(s.service)) continue;
-    config.services.push_back({s, argv, run_dir + "/logs/" + std::string(launch::Spec(s.service.kind).name) + ".log"});
+    config.services.push_back({s, argv, run_dir + "/logs/" + std::string(Spec(s.service.kind).name) + ".log"});
   }
   if (o.dry_run) {
     if (!missing.empty()) std::cout << "would refuse:" << missing << "\n";
@@ -202,42 +201,42 @@ int Launch(const LaunchOptions& o) {
               << std::endl;
   }
 
-  launch::RunRecord record;
+  RunRecord record;
   record.scene_name = scene.name();
   record.scene_path = scene_path;
   record.run_dir = run_dir;
   record.host = o.host;
-  record.not_needed = launch::OmittedServices(scene);
+  record.not_needed = OmittedServices(scene);
   record.skipped.assign(skip.begin(), skip.end());
   const int code = [&] {
-    launch::Supervisor supervisor(config, key, std::cout);
+    Supervisor supervisor(config, key, std::cout);
     return supervisor.Run(&record);
   }();
   // services that run elsewhere are listed with their addresses
-  for (const launch::PlacedService& s : plan.services) {
+  for (const PlacedService& s : plan.services) {
     if (runs_here(s.service)) continue;
-    launch::ServiceRecord remote;
+    ServiceRecord remote;
     remote.placed = s;
     remote.local = false;
     record.services.push_back(remote);
   }
 
   // the run folder: recordings, what they say, plots, summary.json
-  std::vector<launch::Recording> recordings;
-  std::vector<launch::RecordingFiles> files;
+  std::vector<Recording> recordings;
+  std::vector<RecordingFiles> files;
   try {
-    recordings = launch::ReadRecordings(run_dir + "/recordings");
+    recordings = ReadRecordings(run_dir + "/recordings");
   } catch (const std::exception& e) {
     record.errors.push_back(e.what());
   }
   for (const auto& r : recordings) {
     files.push_back({fs::path(r.path).filename().string(), r.envelopes.size(), r.unparsable, r.truncated});
   }
-  const auto analysis = launch::AnalyseRecordings(recordings);
-  const auto force_log = launch::ReadForceLog(launch::ForceLogPath(run_dir));
-  std::vector<launch::PlotResult> plots;
-  if (!o.no_plots) plots = launch::MakePlots(run_dir, scene, recordings, force_log);
-  std::ofstream(run_dir + "/summary.json") << launch::SummaryJson(record, files, analysis, force_log, plots);
+  const auto analysis = AnalyseRecordings(recordings);
+  const auto force_log = ReadForceLog(ForceLogPath(run_dir));
+  std::vector<PlotResult> plots;
+  if (!o.no_plots) plots = MakePlots(run_dir, scene, recordings, force_log);
+  std::ofstream(run_dir + "/summary.json") << SummaryJson(record, files, analysis, force_log, plots);
 
   for (const std::string& e : record.errors) std::cout << "error: " << e << "\n";
   for (const auto& p : plots) {
@@ -261,7 +260,7 @@ void AddLaunchCommand(CLI::App& app, int* exit_code) {
   launch->add_option("--skip", o->skip, "a needed service not to start here (started by hand elsewhere); repeatable");
   launch->add_option("--base-port", o->base_port,
                      "ports are this + a fixed offset per service (default: free ports on one host, " +
-                         std::to_string(launch::kDefaultMultiHostBasePort) + " on several)")
+                         std::to_string(kDefaultMultiHostBasePort) + " on several)")
       ->check(CLI::Range(1, 65000));
   launch->add_option("--build-dir", o->build_dir, "where the service executables are (default: this haptex's build)");
   launch->add_option("--log-level", o->log_level, "the services' log level")->capture_default_str();
@@ -280,4 +279,4 @@ void AddLaunchCommand(CLI::App& app, int* exit_code) {
   launch->callback([o, exit_code] { *exit_code = Launch(*o); });
 }
 
-}  // namespace haptex::cli
+}  // namespace haptex::launch

@@ -1,8 +1,8 @@
-#include "libs/textile/cpu_features.h"
+#include "libs/base/cpu_features.h"
 
-namespace haptex::textile::internal {
+namespace haptex::base {
 
-#ifdef HAPTEX_TEXTILE_X86_KERNELS
+#ifdef HAPTEX_X86_KERNELS
 bool CpuHasAvx() {
   static const bool has = [] {
     __builtin_cpu_init();
@@ -33,4 +33,4 @@ bool CpuHasAvx2() { return false; }
 bool CpuHasAvx512Vl() { return false; }
 #endif
 
-}  // namespace haptex::textile::internal
+}  // namespace haptex::base

@@ -1,4 +1,5 @@
 #pragma once
+// SIMD lanes for the vector kernels of libs/textile and libs/contact (haptex::base::lanes).
 // Four doubles as one value (a GCC/Clang vector extension) for kernels built twice: pairs of
 // SSE2 operations in the generic build, one AVX operation in a target("avx2") build. Both do the
 // same IEEE operations in the same order (no FMA), so their results do not depend on the CPU.
@@ -15,7 +16,7 @@
 // GCC reports the psabi note at the end of the including file, so it stays off from here on.
 #pragma GCC diagnostic ignored "-Wpsabi"
 
-namespace haptex::textile::lanes {
+namespace haptex::base::lanes {
 
 // Full unrolling of short fixed loops (-O2 keeps them as loops over stack arrays).
 #define HAPTEX_UNROLL _Pragma("GCC unroll 9")
@@ -76,4 +77,4 @@ HAPTEX_LANES_INLINE V4 LaneSums(V4 a, V4 b, V4 c, V4 d) {
   return __builtin_shufflevector(ab, cd, 0, 1, 4, 5) + __builtin_shufflevector(ab, cd, 2, 3, 6, 7);
 }
 
-}  // namespace haptex::textile::lanes
+}  // namespace haptex::base::lanes

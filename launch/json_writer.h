@@ -9,7 +9,7 @@
 #include <string>
 #include <string_view>
 
-namespace haptex::cli {
+namespace haptex::launch {
 
 class JsonWriter {
  public:
@@ -100,4 +100,4 @@ class JsonWriter {
   bool first_ = true;
 };
 
-}  // namespace haptex::cli
+}  // namespace haptex::launch

@@ -1,13 +1,13 @@
-#include "cli/json_writer.h"
+#include "launch/json_writer.h"
 
 #include <gtest/gtest.h>
 
 #include <limits>
 
-namespace haptex::cli {
+namespace haptex::launch {
 namespace {
 
-TEST(JsonWriterTest, NestsObjectsAndArraysWithCommas) {
+TEST(LaunchJsonWriterTest, NestsObjectsAndArraysWithCommas) {
   JsonWriter json;
   json.BeginObject()
       .Field("a", 1)
@@ -20,11 +20,11 @@ TEST(JsonWriterTest, NestsObjectsAndArraysWithCommas) {
   EXPECT_EQ(json.str(), R"({"a":1,"list":[{"x":0.5},{"y":true}],"s":"q\"uote\n"})");
 }
 
-TEST(JsonWriterTest, NonFiniteNumbersBecomeNull) {
+TEST(LaunchJsonWriterTest, NonFiniteNumbersBecomeNull) {
   JsonWriter json;
   json.BeginObject().Field("nan", std::numeric_limits<double>::quiet_NaN()).EndObject();
   EXPECT_EQ(json.str(), R"({"nan":null})");
 }
 
 }  // namespace
-}  // namespace haptex::cli
+}  // namespace haptex::launch
