@@ -9,7 +9,16 @@ status=$?
 echo "$out"
 [[ $status -ne 0 ]] || { echo "checker passed a broken tree"; exit 1; }
 for rule in "generated protobuf code" "build files that download" "vendored code" \
-            "README quick start" ".ci/run does more" "libs/textile is not pure" "scripts/demo is missing"; do
+            "README quick start" ".ci/run does more" "libs/textile is not pure" "scripts/demo is missing" \
+            "cites material outside the repository" "cites a missing file" "markdown link to a missing file" \
+            "cites a missing section"; do
   grep -qF "$rule" <<<"$out" || { echo "checker missed: $rule"; exit 1; }
+done
+# each kind of outside citation is named (assembled, so that this script does not cite them)
+d=docs; nd=note; nd+=s; shared=../; shared+=shared; machine=/; machine+=work/
+for cited in "cited.h:1: $nd/physics.md" "cited.h:2: $shared" "table.textproto:1: $nd/scripts" \
+             "page.md:4: ${machine}build-x" "page.md:3: $d/missing.md" "page.md:3: guide.md" \
+             "page.md:3: $d/page.md section 4"; do
+  grep -qF "$cited" <<<"$out" || { echo "checker missed the citation $cited"; exit 1; }
 done
 echo "checker caught every broken rule"
