@@ -31,7 +31,7 @@ FingerPose Facing(const V& centre, const V& pad_normal) {
 
 // 20 x 20 = 400 particles over 2 x 2 cm (about 1 mm spacing), border fixed, lying at z = 0,
 // stepped at 1 ms. Solver config 0: block-Jacobi PCG to 1e-3 (the tests' tight solve); 1:
-// block Jacobi to 1e-2, at most 20 iterations (local_contact until session 5); 2: multilevel
+// block Jacobi to 1e-2, at most 20 iterations (the baseline of the accuracy table); 2: multilevel
 // PCG to 1e-2; 3: local_contact's haptic step (HapticPatchStepOptions: Gauss-Seidel); 4: the
 // same at 0.2 ms, as local_contact steps at 5 kHz; 9: block Jacobi to 1e-9, the accuracy
 // reference. cap > 0 overrides the iteration cap.

@@ -27,10 +27,9 @@ struct ForceSafetyConfig {
   double startup_ramp_s = 0.5;       ///< force scales in linearly over this after (re)arming
   /// After a brief link interruption (SafetyInput::link_interruption) of a fully armed stage, the
   /// force scales in over this instead (at most startup_ramp_s): the user still holds the device
-  /// where the force was, and half a second at a fraction of it lets a squeezing user's fingers
-  /// close through the virtual object (a 4 ms host stall in the demo's 2 N pinch: 10 mm, 15 N model
-  /// force; a 20 ms resume still let them close 3-4 mm). 2 N over 5 ms is 400 N/s, a sixth of the
-  /// slew limit: no jump back to the old force.
+  /// where the force was, and a slow ramp lets squeezing fingers close through the virtual object
+  /// onto the stiff finger-finger spring. 5 ms is short against that motion, yet for a 2 N pinch
+  /// only 400 N/s, a sixth of the slew limit: no jump back to the old force.
   double resume_ramp_s = 0.005;
   /// Interruptions longer than this (summed until the force is back at full scale) ramp in over
   /// startup_ramp_s again.

@@ -1,6 +1,6 @@
 #pragma once
-// Periodicity analysis (after Peinecke, Allerkamp, Wolter 2007; reconstruction in notes/tactile.md
-// section 4): autocorrelation -> lattice basis -> mean tile + residual noise. Pre-processing only.
+// Periodicity analysis (after Peinecke, Allerkamp, Wolter 2007; reconstructed in docs/tactile.md
+// section 5.3): autocorrelation -> lattice basis -> mean tile + residual noise. Pre-processing only.
 
 #include <cstdint>
 

@@ -1,5 +1,5 @@
 #pragma once
-// Real-time tactile rendering (notes/tactile.md section 3.3-3.4, variant B): for each pin, the
+// Real-time tactile rendering (docs/tactile.md section 6, the filter bank): for each pin, the
 // height under it along the finger's path on the periodic fabric, two receptor-channel filters,
 // energy envelopes, tactile-colour matching, force scaling and the display's range.
 //
@@ -49,7 +49,7 @@ struct RendererConfig {
   /// Amplitudes scale with normal_force / reference_force (force clamped to max_force_N).
   double reference_force_N = 1.0;
   double max_force_N = 20.0;
-  /// Display range per primary [um peak]: 1.0 in PinFrame. notes/tactile.md 3.5: placeholder.
+  /// Display range per primary [um peak]: 1.0 in PinFrame. A placeholder (docs/tactile.md section 2).
   double max_amplitude_40hz_um = 50.0;
   double max_amplitude_320hz_um = 50.0;
   /// Contact radius when the input gives none: r_ref (N / reference_force)^(1/3), at most max.

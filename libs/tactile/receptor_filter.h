@@ -1,7 +1,7 @@
 #pragma once
-// Receptor-channel filters (notes/tactile.md sections 3.4 and 5.2): per channel a band-pass whose
-// magnitude follows the inverse detection threshold, normalised so that a sinusoid at threshold
-// gives excitation 1 ("threshold units").
+// Receptor-channel filters (docs/tactile.md section 6 step 6; the thresholds: section 7): per
+// channel a band-pass whose magnitude follows the inverse detection threshold, normalised so that a
+// sinusoid at threshold gives excitation 1 ("threshold units").
 
 #include <utility>
 #include <vector>
@@ -48,9 +48,9 @@ class ThresholdCurve final {
   double ThresholdUm(double frequency_hz) const;
   const std::vector<std::pair<double, double>>& points() const { return points_; }
 
-  /// NP I (RA, Meissner) illustrative table of notes/tactile.md section 8.
+  /// NP I (RA, Meissner) illustrative table of docs/tactile.md section 7.
   static ThresholdCurve DefaultRa();
-  /// P (PC, Pacinian) illustrative table of notes/tactile.md section 8.
+  /// P (PC, Pacinian) illustrative table of docs/tactile.md section 7.
   static ThresholdCurve DefaultPc();
 
  private:

@@ -1,6 +1,6 @@
 #pragma once
-// "Tactile colour" matching (notes/tactile.md section 3.3 steps 5-6): the two drive amplitudes at
-// 40 Hz and 320 Hz that reproduce a pin's two channel excitations.
+// "Tactile colour" matching (docs/tactile.md section 1.2): the two drive amplitudes at 40 Hz and
+// 320 Hz that reproduce a pin's two channel excitations.
 
 namespace haptex::tactile {
 

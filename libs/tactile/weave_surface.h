@@ -1,5 +1,5 @@
 #pragma once
-// Procedural woven-fabric surfaces (notes/tactile.md section 6.3): the virtual tactile fabric
+// Procedural woven-fabric surfaces (docs/tactile.md section 5.1): the virtual tactile fabric
 // when no scan of the real fabric exists.
 
 #include <cstdint>

@@ -1,6 +1,6 @@
 #pragma once
 // Volino's linear anisotropic bending on grid lines (Volino & Magnenat-Thalmann 2006/2007,
-// notes/physics.md section 3.2), with bending damping. Constant Jacobian.
+// docs/physics-reference.md section 3.2), with bending damping. Constant Jacobian.
 
 #include <Eigen/Core>
 

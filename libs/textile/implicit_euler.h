@@ -1,6 +1,6 @@
 #pragma once
 // Implicit (backward) Euler with one Newton step and constraint-filtered preconditioned CG
-// (Baraff & Witkin 1998, notes/physics.md section 4.1).
+// (Baraff & Witkin 1998, docs/physics-reference.md section 5).
 
 #include "libs/textile/fabric_model.h"
 #include "libs/textile/fabric_state.h"

@@ -72,7 +72,7 @@ StrainCurve TensileCurveFromKes(const kes::KesTensile& t, const std::string& fie
       throw std::invalid_argument(std::string("tensile curve: ") + e.what());
     }
   }
-  // Reconstruction from the summary values (power law, notes/physics.md section 2.2).
+  // Reconstruction from the summary values (power law, docs/physics-reference.md section 2.2).
   RequirePositive("", field + ".emt_percent", t.emt_percent);
   RequirePositive("", field + ".lt", t.lt);
   RequireNonNegative("", field + ".fm_gf_per_cm", t.fm_gf_per_cm);

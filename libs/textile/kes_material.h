@@ -8,7 +8,7 @@
 
 namespace haptex::textile {
 
-/// Exact unit factors (notes/physics.md section 1.1).
+/// Exact unit factors (derived in docs/physics-reference.md section 1.1).
 inline constexpr double kGfPerCmToNPerM = 0.980665;                 // gf/cm -> N/m
 inline constexpr double kGfCm2PerCmToNm = 9.80665e-5;               // gf cm^2/cm -> N m
 inline constexpr double kGfPerCmDegToNPerMRad = 56.18796561619688;  // gf/(cm deg) -> N/m/rad

@@ -16,8 +16,9 @@
 namespace haptex::textile::validation {
 
 /// A test-only composite "stiff woven": the KES tensile values of Kumari & Khurana 2016 denim B
-/// (EMT 5.735 %, LT 0.655, both directions; notes/physics.md 1.2) with the mass, shear and bending
-/// of the Wang 2011 11 oz denim (the Kumari table's W is unusable). Not a database fabric.
+/// (EMT 5.735 %, LT 0.655, both directions; docs/physics-reference.md section 1.2) with the mass,
+/// shear and bending of the Wang 2011 11 oz denim (the Kumari table's W is unusable). Not a
+/// database fabric.
 kes::Fabric CompositeDenim();
 
 /// `m` with every stiffness (tensile, shear, bending) multiplied by `factor`.

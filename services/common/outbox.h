@@ -1,7 +1,7 @@
 #pragma once
 // Where a service loop's Write step puts the messages it sends. The service process sends them
 // through its Messenger (and records them with --record: ServiceContext); an in-process test keeps
-// them (services/common/captured_outbox.h). Sending never blocks or allocates once warmed up.
+// them (tests/support/captured_outbox.h). Sending never blocks or allocates once warmed up.
 
 #include <cstddef>
 

@@ -41,9 +41,9 @@ TEST(ContactStateTest, HysteresisDoesNotChatter) {
   EXPECT_FALSE(h.Update(0.59));  // inside the band: stays off
 }
 
-// A value that swings across both thresholds every 5 ticks (5 at 0.8, 5 at 0.2, at 1 kHz; the
-// demo's pinch flipped VIII/IX with runs of 1-5 ticks): the bare hysteresis flips with it; the
-// filtered one (tau 10 ms) holds, since its ripple, (0.8 - 0.2) tanh(T / (4 tau)) = 0.15 for the
+// A value that swings across both thresholds every 5 ticks (5 at 0.8, 5 at 0.2, at 1 kHz, like the
+// slip share of a held pinch whose samples stick and slip in turn): the bare hysteresis flips with
+// it; the filtered one (tau 10 ms) holds, since its ripple, (0.8 - 0.2) tanh(T / (4 tau)) = 0.15 for the
 // period T = 10 ms, stays inside the band 0.4 .. 0.6.
 TEST(ContactStateTest, FilteredHysteresisHoldsASwingingValue) {
   Hysteresis bare(0.6, 0.4);

@@ -3,8 +3,9 @@
 // mass pulled by the artificial user's spring toward its target, pushed by the rendered force
 // F0 + K dx at 5 kHz); the contact runs at 1 kHz. The state must not chatter between the pinch
 // (VIII/IX) and the one-finger states once the fingers squeeze the fabric (paper Table 1, with
-// hysteresis). Before the fix the pinch was entered and lost up to 24 times while the index closed
-// slowly: the thumb's own contact holds the fabric on its skin, where the pinch saw it as outside.
+// hysteresis). The thumb's own contact holds the fabric on its skin, one half-thickness off the
+// midsurface; a pinch that counted that fabric as outside would enter and leave as the index closes
+// slowly (docs/contact.md, "The models").
 
 #include <algorithm>
 #include <cmath>

@@ -5,9 +5,9 @@
 // For several coefficient pairs.
 //
 // This holds because friction is decided for the finger as a whole (finger_fabric_contact.h).
-// With per-particle stick-slip (before issue 5's fix) the peak was 0.23 for mu_s = 0.4: pressing
-// pre-loads the held points radially and the lightly loaded rim slips first, so the particles
-// slipped one after another and the finger never reached mu_s.
+// With per-particle stick-slip the peak is 0.23 for mu_s = 0.4: pressing pre-loads the held points
+// radially and the lightly loaded rim slips first, so the particles slip one after another and the
+// finger never reaches mu_s.
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
 // Issue 5: "hysteresis so that states do not chatter". A contact whose evidence swings across the
 // classifier's thresholds every few ticks keeps one state: a finger resting on fabric that bounces
-// on it at 50 Hz (the demo's hanging cloth did this), and a pinch that slides with its samples
+// on it at 50 Hz (as hanging cloth does on a resting thumb), and a pinch that slides with its samples
 // sticking and slipping in turn. Without the evidence filter (state_filter_s = 0) both chatter,
 // which the tests check too, so they can fail.
 

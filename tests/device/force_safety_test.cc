@@ -143,9 +143,9 @@ TEST(ForceSafetyTest, StartupRampScalesForceIn) {
 }
 
 // A brief link interruption (host stall, controller host timeout) of a fully armed stage resumes
-// over resume_ramp_s, not the half-second start-up ramp: in the demo's 2 N pinch the start-up ramp
-// after a 4 ms stall let the mock user's fingers close 10 mm (model force 15 N). Other forced
-// zeros, an interruption during the start-up ramp, and long interruptions keep the start-up ramp.
+// over resume_ramp_s, not the half-second start-up ramp, which would let a squeezing user's fingers
+// close through the fabric (force_safety.h). Other forced zeros, an interruption during the
+// start-up ramp, and long interruptions keep the start-up ramp.
 TEST(ForceSafetyTest, BriefLinkInterruptionResumesOverResumeRamp) {
   ForceSafetyConfig config;
   config.startup_ramp_s = 0.5;

@@ -59,5 +59,96 @@ for s in scripts/demo scripts/test scripts/setup .ci/run; do
   [[ -x "$root/$s" ]] || fail "$s is missing or not executable"
 done
 
+# 7. citations resolve inside the repository: a path under a top-level folder with a file extension
+#    (in comments, strings, docs), a markdown link relative to its document, and "FILE.md section N"
+#    must name what exists; nothing may point outside the tree (the shared folder beside a checkout,
+#    a notes folder, machine-local absolute paths): a reader of the project could not follow it.
+read -r -d '' citations_pl <<'PERL'
+use strict; use warnings;
+my $root = shift;
+opendir(my $dh, $root) or die "$root: $!";
+my %top = map { $_ => 1 } grep { -d "$root/$_" && !/^\./ && !/^build/ && $_ ne 'runs' } readdir($dh);
+$top{$_} = 1 for qw(bench cli cmake data docs launch libs proto scripts services tests .ci), 'note' . 's';
+my $tops = join '|', map { quotemeta } sort keys %top;
+my $ext = 'md|hpp|hh|h|cpp|cc|c|py|sh|textproto|proto|txt|cmake|gp|json|csv|png|pgm|yaml|yml';
+my $up = '\.\./' . 'shared';
+my $abs = '/' . 'work/';
+my $nd = 'note' . 's/';
+my %headings;
+sub sections_of {
+  my ($md) = @_;
+  return $headings{$md} if $headings{$md};
+  my %s;
+  if (open(my $fh, '<', "$root/$md")) {
+    my $fence = 0;
+    while (<$fh>) {
+      $fence = !$fence if /^\s*```/;
+      next if $fence;
+      $s{$1} = 1 if /^#{1,6}\s+(\d+(?:\.\d+)*)(?:[.\s:)]|$)/;
+    }
+  }
+  return $headings{$md} = \%s;
+}
+sub placeholder { my ($p) = @_; return $p =~ m{(^|/)[A-Z][A-Z0-9_]*(\.|/|$)} && $p !~ m{(^|/)(README|CMakeLists|RESULTS)\.}; }
+my %build_tree;  # a folder holding CMakeCache.txt is a build tree (any name): generated, not cited
+sub in_build_tree {
+  my ($dir) = @_;
+  while ($dir ne '') {
+    $build_tree{$dir} //= -e "$root/$dir/CMakeCache.txt" ? 1 : 0;
+    return 1 if $build_tree{$dir};
+    $dir =~ s{/?[^/]*$}{};
+  }
+  return 0;
+}
+while (my $file = <STDIN>) {
+  chomp $file;
+  my $path = "$root/$file";
+  next unless -T $path;
+  open(my $fh, '<', $path) or next;
+  (my $dir = $file) =~ s{/?[^/]*$}{};
+  next if in_build_tree($dir);
+  my $is_md = $file =~ /\.md$/;
+  my $fence = 0;
+  while (my $line = <$fh>) {
+    my $at = "$file:$.";
+    while ($line =~ /($up|$abs\S*|(?<![A-Za-z0-9_])$nd\S*?\.md|(?<![A-Za-z0-9_])${nd}scripts)/g) {
+      print "OUTSIDE\t$at\t$1\n";
+    }
+    while ($line =~ m{(?<![A-Za-z0-9_./\-\$~{}])((?:$tops)/[A-Za-z0-9_./+\-]*?[A-Za-z0-9_\-]\.(?:\{[a-z0-9,]+\}|(?:$ext)))(?![A-Za-z0-9_])}g) {
+      my $cited = $1;
+      next if placeholder($cited);
+      my @paths = ($cited);
+      if ($cited =~ /^(.*)\.\{([a-z0-9,]+)\}$/) { my $b = $1; @paths = map { "$b.$_" } split /,/, $2; }
+      for my $p (@paths) { print "MISSING\t$at\t$p\n" unless -e "$root/$p"; }
+    }
+    $fence = !$fence if $is_md && $line =~ /^\s*```/;
+    if ($is_md && !$fence) {
+      while ($line =~ /\]\(([^)\s]+)\)/g) {
+        my $t = $1;
+        next if $t =~ /^(?:[a-z][a-z0-9+.-]*:|#)/i;
+        $t =~ s/#.*//;
+        my $p = $dir eq '' ? $t : "$dir/$t";
+        print "LINK\t$at\t$t\n" unless -e "$root/$p";
+      }
+    }
+    while ($line =~ m{((?:[A-Za-z0-9_\-]+/)*[A-Za-z0-9_\-]+\.md),? (?:section|sections|§) ?(\d+(?:\.\d+)*)}g) {
+      my ($md, $n) = ($1, $2);
+      my ($found) = grep { -f "$root/$_" } ($md, ($dir eq '' ? () : "$dir/$md"), "docs/$md");
+      next unless $found;
+      print "SECTION\t$at\t$md section $n\n" unless sections_of($found)->{$n};
+    }
+  }
+}
+PERL
+cites=$(files | perl -e "$citations_pl" "$root")
+outside=$(awk -F'\t' '$1 == "OUTSIDE" {print $2 ": " $3}' <<<"$cites")
+[[ -z "$outside" ]] || fail "cites material outside the repository (write it into docs/ instead): $outside"
+missing=$(awk -F'\t' '$1 == "MISSING" {print $2 ": " $3}' <<<"$cites")
+[[ -z "$missing" ]] || fail "cites a missing file: $missing"
+links=$(awk -F'\t' '$1 == "LINK" {print $2 ": " $3}' <<<"$cites")
+[[ -z "$links" ]] || fail "markdown link to a missing file: $links"
+sections=$(awk -F'\t' '$1 == "SECTION" {print $2 ": " $3}' <<<"$cites")
+[[ -z "$sections" ]] || fail "cites a missing section: $sections"
+
 [[ $failed -eq 0 ]] && echo "repo rules: all hold"
 exit $failed

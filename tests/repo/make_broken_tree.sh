@@ -3,7 +3,7 @@
 # usage: make_broken_tree.sh DIR
 set -euo pipefail
 dir=$1
-rm -rf "$dir" && mkdir -p "$dir"/{proto,libs/textile,libs/contact,libs/base,.ci,scripts,third_party/x}
+rm -rf "$dir" && mkdir -p "$dir"/{proto,libs/textile,libs/contact,libs/base,.ci,scripts,third_party/x,docs}
 printf '## Quick start\n\n```\nmake\n```\n' > "$dir/README.md"
 printf '#!/bin/sh\nmake test\n' > "$dir/.ci/run"
 touch "$dir/proto/a.pb.h" "$dir/third_party/x/x.h"
@@ -14,3 +14,11 @@ printf '#include <chrono>\n#include <time.h>\n' > "$dir/libs/base/clock.h"
 echo '#include <chrono>' > "$dir/libs/base/timer.h"
 echo '#include <Eigen/Core>' > "$dir/libs/base/maths.h"
 echo '#include "libs/base/clock.h"' > "$dir/libs/contact/timed.cc"
+# Citations that do not resolve, assembled from pieces so that this script does not cite them
+# itself.
+d=docs; nd=note; nd+=s; shared=../; shared+=shared; machine=/; machine+=work/
+printf '## 1. Only section\n\nSee %s/missing.md and [the guide](guide.md); %s/page.md section 4.\n' "$d" "$d" \
+  > "$dir/docs/page.md"
+printf 'Built in %sbuild-x.\n' "$machine" >> "$dir/docs/page.md"
+printf '// After %s/physics.md section 1.1,\n// and %s/x.py.\n' "$nd" "$shared" > "$dir/libs/textile/cited.h"
+printf '# computed by %s/scripts/table.py\n' "$nd" > "$dir/libs/textile/table.textproto"

@@ -297,7 +297,7 @@ TEST(PinRendererTest, RougherFabricGivesLargerAmplitudes) {
 }
 
 // Perceived intensity of the strongest pin of a frame: the channel excitations the two drive
-// amplitudes produce, combined as stronger + half the weaker (notes/tactile.md section 5.1).
+// amplitudes produce, combined as stronger + half the weaker (docs/tactile.md section 1.1).
 double PerceivedIntensity(const RendererModel& model, const PinFrame& f) {
   const RendererConfig& c = model.config();
   double best = 0.0;

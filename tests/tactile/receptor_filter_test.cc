@@ -32,7 +32,7 @@ double SimulatedExcitation(const ReceptorChannelFilter& f, double frequency_hz, 
 TEST(ThresholdCurveTest, InterpolatesTheTablesOfTheNotes) {
   const ThresholdCurve ra = ThresholdCurve::DefaultRa();
   const ThresholdCurve pc = ThresholdCurve::DefaultPc();
-  // notes/tactile.md section 8: T_RA(40)=3.16, T_PC(40)=3.98, T_RA(320)=25.1, T_PC(320)=0.355 um.
+  // docs/tactile.md section 7: T_RA(40)=3.16, T_PC(40)=3.98, T_RA(320)=25.1, T_PC(320)=0.355 um.
   EXPECT_NEAR(ra.ThresholdUm(40.0), 3.16, 0.01);
   EXPECT_NEAR(pc.ThresholdUm(40.0), 3.98, 0.01);
   EXPECT_NEAR(ra.ThresholdUm(320.0), 25.1, 0.1);

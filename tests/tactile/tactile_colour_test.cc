@@ -10,7 +10,7 @@
 namespace haptex::tactile {
 namespace {
 
-// The matcher built from the threshold tables themselves (|W| = 1 / T), as in notes section 8.
+// The matcher built from the threshold tables themselves (|W| = 1 / T), as in docs/tactile.md section 7.1.
 ColourMatcher TableMatcher() {
   const ThresholdCurve ra = ThresholdCurve::DefaultRa();
   const ThresholdCurve pc = ThresholdCurve::DefaultPc();
@@ -22,7 +22,7 @@ TEST(TactileColourTest, LinesAtThePrimariesAreReproducedExactly) {
   const ThresholdCurve ra = ThresholdCurve::DefaultRa();
   const ThresholdCurve pc = ThresholdCurve::DefaultPc();
   const ColourMatcher dut = TableMatcher();
-  // 40 Hz 10 um + 320 Hz 1 um (notes section 8: E_RA = 3.16, E_PC = 3.78).
+  // 40 Hz 10 um + 320 Hz 1 um (docs/tactile.md section 7.1: E_RA = 3.16, E_PC = 3.78).
   const double e_ra = std::hypot(10.0 / ra.ThresholdUm(40.0), 1.0 / ra.ThresholdUm(320.0));
   const double e_pc = std::hypot(10.0 / pc.ThresholdUm(40.0), 1.0 / pc.ThresholdUm(320.0));
   EXPECT_NEAR(e_ra, 3.16, 0.01);
@@ -34,7 +34,8 @@ TEST(TactileColourTest, LinesAtThePrimariesAreReproducedExactly) {
 }
 
 TEST(TactileColourTest, WorkedExampleFromTheNotes) {
-  // Grating p = 0.5 mm, a = 5 um at 100 mm/s (200 Hz): matched A40 = 0.99, A320 = 5.00 um.
+  // Grating p = 0.5 mm, a = 5 um at 100 mm/s (200 Hz): matched A40 = 0.99, A320 = 5.00 um
+  // (docs/tactile.md section 7.1, computed by docs/derivations/tactile_colour.py).
   const ThresholdCurve ra = ThresholdCurve::DefaultRa();
   const ThresholdCurve pc = ThresholdCurve::DefaultPc();
   const TactileColour c = TableMatcher().Match(5.0 / ra.ThresholdUm(200.0), 5.0 / pc.ThresholdUm(200.0));

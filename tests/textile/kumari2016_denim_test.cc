@@ -1,5 +1,6 @@
-// Kumari & Khurana 2016 denims (notes/physics.md 1.2): the tensile reconstruction from their KES
-// values against the notes' worked example for sample B (section 2.2). The six denims are not in
+// Kumari & Khurana 2016 denims (docs/physics-reference.md section 1.2): the tensile reconstruction
+// from their KES values against the worked example for sample B (same page, section 2.2; computed
+// by docs/derivations/kes_curves.py). The six denims are not in
 // data/fabrics: the printed W is impossible and W is required (docs/fabric-model.md section 8), but
 // the tensile law needs only EMT and LT, so the worked example is checkable without W.
 
@@ -36,12 +37,12 @@ TEST(Kumari2016DenimTest, WorkedExampleSampleBPowerLaw) {
   const StrainCurve c = TensileCurveFromKes(DenimBTensile(), "warp_tensile");
   const double em = 0.05735;
   const double fm = kStandardFmGfPerCm * kGfPerCmToNPerM;
-  // n = 2/LT - 1 = 2.05 (notes: "n = 2.05"): F(em/2) / F(em) = 0.5^n.
+  // n = 2/LT - 1 = 2.05 (the worked example's exponent): F(em/2) / F(em) = 0.5^n.
   const double n = 2.0 / 0.655 - 1.0;
   EXPECT_NEAR(n, 2.05, 0.005);
   EXPECT_NEAR(c.Value(em / 2) / fm, std::pow(0.5, n), 0.01 * std::pow(0.5, n));
-  // 12.2 gf/cm (2.4 N over 20 cm, the largest load of Boettcher et al.'s validation): the notes give
-  // 0.94 % strain, 3.6 mm on a 38 cm strip; exactly em (12.2/500)^(1/n) = 0.9402 %.
+  // 12.2 gf/cm (2.4 N over 20 cm, the largest load of Boettcher et al.'s validation): the worked
+  // example gives 0.94 % strain, 3.6 mm on a 38 cm strip; exactly em (12.2/500)^(1/n) = 0.9402 %.
   const double strain = StrainAt(c, 12.2 * kGfPerCmToNPerM);
   const double exact = em * std::pow(12.2 / 500.0, 1.0 / n);
   EXPECT_NEAR(strain, exact, 0.01 * exact);
@@ -53,7 +54,7 @@ TEST(Kumari2016DenimTest, WorkedExampleSampleBPowerLaw) {
 
 TEST(Kumari2016DenimTest, PrintedWtOfSampleBMatchesTheEmtLtIdentity) {
   // WT = LT Fm em / 2 = 2.5 LT EMT [gf cm/cm^2]: 9.39 against 9.400 printed. (A and E print 0.825
-  // and 0.475 against 9.82 and 8.48: the misprints notes/physics.md 1.2 flags.)
+  // and 0.475 against 9.82 and 8.48: the misprints docs/physics-reference.md section 1.2 flags.)
   const kes::KesTensile t = DenimBTensile();
   EXPECT_NEAR(2.5 * t.lt * t.emt_percent, t.wt_gfcm_per_cm2, 0.02 * t.wt_gfcm_per_cm2);
   // The reconstructed curve reproduces it (the curve's WT follows from EMT and LT alone).

@@ -1,6 +1,6 @@
 // Validation 2: Peirce cantilever. A strip pushed over a platform edge bends under its weight;
 // the overhang l at which the chord from the edge to the tip reaches 41.5 deg is l = 2 c,
-// c = (B / w)^(1/3) (exact to 0.02 % against the heavy elastica, notes/physics.md 4.3-2).
+// c = (B / w)^(1/3), exact to 0.02 % against the heavy elastica (docs/physics-reference.md section 4.2).
 
 #include <cmath>
 #include <cstdio>

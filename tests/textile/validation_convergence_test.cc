@@ -47,7 +47,8 @@ double ChordAngleDeg(const Cantilever& c) {
 class ConvergenceTest : public ::testing::Test {
  protected:
   FabricMaterial material_ = MaterialFromKes(testing::LoadDatabaseFabric("wang2011_royal_target"));
-  // Overhang with lambda = 8: chord angle 41.49 deg (notes/physics.md 4.3-2, elastica.py).
+  // Overhang with lambda = 8: chord angle 41.49 deg (docs/physics-reference.md section 4.2,
+  // computed by docs/derivations/heavy_elastica.py).
   double l_ = std::cbrt(8.0 * material_.bending_warp_Nm / (material_.density_kg_per_m2 * 9.81));
 };
 
