@@ -28,7 +28,7 @@ ci=$(grep -vE '^\s*(#|$)|^set -|^cd ' "$root/.ci/run")
 [[ "$ci" == "exec scripts/test" ]] || fail ".ci/run does more than 'exec scripts/test': $ci"
 
 # 5. the cores are pure: no sockets, threads, clocks, logging or messages
-for core in libs/textile libs/contact libs/tactile libs/device; do
+for core in libs/textile libs/contact libs/tactile libs/device libs/netsim; do
   [[ -d "$root/$core" ]] || continue
   impure=$(grep -rnE '#include\s*[<"](asio|spdlog|thread|chrono|mutex|condition_variable|future|sys/socket\.h|netinet/|google/protobuf|haptex/v1/|ctime|time\.h|iostream)' \
     "$root/$core" 2>/dev/null | sed "s|$root/||" || true)
