@@ -12,6 +12,7 @@
 #include "cli/key_command.h"
 #include "cli/launch_command.h"
 #include "cli/netcheck_command.h"
+#include "cli/relay_command.h"
 #include "cli/scene_command.h"
 #include "cli/sim_command.h"
 #include "cli/tactile_command.h"
@@ -30,6 +31,7 @@ int main(int argc, char** argv) {
   haptex::cli::AddTactileCommand(app, &exit_code);
   haptex::cli::AddLaunchCommand(app, &exit_code);
   haptex::cli::AddTraceCommand(app, &exit_code);
+  haptex::cli::AddRelayCommand(app, &exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
