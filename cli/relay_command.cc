@@ -44,8 +44,8 @@ struct RelayOptions {
   std::string json_path;
 };
 
-// Parses a per-direction number flag, checks each value with `check(name, value)`, and stores it
-// into both configs through `field`.
+// Parses a per-direction number flag, checks each value with `check(name, value)` under the name
+// the user typed, and stores it into each direction's config with `store`.
 template <typename Check, typename Store>
 void ApplyNumber(std::string_view flag, const std::string& text, Check check, Store store,
                  net::UdpRelayConfig* config) {
