@@ -11,6 +11,7 @@
 #include "cli/fabric_command.h"
 #include "cli/key_command.h"
 #include "cli/netcheck_command.h"
+#include "cli/relay_command.h"
 #include "cli/scene_command.h"
 #include "cli/sim_command.h"
 #include "cli/tactile_command.h"
@@ -30,6 +31,7 @@ int main(int argc, char** argv) {
   haptex::cli::AddTactileCommand(app, &exit_code);
   haptex::launch::AddLaunchCommand(app, &exit_code);
   haptex::cli::AddTraceCommand(app, &exit_code);
+  haptex::cli::AddRelayCommand(app, &exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -44,6 +44,9 @@ class UdpEndpoint final {
   /// Blocks until a datagram is waiting or the timeout passes (for threads that only receive).
   bool WaitReadable(std::chrono::milliseconds timeout);
 
+  /// The socket's descriptor, for waiting on several endpoints at once (poll).
+  int native_handle() { return socket_.native_handle(); }
+
  private:
   asio::io_context io_;
   asio::ip::udp::socket socket_;

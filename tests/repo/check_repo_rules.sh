@@ -31,13 +31,13 @@ ci=$(grep -vE '^\s*(#|$)|^set -|^cd ' "$root/.ci/run")
 #    holds the one clock: <chrono>, <ctime> and <time.h> are allowed in libs/base/clock.h only,
 #    which the cores must not include (time comes into a core as dt). libs/base is std only.
 impure_re='#include\s*[<"](asio|spdlog|thread|chrono|mutex|condition_variable|future|sys/socket\.h|netinet/|google/protobuf|haptex/v1/|ctime|time\.h|iostream)'
-for lib in libs/textile libs/contact libs/tactile libs/device libs/base; do
+for lib in libs/textile libs/contact libs/dual_layer libs/tactile libs/device libs/netsim libs/base; do
   [[ -d "$root/$lib" ]] || continue
   impure=$(grep -rnE "$impure_re" "$root/$lib" 2>/dev/null | sed "s|$root/||" \
     | grep -vE '^libs/base/clock\.h:[0-9]+:#include\s*<(chrono|ctime|time\.h)>' || true)
   [[ -z "$impure" ]] || fail "$lib is not pure: $impure"
 done
-for core in libs/textile libs/contact libs/tactile libs/device; do
+for core in libs/textile libs/contact libs/dual_layer libs/tactile libs/device libs/netsim; do
   [[ -d "$root/$core" ]] || continue
   clock=$(grep -rnE '#include\s*"libs/base/clock\.h"' "$root/$core" 2>/dev/null | sed "s|$root/||" || true)
   [[ -z "$clock" ]] || fail "$core uses the clock: $clock"
