@@ -25,8 +25,8 @@ constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
 
 int List() {
   const scene::FabricDatabase db(scene::FabricDatabase::DefaultDirectory());
-  std::cout << std::left << std::setw(34) << "name" << std::right << std::setw(8) << "W g/m2"
-            << std::setw(10) << "EMT w/f %" << std::setw(16) << "B w/f uN m" << std::setw(8) << "G"
+  std::cout << std::left << std::setw(34) << "name" << std::right << std::setw(8) << "W g/m2" << std::setw(10)
+            << "EMT w/f %" << std::setw(16) << "B w/f uN m" << std::setw(8) << "G"
             << "  source\n";
   int failed = 0;
   for (const std::string& name : db.Names()) {
@@ -43,9 +43,9 @@ int List() {
       b << std::fixed << std::setprecision(1) << f.warp_bending().b_gfcm2_per_cm() * textile::kGfCm2PerCmToNm * 1e6
         << "/" << f.weft_bending().b_gfcm2_per_cm() * textile::kGfCm2PerCmToNm * 1e6;
       std::cout << std::left << std::setw(34) << name << std::right << std::setw(8) << std::fixed
-                << std::setprecision(0) << f.weight_mg_per_cm2() * 10.0 << std::setw(10) << emt.str()
-                << std::setw(16) << b.str() << std::setw(8) << std::setprecision(2)
-                << f.shear().g_gf_per_cm_deg() << "  " << f.source().citation().substr(0, 60) << "\n";
+                << std::setprecision(0) << f.weight_mg_per_cm2() * 10.0 << std::setw(10) << emt.str() << std::setw(16)
+                << b.str() << std::setw(8) << std::setprecision(2) << f.shear().g_gf_per_cm_deg() << "  "
+                << f.source().citation().substr(0, 60) << "\n";
     } catch (const std::exception& e) {
       std::cerr << e.what() << "\n";
       ++failed;
@@ -78,14 +78,18 @@ CurveTables Tabulate(const textile::FabricMaterial& m, const v1::Fabric& f, int 
 void PrintKes(const v1::Fabric& f) {
   std::cout << f.name() << ": " << f.description() << "\n  source: " << f.source().citation() << " ("
             << f.source().locator() << ")\n"
-            << "  direction known: " << (f.direction_known() ? "yes" : "no (warp and weft carry the same values)") << "\n"
+            << "  direction known: " << (f.direction_known() ? "yes" : "no (warp and weft carry the same values)")
+            << "\n"
             << "  KES        warp            weft\n"
-            << "  EMT %      " << std::setw(8) << f.warp_tensile().emt_percent() << "        " << f.weft_tensile().emt_percent() << "\n"
+            << "  EMT %      " << std::setw(8) << f.warp_tensile().emt_percent() << "        "
+            << f.weft_tensile().emt_percent() << "\n"
             << "  LT         " << std::setw(8) << f.warp_tensile().lt() << "        " << f.weft_tensile().lt() << "\n"
-            << "  WT gfcm/cm2" << std::setw(8) << f.warp_tensile().wt_gfcm_per_cm2() << "        " << f.weft_tensile().wt_gfcm_per_cm2() << "\n"
-            << "  B gfcm2/cm " << std::setw(8) << f.warp_bending().b_gfcm2_per_cm() << "        " << f.weft_bending().b_gfcm2_per_cm() << "\n"
-            << "  G gf/cm/deg " << f.shear().g_gf_per_cm_deg() << "   W mg/cm2 " << f.weight_mg_per_cm2()
-            << "   T mm " << f.thickness_mm() << "   SMD um " << f.surface().smd_um() << "\n";
+            << "  WT gfcm/cm2" << std::setw(8) << f.warp_tensile().wt_gfcm_per_cm2() << "        "
+            << f.weft_tensile().wt_gfcm_per_cm2() << "\n"
+            << "  B gfcm2/cm " << std::setw(8) << f.warp_bending().b_gfcm2_per_cm() << "        "
+            << f.weft_bending().b_gfcm2_per_cm() << "\n"
+            << "  G gf/cm/deg " << f.shear().g_gf_per_cm_deg() << "   W mg/cm2 " << f.weight_mg_per_cm2() << "   T mm "
+            << f.thickness_mm() << "   SMD um " << f.surface().smd_um() << "\n";
   for (const auto& flag : f.flags()) {
     std::cout << "  flagged " << flag.field() << ": printed " << flag.as_printed() << "; " << flag.problem()
               << "; used: " << flag.resolution() << "\n";
@@ -103,8 +107,8 @@ void Plot(const CurveTables& t, const std::string& name, const std::string& png)
   {
     std::ofstream out(data);
     for (std::size_t i = 0; i < t.strain.size(); ++i) {
-      out << t.strain[i] * 100 << ' ' << t.warp_N_per_m[i] << ' ' << t.weft_N_per_m[i] << ' '
-          << t.shear_deg[i] << ' ' << t.shear_N_per_m[i] << '\n';
+      out << t.strain[i] * 100 << ' ' << t.warp_N_per_m[i] << ' ' << t.weft_N_per_m[i] << ' ' << t.shear_deg[i] << ' '
+          << t.shear_N_per_m[i] << '\n';
     }
   }
   const std::string script = png + ".gp";
@@ -135,14 +139,14 @@ int Show(const std::string& name, const std::string& png, int points) {
   const textile::FabricMaterial material = textile::MaterialFromKes(scene::ToKesFabric(fabric));
   PrintKes(fabric);
   std::cout << "  SI: density " << material.density_kg_per_m2 << " kg/m2, bending warp/weft "
-            << material.bending_warp_Nm << "/" << material.bending_weft_Nm << " N m, thickness "
-            << material.thickness_m << " m\n\n";
+            << material.bending_warp_Nm << "/" << material.bending_weft_Nm << " N m, thickness " << material.thickness_m
+            << " m\n\n";
   const CurveTables t = Tabulate(material, fabric, points);
   std::cout << "  strain %   warp N/m    weft N/m   | shear deg   shear N/m\n";
   for (std::size_t i = 0; i < t.strain.size(); ++i) {
     std::cout << std::fixed << std::setprecision(3) << std::setw(10) << t.strain[i] * 100 << std::setw(12)
-              << t.warp_N_per_m[i] << std::setw(12) << t.weft_N_per_m[i] << "   |" << std::setw(10)
-              << t.shear_deg[i] << std::setw(12) << t.shear_N_per_m[i] << "\n";
+              << t.warp_N_per_m[i] << std::setw(12) << t.weft_N_per_m[i] << "   |" << std::setw(10) << t.shear_deg[i]
+              << std::setw(12) << t.shear_N_per_m[i] << "\n";
   }
   if (!png.empty()) Plot(t, name, png);
   return 0;

@@ -31,8 +31,7 @@ void AddKeyCommand(CLI::App& app, int* exit_code) {
       const int fd = open(out->c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0600);
       if (fd < 0) throw std::runtime_error("cannot write key file " + *out + ": " + std::strerror(errno));
       const std::string text = hex + "\n";
-      const bool ok = fchmod(fd, 0600) == 0 &&
-                      write(fd, text.data(), text.size()) == static_cast<ssize_t>(text.size());
+      const bool ok = fchmod(fd, 0600) == 0 && write(fd, text.data(), text.size()) == static_cast<ssize_t>(text.size());
       close(fd);
       if (!ok) throw std::runtime_error("cannot write key file " + *out + ": " + std::strerror(errno));
       std::cout << "wrote session key to " << *out << "\n";

@@ -52,8 +52,7 @@ int Serve(const ServeOptions& options) {
   config.identity = {"netcheck_serve", 0, key.DerivedSessionId()};
   net::Messenger messenger(key, config);
   runtime::InstallShutdownHandlers();
-  std::cout << "netcheck serve: listening on " << net::FormatUdpAddress(messenger.local_endpoint())
-            << std::endl;
+  std::cout << "netcheck serve: listening on " << net::FormatUdpAddress(messenger.local_endpoint()) << std::endl;
 
   v1::NetProbe reply;
   std::uint64_t replies = 0;
@@ -71,8 +70,7 @@ int Serve(const ServeOptions& options) {
       if (messenger.SendTo(from, reply)) ++replies;
     });
   }
-  std::cout << "netcheck serve: " << replies << " replies; accepted "
-            << messenger.received().accepted() << "; dropped";
+  std::cout << "netcheck serve: " << replies << " replies; accepted " << messenger.received().accepted() << "; dropped";
   PrintDrops(messenger.received(), std::cout);
   std::cout << (messenger.received().TotalDropped() == 0 ? " none" : "") << std::endl;
   return 0;
@@ -146,8 +144,8 @@ int Probe(const ProbeOptions& options) {
 }  // namespace
 
 void AddNetcheckCommand(CLI::App& app, int* exit_code) {
-  CLI::App* netcheck = app.add_subcommand(
-      "netcheck", "Measure a link for haptic use: run `serve` on one machine, `probe` on the other");
+  CLI::App* netcheck =
+      app.add_subcommand("netcheck", "Measure a link for haptic use: run `serve` on one machine, `probe` on the other");
   netcheck->require_subcommand(1);
 
   auto serve_options = std::make_shared<ServeOptions>();
@@ -155,19 +153,29 @@ void AddNetcheckCommand(CLI::App& app, int* exit_code) {
   serve->add_option("--bind", serve_options->bind, "host:port to listen on, e.g. 0.0.0.0:7600")->required();
   serve->add_option("--seconds", serve_options->seconds, "stop after this long (0: until Ctrl-C)")
       ->check(CLI::Range(0.0, 1e7));
-  serve->add_option("--key-file", serve_options->key_file, "file with the 64-hex-digit session key (default: $HAPTEX_SESSION_KEY)");
+  serve->add_option("--key-file", serve_options->key_file,
+                    "file with the 64-hex-digit session key (default: $HAPTEX_SESSION_KEY)");
   serve->callback([serve_options, exit_code] { *exit_code = Serve(*serve_options); });
 
   auto probe_options = std::make_shared<ProbeOptions>();
   CLI::App* probe = netcheck->add_subcommand("probe", "Send probes to a server and report the link");
   probe->add_option("--to", probe_options->to, "host:port of `haptex netcheck serve`")->required();
   probe->add_option("--bind", probe_options->bind, "local host:port (default: any, port chosen)");
-  probe->add_option("--rate", probe_options->rate_hz, "probes per second")->capture_default_str()->check(CLI::Range(1.0, 20000.0));
-  probe->add_option("--seconds", probe_options->seconds, "how long to probe")->capture_default_str()->check(CLI::Range(0.01, 3600.0));
-  probe->add_option("--padding", probe_options->padding_bytes, "payload bytes per probe")->capture_default_str()->check(CLI::Range(0, 59000));
-  probe->add_option("--grace-ms", probe_options->grace_ms, "wait for late replies")->capture_default_str()->check(CLI::Range(0, 60000));
+  probe->add_option("--rate", probe_options->rate_hz, "probes per second")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 20000.0));
+  probe->add_option("--seconds", probe_options->seconds, "how long to probe")
+      ->capture_default_str()
+      ->check(CLI::Range(0.01, 3600.0));
+  probe->add_option("--padding", probe_options->padding_bytes, "payload bytes per probe")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 59000));
+  probe->add_option("--grace-ms", probe_options->grace_ms, "wait for late replies")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 60000));
   probe->add_flag("--json", probe_options->json, "print one JSON object");
-  probe->add_option("--key-file", probe_options->key_file, "file with the 64-hex-digit session key (default: $HAPTEX_SESSION_KEY)");
+  probe->add_option("--key-file", probe_options->key_file,
+                    "file with the 64-hex-digit session key (default: $HAPTEX_SESSION_KEY)");
   probe->callback([probe_options, exit_code] { *exit_code = Probe(*probe_options); });
 }
 

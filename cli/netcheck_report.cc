@@ -34,8 +34,7 @@ void ProbeRecorder::OnReply(std::uint64_t probe_sequence, std::int64_t rtt_ns) {
   highest_ = std::max(highest_, probe_sequence);
 }
 
-void ProbeRecorder::Summarise(std::uint64_t sent, const LinkVerdictLimits& limits,
-                              NetcheckReport* report) const {
+void ProbeRecorder::Summarise(std::uint64_t sent, const LinkVerdictLimits& limits, NetcheckReport* report) const {
   std::vector<std::int64_t> answered;
   answered.reserve(rtt_ns_.size());
   double jitter_sum = 0;
@@ -77,19 +76,22 @@ void ProbeRecorder::Summarise(std::uint64_t sent, const LinkVerdictLimits& limit
 void ClassifyLink(const LinkVerdictLimits& limits, NetcheckReport* report) {
   if (report->received == 0) {
     report->verdict = "unreachable";
-    report->advice = "no authenticated reply: check the address, that `haptex netcheck serve` runs "
-                     "there, firewalls, and that both ends use the same session key";
+    report->advice =
+        "no authenticated reply: check the address, that `haptex netcheck serve` runs "
+        "there, firewalls, and that both ends use the same session key";
   } else if (report->rtt_p99_us <= limits.good_p99_us && report->loss_fraction <= limits.good_loss) {
     report->verdict = "good";
     report->advice = "any service may run on the far side, local_contact at 1 kHz included";
   } else if (report->rtt_p99_us <= limits.usable_p99_us && report->loss_fraction <= limits.usable_loss) {
     report->verdict = "usable";
-    report->advice = "keep device_bridge and local_contact on one machine; global_sim, tactile "
-                     "and viewers may run across this link";
+    report->advice =
+        "keep device_bridge and local_contact on one machine; global_sim, tactile "
+        "and viewers may run across this link";
   } else {
     report->verdict = "poor";
-    report->advice = "too slow or lossy for haptic use: run device_bridge and local_contact "
-                     "next to the device, and expect late cloth updates from the far side";
+    report->advice =
+        "too slow or lossy for haptic use: run device_bridge and local_contact "
+        "next to the device, and expect late cloth updates from the far side";
   }
 }
 
@@ -128,13 +130,13 @@ std::string ReportToText(const NetcheckReport& r) {
   std::ostringstream out;
   out.setf(std::ios::fixed);
   out.precision(1);
-  out << "netcheck " << r.target << ": " << r.sent << " probes at " << r.rate_hz << " Hz for "
-      << r.seconds << " s, " << r.datagram_bytes << " B datagrams\n"
-      << "  round trip [us]  min " << r.rtt_min_us << "  p50 " << r.rtt_p50_us << "  p99 "
-      << r.rtt_p99_us << "  p99.9 " << r.rtt_p999_us << "  max " << r.rtt_max_us << "\n"
-      << "  jitter " << r.jitter_us << " us   lost " << r.lost << " (" << r.loss_fraction * 100.0
-      << " %)   reordered " << r.reordered << "   duplicates " << r.duplicates << "   rejected "
-      << r.rejected << "   send overruns " << r.send_overruns << "\n"
+  out << "netcheck " << r.target << ": " << r.sent << " probes at " << r.rate_hz << " Hz for " << r.seconds << " s, "
+      << r.datagram_bytes << " B datagrams\n"
+      << "  round trip [us]  min " << r.rtt_min_us << "  p50 " << r.rtt_p50_us << "  p99 " << r.rtt_p99_us << "  p99.9 "
+      << r.rtt_p999_us << "  max " << r.rtt_max_us << "\n"
+      << "  jitter " << r.jitter_us << " us   lost " << r.lost << " (" << r.loss_fraction * 100.0 << " %)   reordered "
+      << r.reordered << "   duplicates " << r.duplicates << "   rejected " << r.rejected << "   send overruns "
+      << r.send_overruns << "\n"
       << "  verdict: " << r.verdict << ": " << r.advice << "\n";
   return out.str();
 }

@@ -9,9 +9,9 @@ namespace haptex::cli {
 
 /// Verdict thresholds (docs/netcheck.md explains them).
 struct LinkVerdictLimits {
-  double good_p99_us = 1000.0;       // a 1 kHz contact loop can close across the link
+  double good_p99_us = 1000.0;  // a 1 kHz contact loop can close across the link
   double good_loss = 0.001;
-  double usable_p99_us = 10000.0;    // the bridge's local force model (F0 + K dx) bridges the gap
+  double usable_p99_us = 10000.0;  // the bridge's local force model (F0 + K dx) bridges the gap
   double usable_loss = 0.01;
 };
 
@@ -22,17 +22,16 @@ struct NetcheckReport {
   std::uint64_t datagram_bytes = 0;
   std::uint64_t sent = 0;
   std::uint64_t send_failures = 0;
-  std::uint64_t send_overruns = 0;   // probe cycles the sender could not keep
-  std::uint64_t received = 0;        // distinct probes answered
+  std::uint64_t send_overruns = 0;  // probe cycles the sender could not keep
+  std::uint64_t received = 0;       // distinct probes answered
   std::uint64_t lost = 0;
   std::uint64_t duplicates = 0;
-  std::uint64_t reordered = 0;       // replies arriving after a later probe's reply
-  std::uint64_t rejected = 0;        // datagrams the probe dropped (bad MAC, ...)
+  std::uint64_t reordered = 0;  // replies arriving after a later probe's reply
+  std::uint64_t rejected = 0;   // datagrams the probe dropped (bad MAC, ...)
   double loss_fraction = 0;
-  double rtt_min_us = 0, rtt_mean_us = 0, rtt_p50_us = 0, rtt_p99_us = 0, rtt_p999_us = 0,
-         rtt_max_us = 0;
-  double jitter_us = 0;              // mean |rtt(k) - rtt(k-1)| over consecutive answered probes
-  std::string verdict;               // "good", "usable", "poor" or "unreachable"
+  double rtt_min_us = 0, rtt_mean_us = 0, rtt_p50_us = 0, rtt_p99_us = 0, rtt_p999_us = 0, rtt_max_us = 0;
+  double jitter_us = 0;  // mean |rtt(k) - rtt(k-1)| over consecutive answered probes
+  std::string verdict;   // "good", "usable", "poor" or "unreachable"
   std::string advice;
 };
 

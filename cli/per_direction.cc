@@ -36,8 +36,7 @@ double ParseFiniteNumber(std::string_view flag, std::string_view text) {
     throw std::invalid_argument(std::string(flag) + ": '" + std::string(text) + "' is not a number");
   }
   if (!std::isfinite(value)) {
-    throw std::invalid_argument(std::string(flag) + ": '" + std::string(text) +
-                                "' is not a finite number");
+    throw std::invalid_argument(std::string(flag) + ": '" + std::string(text) + "' is not a finite number");
   }
   return value;
 }
@@ -63,8 +62,8 @@ PerDirection<std::string> ParsePerDirectionWord(std::string_view flag, std::stri
   return values;
 }
 
-std::vector<double> ParseNumberList(std::string_view flag, std::string_view text,
-                                    std::size_t min_count, std::size_t max_count) {
+std::vector<double> ParseNumberList(std::string_view flag, std::string_view text, std::size_t min_count,
+                                    std::size_t max_count) {
   const auto parts = SplitCommas(text);
   if (parts.size() < min_count || parts.size() > max_count) {
     throw std::invalid_argument(std::string(flag) + ": expected " + std::to_string(min_count) +

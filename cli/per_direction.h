@@ -25,8 +25,8 @@ PerDirection<double> ParsePerDirectionNumber(std::string_view flag, std::string_
 /// "W" or "F,B".
 PerDirection<std::string> ParsePerDirectionWord(std::string_view flag, std::string_view text);
 /// "A,B,..." with min_count to max_count finite numbers.
-std::vector<double> ParseNumberList(std::string_view flag, std::string_view text,
-                                    std::size_t min_count, std::size_t max_count);
+std::vector<double> ParseNumberList(std::string_view flag, std::string_view text, std::size_t min_count,
+                                    std::size_t max_count);
 /// "S" (forward S, back S + 1, so the directions draw differently) or "F,B"; unsigned 64-bit.
 PerDirection<std::uint64_t> ParsePerDirectionSeed(std::string_view flag, std::string_view text);
 

@@ -82,31 +82,31 @@ net::UdpRelayConfig BuildConfig(const RelayOptions& options) {
     return [min, max](const std::string& name, double value) { netsim::CheckRange(name, value, min, max); };
   };
   const auto whole = [](double min, double max) {
-    return [min, max](const std::string& name, double value) {
-      netsim::CheckWholeNumber(name, value, min, max);
-    };
+    return [min, max](const std::string& name, double value) { netsim::CheckWholeNumber(name, value, min, max); };
   };
-  const auto probability = [](const std::string& name, double value) {
-    netsim::CheckProbability(name, value);
-  };
+  const auto probability = [](const std::string& name, double value) { netsim::CheckProbability(name, value); };
   using C = ImpairmentConfig;
-  ApplyNumber("--delay-ms", options.delay_ms, range(0, C::kMaxDelay_ms),
-              [](C* c, double v) { c->delay_ms = v; }, &config);
-  ApplyNumber("--jitter-ms", options.jitter_ms, range(0, C::kMaxDelay_ms),
-              [](C* c, double v) { c->jitter_ms = v; }, &config);
-  ApplyNumber("--loss", options.loss, probability, [](C* c, double v) { c->loss = v; }, &config);
-  ApplyNumber("--reorder", options.reorder, probability, [](C* c, double v) { c->reorder = v; }, &config);
-  ApplyNumber("--reorder-delay-ms", options.reorder_delay_ms, range(0, C::kMaxDelay_ms),
-              [](C* c, double v) { c->reorder_delay_ms = v; }, &config);
-  ApplyNumber("--duplicate", options.duplicate, probability,
-              [](C* c, double v) { c->duplicate = v; }, &config);
-  ApplyNumber("--rate-kbps", options.rate_kbps, range(0, C::kMaxRate_kbps),
-              [](C* c, double v) { c->rate_kbps = v; }, &config);
-  ApplyNumber("--queue-bytes", options.queue_bytes, whole(1, static_cast<double>(C::kMaxQueue_bytes)),
-              [](C* c, double v) { c->queue_bytes = static_cast<std::size_t>(v); }, &config);
-  ApplyNumber("--max-datagram-bytes", options.max_datagram_bytes,
-              whole(1, static_cast<double>(C::kMaxDatagram_bytes)),
-              [](C* c, double v) { c->max_datagram_bytes = static_cast<std::size_t>(v); }, &config);
+  ApplyNumber(
+      "--delay-ms", options.delay_ms, range(0, C::kMaxDelay_ms), [](C* c, double v) { c->delay_ms = v; }, &config);
+  ApplyNumber(
+      "--jitter-ms", options.jitter_ms, range(0, C::kMaxDelay_ms), [](C* c, double v) { c->jitter_ms = v; }, &config);
+  ApplyNumber(
+      "--loss", options.loss, probability, [](C* c, double v) { c->loss = v; }, &config);
+  ApplyNumber(
+      "--reorder", options.reorder, probability, [](C* c, double v) { c->reorder = v; }, &config);
+  ApplyNumber(
+      "--reorder-delay-ms", options.reorder_delay_ms, range(0, C::kMaxDelay_ms),
+      [](C* c, double v) { c->reorder_delay_ms = v; }, &config);
+  ApplyNumber(
+      "--duplicate", options.duplicate, probability, [](C* c, double v) { c->duplicate = v; }, &config);
+  ApplyNumber(
+      "--rate-kbps", options.rate_kbps, range(0, C::kMaxRate_kbps), [](C* c, double v) { c->rate_kbps = v; }, &config);
+  ApplyNumber(
+      "--queue-bytes", options.queue_bytes, whole(1, static_cast<double>(C::kMaxQueue_bytes)),
+      [](C* c, double v) { c->queue_bytes = static_cast<std::size_t>(v); }, &config);
+  ApplyNumber(
+      "--max-datagram-bytes", options.max_datagram_bytes, whole(1, static_cast<double>(C::kMaxDatagram_bytes)),
+      [](C* c, double v) { c->max_datagram_bytes = static_cast<std::size_t>(v); }, &config);
 
   const PerDirection<std::string> dist = ParsePerDirectionWord("--jitter-dist", options.jitter_dist);
   try {
@@ -154,9 +154,8 @@ int RunRelay(const RelayOptions& options) {
   report.upstream = net::FormatUdpAddress(relay.upstream_endpoint());
   report.to = config.to_address;
   report.back_to = config.back_to_address;
-  std::cout << "relay: listening on " << report.listen << ", upstream " << report.upstream << ", to "
-            << report.to << ", back to "
-            << (report.back_to.empty() ? "the last client" : report.back_to) << std::endl;
+  std::cout << "relay: listening on " << report.listen << ", upstream " << report.upstream << ", to " << report.to
+            << ", back to " << (report.back_to.empty() ? "the last client" : report.back_to) << std::endl;
 
   const auto start = std::chrono::steady_clock::now();
   relay.Run([] { return runtime::ShutdownRequested(); });
@@ -177,20 +176,20 @@ int RunRelay(const RelayOptions& options) {
 
 void AddRelayCommand(CLI::App& app, int* exit_code) {
   auto options = std::make_shared<RelayOptions>();
-  CLI::App* relay = app.add_subcommand(
-      "relay",
-      "Relay UDP between clients and a server with delay, jitter, loss, bursts, reordering, "
-      "duplication and a rate limit (docs/relay.md). Impairment flags take one value for both "
-      "directions or FORWARD,BACK (forward: --listen -> --to)");
+  CLI::App* relay =
+      app.add_subcommand("relay",
+                         "Relay UDP between clients and a server with delay, jitter, loss, bursts, reordering, "
+                         "duplication and a rate limit (docs/relay.md). Impairment flags take one value for both "
+                         "directions or FORWARD,BACK (forward: --listen -> --to)");
   relay->add_option("--listen", options->listen, "host:port clients send to")->required();
   relay->add_option("--to", options->to, "host:port of the server side")->required();
   relay->add_option("--upstream-bind", options->upstream_bind,
                     "host:port of the relay's socket towards the server (default: any, port chosen)");
-  relay->add_option("--back-to", options->back_to,
-                    "host:port replies go to (default: the last client seen)");
+  relay->add_option("--back-to", options->back_to, "host:port replies go to (default: the last client seen)");
   relay->add_option("--delay-ms", options->delay_ms, "added delay [ms]")->capture_default_str();
-  relay->add_option("--jitter-ms", options->jitter_ms,
-                    "jitter [ms]: half-width (uniform) or standard deviation (normal)")
+  relay
+      ->add_option("--jitter-ms", options->jitter_ms,
+                   "jitter [ms]: half-width (uniform) or standard deviation (normal)")
       ->capture_default_str();
   relay->add_option("--jitter-dist", options->jitter_dist, "uniform or normal")->capture_default_str();
   relay->add_option("--loss", options->loss, "independent loss probability")->capture_default_str();
@@ -202,18 +201,17 @@ void AddRelayCommand(CLI::App& app, int* exit_code) {
                     "the same, forward direction only (overrides --burst-loss)");
   relay->add_option("--burst-loss-back", options->burst_loss_back,
                     "the same, back direction only (overrides --burst-loss)");
-  relay->add_option("--reorder", options->reorder,
-                    "probability that a datagram is held back by --reorder-delay-ms")
+  relay->add_option("--reorder", options->reorder, "probability that a datagram is held back by --reorder-delay-ms")
       ->capture_default_str();
   relay->add_option("--reorder-delay-ms", options->reorder_delay_ms, "extra delay of held-back datagrams [ms]")
       ->capture_default_str();
   relay->add_option("--duplicate", options->duplicate, "duplication probability")->capture_default_str();
   relay->add_option("--rate-kbps", options->rate_kbps, "rate limit [kbit/s] (0: none)")->capture_default_str();
-  relay->add_option("--queue-bytes", options->queue_bytes,
-                    "bytes that may wait for the rate limit; beyond: queue overflow")
+  relay
+      ->add_option("--queue-bytes", options->queue_bytes,
+                   "bytes that may wait for the rate limit; beyond: queue overflow")
       ->capture_default_str();
-  relay->add_option("--max-datagram-bytes", options->max_datagram_bytes,
-                    "larger datagrams are dropped as oversize")
+  relay->add_option("--max-datagram-bytes", options->max_datagram_bytes, "larger datagrams are dropped as oversize")
       ->capture_default_str();
   relay->add_option("--seed", options->seed, "seed: S (back uses S+1) or FORWARD,BACK")->capture_default_str();
   relay->add_option("--duration", options->duration_s, "stop after this many seconds (0: at SIGINT/SIGTERM)")

@@ -68,9 +68,9 @@ std::string Ms(double ns) {
 
 void DirectionLine(std::string_view name, const RelayDirectionReport& direction, std::ostream& out) {
   const netsim::ImpairmentStats& stats = direction.stats;
-  out << name << ": received " << stats.received << ", forwarded " << stats.forwarded
-      << ", duplicated " << stats.duplicated << ", reordered " << stats.reordered << " (held back "
-      << stats.held_back << "), dropped " << stats.dropped.Total();
+  out << name << ": received " << stats.received << ", forwarded " << stats.forwarded << ", duplicated "
+      << stats.duplicated << ", reordered " << stats.reordered << " (held back " << stats.held_back << "), dropped "
+      << stats.dropped.Total();
   const char* separator = " (";
   for (std::size_t i = 0; i < netsim::kDropCauseCount; ++i) {
     if (stats.dropped.Get(CauseAt(i)) == 0) continue;
@@ -78,9 +78,8 @@ void DirectionLine(std::string_view name, const RelayDirectionReport& direction,
     separator = ", ";
   }
   if (stats.dropped.Total() != 0) out << ")";
-  out << "; delay ms p50 " << Ms(stats.delay.Quantile_ns(0.50)) << " p99 "
-      << Ms(stats.delay.Quantile_ns(0.99)) << " max "
-      << Ms(static_cast<double>(stats.delay.max_ns())) << "\n";
+  out << "; delay ms p50 " << Ms(stats.delay.Quantile_ns(0.50)) << " p99 " << Ms(stats.delay.Quantile_ns(0.99))
+      << " max " << Ms(static_cast<double>(stats.delay.max_ns())) << "\n";
 }
 
 }  // namespace
@@ -88,8 +87,8 @@ void DirectionLine(std::string_view name, const RelayDirectionReport& direction,
 std::string RelayReportToText(const RelayReport& report) {
   std::ostringstream out;
   out.precision(3);
-  out << std::fixed << "relay ran " << report.duration_s << " s: listen " << report.listen
-      << ", upstream " << report.upstream << ", to " << report.to << ", back to "
+  out << std::fixed << "relay ran " << report.duration_s << " s: listen " << report.listen << ", upstream "
+      << report.upstream << ", to " << report.to << ", back to "
       << (report.back_to.empty() ? "the last client" : report.back_to) << "\n";
   DirectionLine("forward", report.forward, out);
   DirectionLine("back", report.back, out);

@@ -20,8 +20,7 @@ void AddSceneCommand(CLI::App& app, int* exit_code) {
     for (const std::string& file : *files) {
       try {
         const scene::LoadedScene loaded = scene::LoadScene(file, fabrics);
-        std::cout << file << ": ok (scene '" << loaded.scene.name() << "', fabric '"
-                  << loaded.fabric.name() << "')\n";
+        std::cout << file << ": ok (scene '" << loaded.scene.name() << "', fabric '" << loaded.fabric.name() << "')\n";
       } catch (const scene::TextProtoError& e) {
         std::cerr << e.what() << "\n";
         ++failed;

@@ -34,8 +34,7 @@ void CheckWritten(const std::ofstream& out, const std::string& path) {
   if (!out) throw std::runtime_error("could not write " + path);
 }
 
-void WriteParticles(const std::string& path, const textile::FabricModel& model,
-                    const textile::FabricState& state) {
+void WriteParticles(const std::string& path, const textile::FabricModel& model, const textile::FabricState& state) {
   std::ofstream out(path);
   out.precision(9);
   out << "id,u,v,x,y,z\n";
@@ -79,9 +78,10 @@ int Sim(const SimOptions& options) {
   std::filesystem::create_directories(out_dir);
   if (!options.quiet) {
     std::cerr << "sim " << loaded.scene.name() << ": fabric " << loaded.fabric.name() << ", "
-              << setup.grid.particles_warp << "x" << setup.grid.particles_weft << " particles, "
-              << steps << " steps of " << dt * 1e3 << " ms ("
-              << (setup.step_options.method == textile::Integrator::kImplicitEuler ? "implicit Euler" : "symplectic Euler")
+              << setup.grid.particles_warp << "x" << setup.grid.particles_weft << " particles, " << steps
+              << " steps of " << dt * 1e3 << " ms ("
+              << (setup.step_options.method == textile::Integrator::kImplicitEuler ? "implicit Euler"
+                                                                                   : "symplectic Euler")
               << ")\n";
   }
 
@@ -110,7 +110,8 @@ int Sim(const SimOptions& options) {
   json.BeginObject()
       .Field("scene", loaded.scene.name())
       .Field("fabric", loaded.fabric.name())
-      .Field("integrator", setup.step_options.method == textile::Integrator::kImplicitEuler ? "implicit_euler" : "symplectic_euler")
+      .Field("integrator",
+             setup.step_options.method == textile::Integrator::kImplicitEuler ? "implicit_euler" : "symplectic_euler")
       .Field("particles", cloth.model.num_particles)
       .Field("triangles", static_cast<std::int64_t>(cloth.model.triangles.size()))
       .Field("steps", steps)
@@ -133,10 +134,10 @@ int Sim(const SimOptions& options) {
     summary.flush();
     CheckWritten(summary, out_dir + "/summary.json");
   }
-  std::cout << "sim " << loaded.scene.name() << ": " << steps << " steps in " << wall_s
-            << " s wall (step p50 " << step_time.Percentile(0.5) * 1e-6 << " ms, p99 "
-            << step_time.Percentile(0.99) * 1e-6 << " ms), NaN events " << diag.nan_events
-            << "\n  wrote " << out_dir << "/{particles.csv,mesh.obj,summary.json}\n";
+  std::cout << "sim " << loaded.scene.name() << ": " << steps << " steps in " << wall_s << " s wall (step p50 "
+            << step_time.Percentile(0.5) * 1e-6 << " ms, p99 " << step_time.Percentile(0.99) * 1e-6
+            << " ms), NaN events " << diag.nan_events << "\n  wrote " << out_dir
+            << "/{particles.csv,mesh.obj,summary.json}\n";
   return diag.nan_events == 0 ? 0 : 1;
 }
 

@@ -31,8 +31,8 @@ int Build(const BuildOptions& options) {
             << v.height_map.size_y() << " height map -> periodic tile " << v.tile.samples_s() << " x "
             << v.tile.samples_t() << " samples, lattice a = (" << b(0, 0) * 1e3 << ", " << b(1, 0) * 1e3
             << ") mm, b = (" << b(0, 1) * 1e3 << ", " << b(1, 1) * 1e3 << ") mm, residual rms "
-            << v.tile.residual_rms_um() << " um, periodicity index " << v.tile.periodicity_index()
-            << "\n  wrote " << out << "\n";
+            << v.tile.residual_rms_um() << " um, periodicity index " << v.tile.periodicity_index() << "\n  wrote "
+            << out << "\n";
   if (!options.png_prefix.empty()) {
     tactile::WritePngFile(tactile::GreyImageFromArray(v.tile.TileHeightsUm()), options.png_prefix + "_tile.png");
     tactile::WritePngFile(tactile::GreyImageFromArray(v.height_map.height_um()), options.png_prefix + "_map.png");

@@ -16,8 +16,7 @@ class ChildProcess final {
  public:
   /// Starts argv[0]. Throws std::runtime_error when the log cannot be opened or fork fails; an
   /// executable that cannot be run exits with code 127 (its log says why).
-  ChildProcess(const std::vector<std::string>& argv, const std::vector<std::string>& env,
-               const std::string& log_path);
+  ChildProcess(const std::vector<std::string>& argv, const std::vector<std::string>& env, const std::string& log_path);
   /// Kills a child that still runs (SIGKILL) and reaps it.
   ~ChildProcess();
   ChildProcess(const ChildProcess&) = delete;

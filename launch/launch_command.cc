@@ -104,8 +104,8 @@ int Launch(const LaunchOptions& o) {
   const std::vector<PlannedService> services = DeriveServices(scene);
   std::set<std::string> skip(o.skip.begin(), o.skip.end());
   for (const std::string& name : skip) {
-    const bool planned = std::any_of(services.begin(), services.end(),
-                                     [&](const auto& s) { return Spec(s.kind).name == name; });
+    const bool planned =
+        std::any_of(services.begin(), services.end(), [&](const auto& s) { return Spec(s.kind).name == name; });
     if (!planned) throw std::invalid_argument("--skip " + name + ": the scene does not need a service of that name");
   }
   if (IsMultiHost(scene) && o.host.empty()) {
@@ -128,8 +128,11 @@ int Launch(const LaunchOptions& o) {
   for (const auto& s : services) {
     const std::string name(Spec(s.kind).name);
     const std::string where = HostOf(scene, s.kind);
-    std::cout << "  " << (skip.count(name) ? "skip   " : runs_here(s) ? "start  " : "remote ") << name
-              << (runs_here(s) || skip.count(name) ? "" : " (on " + where + ")") << ": " << s.reason << "\n";
+    std::cout << "  "
+              << (skip.count(name) ? "skip   "
+                  : runs_here(s)   ? "start  "
+                                   : "remote ")
+              << name << (runs_here(s) || skip.count(name) ? "" : " (on " + where + ")") << ": " << s.reason << "\n";
   }
   for (const auto& s : OmittedServices(scene)) {
     std::cout << "  not    " << Spec(s.kind).name << ": " << s.reason << "\n";
@@ -148,11 +151,13 @@ int Launch(const LaunchOptions& o) {
                  std::string(spec.name) + " and start it yourself.";
     }
   }
-  if (!missing.empty() && !o.dry_run) throw std::invalid_argument("cannot launch scene " + scene.name() + ":" + missing);
+  if (!missing.empty() && !o.dry_run)
+    throw std::invalid_argument("cannot launch scene " + scene.name() + ":" + missing);
 
   // ports and command lines
-  const std::uint16_t base_port = static_cast<std::uint16_t>(
-      o.base_port >= 0 ? o.base_port : IsMultiHost(scene) ? kDefaultMultiHostBasePort : 0);
+  const std::uint16_t base_port = static_cast<std::uint16_t>(o.base_port >= 0     ? o.base_port
+                                                             : IsMultiHost(scene) ? kDefaultMultiHostBasePort
+                                                                                  : 0);
   const PortPlan plan = AssignPorts(scene, services, base_port, FreeUdpPort);
   const std::string run_dir =
       fs::absolute(o.out.empty() ? "runs/" + scene.name() + "-" + TimeStamp() + (o.host.empty() ? "" : "-" + o.host)
@@ -168,8 +173,7 @@ int Launch(const LaunchOptions& o) {
   std::string plan_text;
   for (const PlacedService& s : plan.services) {
     const auto argv = CommandLine(s, plan, scene, command_options);
-    plan_text += std::string(Spec(s.service.kind).name) + " (" + s.haptex.host + "): " +
-                 JoinCommandLine(argv) + "\n";
+    plan_text += std::string(Spec(s.service.kind).name) + " (" + s.haptex.host + "): " + JoinCommandLine(argv) + "\n";
     if (!runs_here(s.service)) continue;
     config.services.push_back({s, argv, run_dir + "/logs/" + std::string(Spec(s.service.kind).name) + ".log"});
   }
@@ -258,23 +262,29 @@ void AddLaunchCommand(CLI::App& app, int* exit_code) {
   launch->add_option("--out", o->out, "run folder (default: runs/SCENE-TIME)");
   launch->add_option("--host", o->host, "start only the services the scene places on this host");
   launch->add_option("--skip", o->skip, "a needed service not to start here (started by hand elsewhere); repeatable");
-  launch->add_option("--base-port", o->base_port,
-                     "ports are this + a fixed offset per service (default: free ports on one host, " +
-                         std::to_string(kDefaultMultiHostBasePort) + " on several)")
+  launch
+      ->add_option("--base-port", o->base_port,
+                   "ports are this + a fixed offset per service (default: free ports on one host, " +
+                       std::to_string(kDefaultMultiHostBasePort) + " on several)")
       ->check(CLI::Range(1, 65000));
   launch->add_option("--build-dir", o->build_dir, "where the service executables are (default: this haptex's build)");
   launch->add_option("--log-level", o->log_level, "the services' log level")->capture_default_str();
   launch->add_option("--ready-timeout", o->ready_timeout_s, "seconds a service may take to report healthy")
-      ->check(CLI::Range(0.5, 600.0))->capture_default_str();
+      ->check(CLI::Range(0.5, 600.0))
+      ->capture_default_str();
   launch->add_option("--silent-after", o->silent_after_s, "seconds without Health before a service is restarted")
-      ->check(CLI::Range(0.5, 600.0))->capture_default_str();
+      ->check(CLI::Range(0.5, 600.0))
+      ->capture_default_str();
   launch->add_option("--max-restarts", o->max_restarts, "restarts per service before the run stops")
-      ->check(CLI::Range(0, 100))->capture_default_str();
+      ->check(CLI::Range(0, 100))
+      ->capture_default_str();
   launch->add_flag("--no-plots", o->no_plots, "do not draw the plots");
-  launch->add_option("--rt-priority", o->rt_priority,
-                     "SCHED_FIFO priority 1..99 for the launcher and every service it starts (0: normal "
-                     "scheduling; needs root or CAP_SYS_NICE)")
-      ->check(CLI::Range(0, 99))->capture_default_str();
+  launch
+      ->add_option("--rt-priority", o->rt_priority,
+                   "SCHED_FIFO priority 1..99 for the launcher and every service it starts (0: normal "
+                   "scheduling; needs root or CAP_SYS_NICE)")
+      ->check(CLI::Range(0, 99))
+      ->capture_default_str();
   launch->add_flag("--dry-run", o->dry_run, "print the services, ports and command lines; start nothing");
   launch->callback([o, exit_code] { *exit_code = Launch(*o); });
 }

@@ -57,8 +57,8 @@ bool IsMultiHost(const v1::Scene& scene) {
   return false;
 }
 
-PortPlan AssignPorts(const v1::Scene& scene, const std::vector<PlannedService>& services,
-                     std::uint16_t base_port, const std::function<std::uint16_t()>& free_port) {
+PortPlan AssignPorts(const v1::Scene& scene, const std::vector<PlannedService>& services, std::uint16_t base_port,
+                     const std::function<std::uint16_t()>& free_port) {
   if (base_port == 0 && IsMultiHost(scene)) {
     throw std::invalid_argument(
         "services on several hosts need fixed ports: give --base-port (the same on every host)");
@@ -83,8 +83,8 @@ PortPlan AssignPorts(const v1::Scene& scene, const std::vector<PlannedService>& 
       throw std::invalid_argument("no free port on host " + host + " after 100 tries (" + what + ")");
     }
     if (!used.insert({host, hp.port}).second) {
-      throw std::invalid_argument("port " + std::to_string(hp.port) + " on host " + host + " is given twice (" +
-                                  what + "); change the scene's ports or --base-port");
+      throw std::invalid_argument("port " + std::to_string(hp.port) + " on host " + host + " is given twice (" + what +
+                                  "); change the scene's ports or --base-port");
     }
     return hp;
   };

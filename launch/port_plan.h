@@ -32,7 +32,7 @@ struct PlacedService {
 };
 
 struct PortPlan {
-  std::vector<PlacedService> services;      // in start order
+  std::vector<PlacedService> services;        // in start order
   std::map<std::string, HostPort> launchers;  // per host name that runs a service (and "local")
   const PlacedService* Find(ServiceKind kind) const;
 };
@@ -51,7 +51,7 @@ bool IsMultiHost(const v1::Scene& scene);
 /// Assigns ports. A port placed in the scene wins; else base_port + the table's offset when
 /// base_port > 0; else one from free_port (single-host runs only). Throws std::invalid_argument
 /// when a multi-host scene has base_port 0, or when two sockets of one host get one port.
-PortPlan AssignPorts(const v1::Scene& scene, const std::vector<PlannedService>& services,
-                     std::uint16_t base_port, const std::function<std::uint16_t()>& free_port);
+PortPlan AssignPorts(const v1::Scene& scene, const std::vector<PlannedService>& services, std::uint16_t base_port,
+                     const std::function<std::uint16_t()>& free_port);
 
 }  // namespace haptex::launch

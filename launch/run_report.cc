@@ -1,7 +1,7 @@
 #include "launch/run_report.h"
 
-#include <spawn.h>
 #include <fcntl.h>
+#include <spawn.h>
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -61,7 +61,8 @@ PlotResult Draw(const std::string& name, const std::string& dir, const std::stri
   const std::string script = dir + "/data/" + name + ".gp";
   {
     std::ofstream out(script);
-    out << "set terminal pngcairo size 1000,600 noenhanced\nset output " << Quoted(png) << "\nset grid\nset key outside\n"
+    out << "set terminal pngcairo size 1000,600 noenhanced\nset output " << Quoted(png)
+        << "\nset grid\nset key outside\n"
         << commands;
     if (!out) return {name, "", "cannot write " + script};
   }
@@ -110,10 +111,17 @@ RecordingAnalysis AnalyseRecordings(const std::vector<Recording>& recordings) {
             Accumulate(&a.model_forces[FingerName(m.finger())], Norm(m.f0_w_n()));
           }
           break;
-        case v1::Envelope::kTouchTrace: ++a.touch_traces; break;
-        case v1::Envelope::kHealth: ++a.health_messages; break;
-        case v1::Envelope::kFingerStates: ++a.finger_states; break;
-        default: break;
+        case v1::Envelope::kTouchTrace:
+          ++a.touch_traces;
+          break;
+        case v1::Envelope::kHealth:
+          ++a.health_messages;
+          break;
+        case v1::Envelope::kFingerStates:
+          ++a.finger_states;
+          break;
+        default:
+          break;
       }
     }
   }
@@ -177,8 +185,9 @@ std::vector<PlotResult> MakePlots(const std::string& run_dir, const v1::Scene& s
     out.close();
     plots.push_back(Draw("forces", dir,
                          "set title 'Force commanded to each finger (mock controller force log)'\nset xlabel 't [s]'\n"
-                         "set ylabel '|F| [N]'\nplot " + Quoted(data) + " using 1:2 with lines title 'thumb', " +
-                             Quoted(data) + " using 1:3 with lines title 'index'\n"));
+                         "set ylabel '|F| [N]'\nplot " +
+                             Quoted(data) + " using 1:2 with lines title 'thumb', " + Quoted(data) +
+                             " using 1:3 with lines title 'index'\n"));
   } else {
     plots.push_back({"forces", "", "no ForceModel recorded and no mock controller force log"});
   }
@@ -207,7 +216,8 @@ std::vector<PlotResult> MakePlots(const std::string& run_dir, const v1::Scene& s
                          "set title 'F_T / F_N (paper Fig. 9)'\nset xlabel 't [s]'\nset ylabel 'F_T/F_N'\nplot " +
                              ratio_plot.substr(0, ratio_plot.size() - 2) + "\n"));
   } else {
-    plots.push_back({"friction_ratio", "", "needs TouchTrace and ForceModel recordings with a normal force (local_contact)"});
+    plots.push_back(
+        {"friction_ratio", "", "needs TouchTrace and ForceModel recordings with a normal force (local_contact)"});
   }
 
   // 3. tangential force vs elongation (Fig. 10), stretch scenes: from the pinch onset (state VIII
@@ -240,11 +250,13 @@ std::vector<PlotResult> MakePlots(const std::string& run_dir, const v1::Scene& s
       if (rows > 0) plot += Quoted(data) + " using 1:2 with points pt 7 ps 0.3 title '" + FingerName(finger) + "', ";
     }
     if (plot.empty()) {
-      plots.push_back({"force_vs_elongation", "", "needs a pinch (contact state VIII/IX) in the ForceModel recording and FingerStates"});
+      plots.push_back({"force_vs_elongation", "",
+                       "needs a pinch (contact state VIII/IX) in the ForceModel recording and FingerStates"});
     } else {
       plots.push_back(Draw("force_vs_elongation", dir,
                            "set title 'Tangential force vs elongation (paper Fig. 10)'\nset xlabel 'elongation [mm]'\n"
-                           "set ylabel 'force [N]'\nplot " + plot.substr(0, plot.size() - 2) + "\n"));
+                           "set ylabel 'force [N]'\nplot " +
+                               plot.substr(0, plot.size() - 2) + "\n"));
     }
   }
 
@@ -264,11 +276,14 @@ std::vector<PlotResult> MakePlots(const std::string& run_dir, const v1::Scene& s
     if (rows == 0) {
       plots.push_back({"loop_periods", "", "no Health with loop statistics recorded"});
     } else {
-      plots.push_back(Draw("loop_periods", dir,
-                           "set title 'Loop period per service (p50, p99, max; from Health)'\nset style data histogram\n"
-                           "set style histogram clustered\nset style fill solid 0.7\nset logscale y\n"
-                           "set ylabel 'period [us]'\nplot " + Quoted(data) + " using 2:xtic(1) title 'p50', '' using 3 title 'p99', "
-                           "'' using 4 title 'max'\n"));
+      plots.push_back(
+          Draw("loop_periods", dir,
+               "set title 'Loop period per service (p50, p99, max; from Health)'\nset style data histogram\n"
+               "set style histogram clustered\nset style fill solid 0.7\nset logscale y\n"
+               "set ylabel 'period [us]'\nplot " +
+                   Quoted(data) +
+                   " using 2:xtic(1) title 'p50', '' using 3 title 'p99', "
+                   "'' using 4 title 'max'\n"));
     }
   }
   return plots;

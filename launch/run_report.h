@@ -33,7 +33,7 @@ struct ForceLog {
 std::optional<ForceLog> ReadForceLog(const std::string& path);
 
 struct RecordingAnalysis {
-  std::array<std::uint64_t, 10> contact_states{};         // ForceModel samples per state (0: unspecified, 1..9: I..IX)
+  std::array<std::uint64_t, 10> contact_states{};        // ForceModel samples per state (0: unspecified, 1..9: I..IX)
   std::map<std::string, FingerForceStats> model_forces;  // |F0| per finger name
   std::uint64_t force_models = 0, touch_traces = 0, health_messages = 0, finger_states = 0;
 };

@@ -52,8 +52,8 @@ void WriteHealth(JsonWriter& j, const v1::Health& h) {
 // counters that are watchdog or device events, by name
 bool IsWatchdogCounter(const std::string& name) {
   return name == "device_lost_events" || name == "host_timeouts" || name == "non_finite_forces" ||
-         name == "tick_gap_disarms" ||
-         name.find("watchdog") != std::string::npos || name.find("stale") != std::string::npos;
+         name == "tick_gap_disarms" || name.find("watchdog") != std::string::npos ||
+         name.find("stale") != std::string::npos;
 }
 
 }  // namespace
@@ -156,35 +156,50 @@ std::string SummaryJson(const RunRecord& run, const std::vector<RecordingFiles>&
     if (!s.last_health) continue;
     for (const v1::Counter& c : s.last_health->counters()) {
       if (IsWatchdogCounter(c.name())) {
-        j.BeginObject().Field("service", Spec(s.placed.service.kind).name).Field("counter", c.name())
-            .Field("value", c.value()).EndObject();
+        j.BeginObject()
+            .Field("service", Spec(s.placed.service.kind).name)
+            .Field("counter", c.name())
+            .Field("value", c.value())
+            .EndObject();
       }
     }
   }
   j.EndArray();
   j.BeginArray("restarts");
   for (const RunEvent& e : run.events) {
-    if (e.kind == "restarted") j.BeginObject().Field("t_s", e.t_s).Field("service", e.service).Field("detail", e.detail).EndObject();
+    if (e.kind == "restarted")
+      j.BeginObject().Field("t_s", e.t_s).Field("service", e.service).Field("detail", e.detail).EndObject();
   }
   j.EndArray();
   j.BeginArray("events");
   for (const RunEvent& e : run.events) {
-    j.BeginObject().Field("t_s", e.t_s).Field("service", e.service).Field("kind", e.kind).Field("detail", e.detail).EndObject();
+    j.BeginObject()
+        .Field("t_s", e.t_s)
+        .Field("service", e.service)
+        .Field("kind", e.kind)
+        .Field("detail", e.detail)
+        .EndObject();
   }
   j.EndArray();
   j.BeginArray("errors");
   for (const std::string& e : run.errors) j.BeginObject().Field("error", e).EndObject();
   for (const ServiceRecord& s : run.services) {
     if (s.last_health && !s.last_health->last_error().empty()) {
-      j.BeginObject().Field("error", std::string(Spec(s.placed.service.kind).name) + ": " + s.last_health->last_error()).EndObject();
+      j.BeginObject()
+          .Field("error", std::string(Spec(s.placed.service.kind).name) + ": " + s.last_health->last_error())
+          .EndObject();
     }
   }
   j.EndArray();
 
   j.BeginArray("recordings");
   for (const RecordingFiles& r : recordings) {
-    j.BeginObject().Field("file", r.name).Field("envelopes", static_cast<std::uint64_t>(r.envelopes))
-        .Field("unparsable", static_cast<std::uint64_t>(r.unparsable)).Field("truncated", r.truncated).EndObject();
+    j.BeginObject()
+        .Field("file", r.name)
+        .Field("envelopes", static_cast<std::uint64_t>(r.envelopes))
+        .Field("unparsable", static_cast<std::uint64_t>(r.unparsable))
+        .Field("truncated", r.truncated)
+        .EndObject();
   }
   j.EndArray();
   j.BeginObject("plots");

@@ -26,21 +26,21 @@ struct ServiceRecord {
   PlacedService placed;
   std::vector<std::string> argv;
   std::string log_path;
-  std::vector<int> pids;              // one per start
+  std::vector<int> pids;  // one per start
   std::optional<v1::Health> last_health;
   int restarts = 0;
-  double restart_s = 0;               // the last restart's time from death to ready
-  std::string exit;                   // how it ended ("exit 0", "signal 9", ...)
-  bool local = true;                  // started by this launcher
+  double restart_s = 0;  // the last restart's time from death to ready
+  std::string exit;      // how it ended ("exit 0", "signal 9", ...)
+  bool local = true;     // started by this launcher
 };
 
 struct RunRecord {
   std::string scene_name;
   std::string scene_path;
   std::string run_dir;
-  std::string host;                   // --host, "" for all
-  double duration_s = 0;              // wall time from the first start to the end of the stop
-  std::string end_reason;             // "duration", "interrupted", "failed"
+  std::string host;        // --host, "" for all
+  double duration_s = 0;   // wall time from the first start to the end of the stop
+  std::string end_reason;  // "duration", "interrupted", "failed"
   int exit_code = 0;
   std::vector<ServiceRecord> services;
   std::vector<PlannedService> not_needed;  // with why

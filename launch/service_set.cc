@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "libs/codec/message_conversion.h"
+
 namespace haptex::launch {
 namespace {
 
@@ -11,7 +13,7 @@ std::string FingerList(const v1::Scene& scene) {
   std::string names;
   for (const v1::FingerSpec& f : scene.fingers()) {
     if (!names.empty()) names += " and ";
-    names += f.finger() == v1::FINGER_THUMB ? "thumb" : "index";
+    names += codec::FingerName(f.finger());
   }
   return names;
 }
@@ -35,12 +37,14 @@ Need NeedOf(ServiceKind kind, const v1::Scene& scene) {
                                        ") at the global rate, cutting the local patches"};
     case P::SERVICE_LOCAL_CONTACT:
       if (fingers == 0) return {false, "no fingers: no contact models"};
-      return {true, fingers == 1 ? "one finger (" + FingerList(scene) + "): one-finger contact models only (I, IV, V), no pinch"
-                                 : "two fingers (" + FingerList(scene) + "): contact models I-IX on the local patch"};
+      return {true, fingers == 1
+                        ? "one finger (" + FingerList(scene) + "): one-finger contact models only (I, IV, V), no pinch"
+                        : "two fingers (" + FingerList(scene) + "): contact models I-IX on the local patch"};
     case P::SERVICE_DEVICE_BRIDGE:
       if (fingers == 0) return {false, "no fingers: no device"};
-      return {true, mock ? "fingers on a device: the bridge owns it (mock controller)"
-                         : "fingers on a device: the bridge owns the GRAB at " + scene.device().grab().controller_address()};
+      return {true,
+              mock ? "fingers on a device: the bridge owns it (mock controller)"
+                   : "fingers on a device: the bridge owns the GRAB at " + scene.device().grab().controller_address()};
     case P::SERVICE_MOCK_GRAB:
       if (fingers == 0) return {false, "no fingers: no device"};
       if (!mock) return {false, "a real GRAB controller at " + scene.device().grab().controller_address()};

@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "libs/net/peer_names.h"
+
 namespace haptex::launch {
 
 const std::vector<ServiceSpec>& ServiceTable() {
@@ -10,24 +12,67 @@ const std::vector<ServiceSpec>& ServiceTable() {
   // controller, then what feeds it. Stop order: the models first, the bridge last of the haptex
   // services; the mock controller stands in for the hardware and stops after the bridge, so its
   // force log shows the bridge's zero commands.
+  namespace peer = net::peer;
   static const std::vector<ServiceSpec> table = {
-      {P::SERVICE_DEVICE_BRIDGE, "device_bridge", "services/device_bridge/haptex-device-bridge",
-       "services/device_bridge", 0, 4, 3, 4,
-       {{"launcher", P::SERVICE_LAUNCHER}, {"local_contact", P::SERVICE_LOCAL_CONTACT},
-        {"global_sim", P::SERVICE_GLOBAL_SIM}}},
-      {P::SERVICE_MOCK_GRAB, "mock_grab", "services/mock_grab/haptex-mock-grab", "services/mock_grab", 1, 5, 6, 7,
-       {{"launcher", P::SERVICE_LAUNCHER}}},
-      {P::SERVICE_MOCK_PINS, "mock_pins", "services/mock_pins/haptex-mock-pins", "services/mock_pins", 2, 3, 8, -1,
-       {{"launcher", P::SERVICE_LAUNCHER}}},
-      {P::SERVICE_TACTILE, "tactile", "services/tactile/haptex-tactile", "services/tactile", 3, 2, 5, -1,
-       {{"launcher", P::SERVICE_LAUNCHER}, {"display", P::SERVICE_MOCK_PINS}}},
-      {P::SERVICE_GLOBAL_SIM, "global_sim", "services/global_sim/haptex-global-sim", "services/global_sim (issue 6)",
-       4, 1, 1, -1,
-       {{"launcher", P::SERVICE_LAUNCHER}, {"local_contact", P::SERVICE_LOCAL_CONTACT}}},
-      {P::SERVICE_LOCAL_CONTACT, "local_contact", "services/local_contact/haptex-local-contact",
-       "services/local_contact (issue 6)", 5, 0, 2, -1,
-       {{"launcher", P::SERVICE_LAUNCHER}, {"global_sim", P::SERVICE_GLOBAL_SIM},
-        {"bridge", P::SERVICE_DEVICE_BRIDGE}, {"tactile", P::SERVICE_TACTILE}}},
+      {P::SERVICE_DEVICE_BRIDGE,
+       "device_bridge",
+       "services/device_bridge/haptex-device-bridge",
+       "services/device_bridge",
+       0,
+       4,
+       3,
+       4,
+       {{peer::kLauncher, P::SERVICE_LAUNCHER},
+        {peer::kLocalContact, P::SERVICE_LOCAL_CONTACT},
+        {peer::kGlobalSim, P::SERVICE_GLOBAL_SIM}}},
+      {P::SERVICE_MOCK_GRAB,
+       "mock_grab",
+       "services/mock_grab/haptex-mock-grab",
+       "services/mock_grab",
+       1,
+       5,
+       6,
+       7,
+       {{peer::kLauncher, P::SERVICE_LAUNCHER}}},
+      {P::SERVICE_MOCK_PINS,
+       "mock_pins",
+       "services/mock_pins/haptex-mock-pins",
+       "services/mock_pins",
+       2,
+       3,
+       8,
+       -1,
+       {{peer::kLauncher, P::SERVICE_LAUNCHER}}},
+      {P::SERVICE_TACTILE,
+       "tactile",
+       "services/tactile/haptex-tactile",
+       "services/tactile",
+       3,
+       2,
+       5,
+       -1,
+       {{peer::kLauncher, P::SERVICE_LAUNCHER}, {peer::kDisplay, P::SERVICE_MOCK_PINS}}},
+      {P::SERVICE_GLOBAL_SIM,
+       "global_sim",
+       "services/global_sim/haptex-global-sim",
+       "services/global_sim",
+       4,
+       1,
+       1,
+       -1,
+       {{peer::kLauncher, P::SERVICE_LAUNCHER}, {peer::kLocalContact, P::SERVICE_LOCAL_CONTACT}}},
+      {P::SERVICE_LOCAL_CONTACT,
+       "local_contact",
+       "services/local_contact/haptex-local-contact",
+       "services/local_contact",
+       5,
+       0,
+       2,
+       -1,
+       {{peer::kLauncher, P::SERVICE_LAUNCHER},
+        {peer::kGlobalSim, P::SERVICE_GLOBAL_SIM},
+        {peer::kBridge, P::SERVICE_DEVICE_BRIDGE},
+        {peer::kTactile, P::SERVICE_TACTILE}}},
   };
   return table;
 }

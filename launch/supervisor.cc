@@ -63,12 +63,18 @@ std::vector<std::string> ArgvForStart(std::vector<std::string> argv, std::size_t
 
 std::string ShortState(v1::Health::State state) {
   switch (state) {
-    case v1::Health::STATE_STARTING: return "starting";
-    case v1::Health::STATE_READY: return "ok";
-    case v1::Health::STATE_DEGRADED: return "DEGRADED";
-    case v1::Health::STATE_STOPPING: return "stopping";
-    case v1::Health::STATE_FAULT: return "FAULT";
-    default: return "?";
+    case v1::Health::STATE_STARTING:
+      return "starting";
+    case v1::Health::STATE_READY:
+      return "ok";
+    case v1::Health::STATE_DEGRADED:
+      return "DEGRADED";
+    case v1::Health::STATE_STOPPING:
+      return "stopping";
+    case v1::Health::STATE_FAULT:
+      return "FAULT";
+    default:
+      return "?";
   }
 }
 
@@ -112,8 +118,8 @@ void Supervisor::DrainHealth() {
   }
 }
 
-void Supervisor::SendControl(v1::Control::Command command, const std::string& target_address,
-                             const std::string& target, const std::string& reason) {
+void Supervisor::SendControl(v1::Control::Command command, const std::string& target_address, const std::string& target,
+                             const std::string& reason) {
   v1::Control control;
   control.set_command(command);
   control.set_target_service(target);
@@ -140,8 +146,8 @@ bool Supervisor::Start(Live& live) {
   live.ready = false;
   live.child.reset();
   try {
-    live.child = std::make_unique<ChildProcess>(ArgvForStart(live.service.argv, record.pids.size()),
-                                                config_.child_env, live.service.log_path);
+    live.child = std::make_unique<ChildProcess>(ArgvForStart(live.service.argv, record.pids.size()), config_.child_env,
+                                                live.service.log_path);
   } catch (const std::exception& e) {
     record_->errors.push_back(std::string(Spec(live.service.placed.service.kind).name) + ": " + e.what());
     return false;
@@ -165,8 +171,8 @@ bool Supervisor::WaitReady(Live& live) {
     }
     if (live.child->Poll()) {
       record_->services[live.record_index].exit = live.child->exit_text();
-      record_->errors.push_back(name + " ended while starting (" + live.child->exit_text() + "): " +
-                                LastLine(live.service.log_path) + " [" + live.service.log_path + "]");
+      record_->errors.push_back(name + " ended while starting (" + live.child->exit_text() +
+                                "): " + LastLine(live.service.log_path) + " [" + live.service.log_path + "]");
       return false;
     }
     if (runtime::ShutdownRequested()) return false;
@@ -319,7 +325,9 @@ int Supervisor::Run(RunRecord* record) {
   // supervise
   while (all_started && !failed_) {
     if (runtime::ShutdownRequested()) break;
-    if (config_.duration_s > 0 && base::SteadyNowNs() - run_start_ns >= static_cast<std::int64_t>(config_.duration_s * 1e9)) break;
+    if (config_.duration_s > 0 &&
+        base::SteadyNowNs() - run_start_ns >= static_cast<std::int64_t>(config_.duration_s * 1e9))
+      break;
     // 2 ms: a dead service is found within that, so the zero-force hold of its restart reaches
     // the device well inside 20 ms even when nothing else wakes the loop
     messenger_->WaitReadable(std::chrono::milliseconds(2));

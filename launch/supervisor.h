@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "libs/net/messenger.h"
 #include "launch/run_summary.h"
+#include "libs/net/messenger.h"
 
 namespace haptex::launch {
 
@@ -35,7 +35,7 @@ struct SupervisorConfig {
   double stop_timeout_s = 3;                // after SHUTDOWN, before SIGTERM
   double zero_force_settle_s = 0.06;        // between ZERO_FORCE and the first SHUTDOWN
   double status_period_s = 1;
-  bool status_in_place = false;             // rewrite one line (a terminal) instead of printing lines
+  bool status_in_place = false;  // rewrite one line (a terminal) instead of printing lines
 };
 
 class Supervisor final {

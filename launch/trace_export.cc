@@ -6,6 +6,8 @@
 #include <memory>
 #include <stdexcept>
 
+#include "libs/codec/message_conversion.h"
+
 namespace haptex::launch {
 namespace {
 
@@ -36,9 +38,7 @@ double Norm(const v1::Vec3& v) { return std::sqrt(v.x() * v.x() + v.y() * v.y() 
 
 }  // namespace
 
-std::string FingerName(int finger) {
-  return finger == v1::FINGER_THUMB ? "thumb" : finger == v1::FINGER_INDEX ? "index" : "unspecified";
-}
+std::string FingerName(int finger) { return codec::FingerName(static_cast<v1::Finger>(finger)); }
 
 std::map<std::string, std::size_t> ExportCsv(const std::vector<Recording>& recordings, const std::string& out_dir) {
   std::filesystem::create_directories(out_dir);
@@ -51,8 +51,9 @@ std::map<std::string, std::size_t> ExportCsv(const std::vector<Recording>& recor
       switch (e.body_case()) {
         case v1::Envelope::kHealth:
           for (const v1::LoopStats& l : e.health().loops()) {
-            csv.Row("health.csv", "t_s,sender,state,uptime_s,loop,target_rate_hz,ticks,overruns,period_p50_us,"
-                                  "period_p99_us,period_max_us,compute_p50_us,compute_p99_us,compute_max_us")
+            csv.Row("health.csv",
+                    "t_s,sender,state,uptime_s,loop,target_rate_hz,ticks,overruns,period_p50_us,"
+                    "period_p99_us,period_max_us,compute_p50_us,compute_p99_us,compute_max_us")
                 << t << ',' << sender << ',' << v1::Health::State_Name(e.health().state()) << ','
                 << e.health().uptime_s() << ',' << l.name() << ',' << l.target_rate_hz() << ',' << l.ticks() << ','
                 << l.overruns() << ',' << l.period_p50_us() << ',' << l.period_p99_us() << ',' << l.period_max_us()
@@ -64,43 +65,50 @@ std::map<std::string, std::size_t> ExportCsv(const std::vector<Recording>& recor
           }
           for (const v1::LatencyStats& l : e.health().latencies()) {
             csv.Row("health_latencies.csv", "t_s,sender,latency,samples,p50_us,p99_us,max_us")
-                << t << ',' << sender << ',' << l.name() << ',' << l.samples() << ',' << l.p50_us() << ','
-                << l.p99_us() << ',' << l.max_us() << '\n';
+                << t << ',' << sender << ',' << l.name() << ',' << l.samples() << ',' << l.p50_us() << ',' << l.p99_us()
+                << ',' << l.max_us() << '\n';
           }
           break;
         case v1::Envelope::kForceModel:
           for (const v1::FingerForceModel& m : e.force_model().fingers()) {
-            csv.Row("force_model.csv", "t_s,sender,finger,f0_x_n,f0_y_n,f0_z_n,f0_norm_n,x0_x_m,x0_y_m,x0_z_m,ttl_s,contact_state")
-                << t << ',' << sender << ',' << FingerName(m.finger()) << ',' << m.f0_w_n().x() << ','
-                << m.f0_w_n().y() << ',' << m.f0_w_n().z() << ',' << Norm(m.f0_w_n()) << ',' << m.x0_w_m().x() << ','
-                << m.x0_w_m().y() << ',' << m.x0_w_m().z() << ',' << m.ttl_s() << ',' << static_cast<int>(m.contact_state())
-                << '\n';
+            csv.Row("force_model.csv",
+                    "t_s,sender,finger,f0_x_n,f0_y_n,f0_z_n,f0_norm_n,x0_x_m,x0_y_m,x0_z_m,ttl_s,contact_state")
+                << t << ',' << sender << ',' << FingerName(m.finger()) << ',' << m.f0_w_n().x() << ',' << m.f0_w_n().y()
+                << ',' << m.f0_w_n().z() << ',' << Norm(m.f0_w_n()) << ',' << m.x0_w_m().x() << ',' << m.x0_w_m().y()
+                << ',' << m.x0_w_m().z() << ',' << m.ttl_s() << ',' << static_cast<int>(m.contact_state()) << '\n';
           }
           break;
         case v1::Envelope::kTouchTrace:
           for (const v1::FingerTouch& f : e.touch_trace().fingers()) {
-            csv.Row("touch_trace.csv", "t_s,sender,finger,in_contact,u_m,v_m,slip_u_m_per_s,slip_v_m_per_s,normal_force_n,finger_angle_rad,contact_state")
+            csv.Row("touch_trace.csv",
+                    "t_s,sender,finger,in_contact,u_m,v_m,slip_u_m_per_s,slip_v_m_per_s,normal_force_n,finger_angle_"
+                    "rad,contact_state")
                 << t << ',' << sender << ',' << FingerName(f.finger()) << ',' << (f.in_contact() ? 1 : 0) << ','
                 << f.u_m() << ',' << f.v_m() << ',' << f.slip_u_m_per_s() << ',' << f.slip_v_m_per_s() << ','
-                << f.normal_force_n() << ',' << f.finger_angle_rad() << ',' << static_cast<int>(f.contact_state()) << '\n';
+                << f.normal_force_n() << ',' << f.finger_angle_rad() << ',' << static_cast<int>(f.contact_state())
+                << '\n';
           }
           break;
         case v1::Envelope::kFingerStates:
           for (const v1::FingerState& f : e.finger_states().fingers()) {
-            csv.Row("finger_states.csv", "t_s,sender,controller_sequence,device_ok,finger,x_m,y_m,z_m,vx_m_per_s,vy_m_per_s,vz_m_per_s,force_x_n,force_y_n,force_z_n")
+            csv.Row("finger_states.csv",
+                    "t_s,sender,controller_sequence,device_ok,finger,x_m,y_m,z_m,vx_m_per_s,vy_m_per_s,vz_m_per_s,"
+                    "force_x_n,force_y_n,force_z_n")
                 << t << ',' << sender << ',' << e.finger_states().controller_sequence() << ','
                 << (e.finger_states().device_ok() ? 1 : 0) << ',' << FingerName(f.finger()) << ','
                 << f.position_w_m().x() << ',' << f.position_w_m().y() << ',' << f.position_w_m().z() << ','
-                << f.velocity_w_m_per_s().x() << ',' << f.velocity_w_m_per_s().y() << ','
-                << f.velocity_w_m_per_s().z() << ',' << f.measured_force_w_n().x() << ','
-                << f.measured_force_w_n().y() << ',' << f.measured_force_w_n().z() << '\n';
+                << f.velocity_w_m_per_s().x() << ',' << f.velocity_w_m_per_s().y() << ',' << f.velocity_w_m_per_s().z()
+                << ',' << f.measured_force_w_n().x() << ',' << f.measured_force_w_n().y() << ','
+                << f.measured_force_w_n().z() << '\n';
           }
           break;
         case v1::Envelope::kPinFrame:
           for (const v1::FingerPins& p : e.pin_frame().fingers()) {
             double sum40 = 0, sum320 = 0, max40 = 0, max320 = 0;
-            for (const float a : p.amplitude_40hz()) sum40 += static_cast<double>(a), max40 = std::max(max40, static_cast<double>(a));
-            for (const float a : p.amplitude_320hz()) sum320 += static_cast<double>(a), max320 = std::max(max320, static_cast<double>(a));
+            for (const float a : p.amplitude_40hz())
+              sum40 += static_cast<double>(a), max40 = std::max(max40, static_cast<double>(a));
+            for (const float a : p.amplitude_320hz())
+              sum320 += static_cast<double>(a), max320 = std::max(max320, static_cast<double>(a));
             const double n40 = std::max(1, p.amplitude_40hz_size()), n320 = std::max(1, p.amplitude_320hz_size());
             csv.Row("pin_frame.csv", "t_s,sender,frame_index,finger,mean_40hz,max_40hz,mean_320hz,max_320hz")
                 << t << ',' << sender << ',' << e.pin_frame().frame_index() << ',' << FingerName(p.finger()) << ','
@@ -113,13 +121,16 @@ std::map<std::string, std::size_t> ExportCsv(const std::vector<Recording>& recor
               << e.control().target_service() << ',' << e.control().reason() << '\n';
           break;
         case v1::Envelope::kLocalPatch:
-          csv.Row("local_patch.csv", "t_s,sender,bytes") << t << ',' << sender << ',' << e.local_patch().ByteSizeLong() << '\n';
+          csv.Row("local_patch.csv", "t_s,sender,bytes")
+              << t << ',' << sender << ',' << e.local_patch().ByteSizeLong() << '\n';
           break;
         case v1::Envelope::kPatchResult:
-          csv.Row("patch_result.csv", "t_s,sender,bytes") << t << ',' << sender << ',' << e.patch_result().ByteSizeLong() << '\n';
+          csv.Row("patch_result.csv", "t_s,sender,bytes")
+              << t << ',' << sender << ',' << e.patch_result().ByteSizeLong() << '\n';
           break;
         case v1::Envelope::kClothFrame:
-          csv.Row("cloth_frame.csv", "t_s,sender,bytes") << t << ',' << sender << ',' << e.cloth_frame().ByteSizeLong() << '\n';
+          csv.Row("cloth_frame.csv", "t_s,sender,bytes")
+              << t << ',' << sender << ',' << e.cloth_frame().ByteSizeLong() << '\n';
           break;
         default:
           break;

@@ -25,9 +25,7 @@ namespace {
 
 using V = Eigen::Vector3d;
 
-FingerPose Facing(const V& centre, const V& pad_normal) {
-  return PoseFacing(centre, pad_normal, V::UnitX());
-}
+FingerPose Facing(const V& centre, const V& pad_normal) { return PoseFacing(centre, pad_normal, V::UnitX()); }
 
 // 20 x 20 = 400 particles over 2 x 2 cm (about 1 mm spacing), border fixed, lying at z = 0,
 // stepped at 1 ms. Solver config 0: block-Jacobi PCG to 1e-3 (the tests' tight solve); 1:
@@ -36,8 +34,7 @@ FingerPose Facing(const V& centre, const V& pad_normal) {
 // same at 0.2 ms, as local_contact steps at 5 kHz; 9: block Jacobi to 1e-9, the accuracy
 // reference. cap > 0 overrides the iteration cap.
 std::unique_ptr<PatchSimulation> MakePatch(int config, int cap = 0) {
-  const textile::FabricMaterial material =
-      textile::MaterialFromKes(scene::LoadKesFabric("wang2011_black_denim_11oz"));
+  const textile::FabricMaterial material = textile::MaterialFromKes(scene::LoadKesFabric("wang2011_black_denim_11oz"));
   textile::FabricModel model = textile::BuildFabricModel(material, {0.02, 0.02, 20, 20});
   textile::Placement placement;
   placement.origin_W = V(-0.01, -0.01, 0.0);
@@ -88,8 +85,8 @@ void BM_PinchTick(benchmark::State& state) {
   for (auto _ : state) {
     const double y = 0.002 * std::sin(1e-3 * k++);
     const auto t0 = std::chrono::steady_clock::now();
-    const ContactOutput& out = sim->Tick({true, Facing(V(0, y, r - 0.002), V(0, 0, -1))},
-                                         {true, Facing(V(0, y, -(r - 0.002)), V(0, 0, 1))});
+    const ContactOutput& out =
+        sim->Tick({true, Facing(V(0, y, r - 0.002), V(0, 0, -1))}, {true, Facing(V(0, y, -(r - 0.002)), V(0, 0, 1))});
     const auto t1 = std::chrono::steady_clock::now();
     benchmark::DoNotOptimize(out.finger[0].force_W_N);
     if (us.size() < us.capacity()) us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
@@ -200,8 +197,8 @@ void BM_PinchAccuracy(benchmark::State& state) { Accuracy(state, true); }
 void BM_OneFingerAccuracy(benchmark::State& state) { Accuracy(state, false); }
 // Args: solver config, iteration cap (0: the config's own).
 void AccuracyArgs(benchmark::internal::Benchmark* b) {
-  for (const auto& [config, cap] : std::vector<std::pair<int, int>>{
-           {0, 0}, {1, 0}, {3, 0}, {3, 3}, {3, 4}, {3, 5}, {3, 20}}) {
+  for (const auto& [config, cap] :
+       std::vector<std::pair<int, int>>{{0, 0}, {1, 0}, {3, 0}, {3, 3}, {3, 4}, {3, 5}, {3, 20}}) {
     b->Args({config, cap});
   }
   b->Iterations(1)->Unit(benchmark::kMillisecond);

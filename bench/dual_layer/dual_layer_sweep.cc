@@ -16,10 +16,10 @@
 #include <vector>
 
 #include "libs/contact/patch_simulation.h"
-#include "libs/textile/fabric_model.h"
-#include "libs/textile/kes_material.h"
 #include "libs/dual_layer/dual_layer_sim.h"
 #include "libs/dual_layer/pinch_stretch_strip.h"
+#include "libs/textile/fabric_model.h"
+#include "libs/textile/kes_material.h"
 #include "libs/textile/validation.h"
 
 namespace haptex::dual_layer {
@@ -39,8 +39,7 @@ struct Run {
   int handoffs = 0;
 };
 
-Eigen::VectorXd CoarseShape(const textile::FabricModel& model, const textile::FabricState& state,
-                            double spacing_m) {
+Eigen::VectorXd CoarseShape(const textile::FabricModel& model, const textile::FabricState& state, double spacing_m) {
   const int stride = static_cast<int>(std::lround(0.004 / spacing_m));
   std::vector<double> x;
   for (int j = 0; j < model.mesh.particles_weft(); j += stride) {
@@ -70,8 +69,8 @@ Run Reference(const textile::FabricMaterial& material, const contact::ContactOpt
   return run;
 }
 
-Run Dual(const textile::FabricMaterial& material, const contact::ContactOptions& o, double local_hz,
-         double margin_m, double spacing_m, int refinement) {
+Run Dual(const textile::FabricMaterial& material, const contact::ContactOptions& o, double local_hz, double margin_m,
+         double spacing_m, int refinement) {
   Strip s = PinchStretchStrip(material, spacing_m);
   const double local_dt = 1.0 / local_hz;
   DualLayerSim dual(material, s.model, s.state, 0.01, local_dt, o, margin_m, refinement);
@@ -117,10 +116,12 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "cannot write %s\n", out.c_str());
     return 1;
   }
-  std::fprintf(csv, "local_hz,margin_mm,spacing_mm,us_per_local_tick,ms_per_global_step,shape_rms_mm,force_err_pct_of_peak,handoffs,refinement\n");
+  std::fprintf(csv,
+               "local_hz,margin_mm,spacing_mm,us_per_local_tick,ms_per_global_step,shape_rms_mm,force_err_pct_of_peak,"
+               "handoffs,refinement\n");
   std::printf("reference: whole strip at 5 kHz, 2 mm mesh; peak force %.3f N\n", peak);
-  std::printf("%8s %10s %10s %7s %14s %14s %12s %16s\n", "local Hz", "margin mm", "mesh mm", "refine",
-              "us/local tick", "ms/global step", "shape mm", "force % of peak");
+  std::printf("%8s %10s %10s %7s %14s %14s %12s %16s\n", "local Hz", "margin mm", "mesh mm", "refine", "us/local tick",
+              "ms/global step", "shape mm", "force % of peak");
   // refinement 1 on the 4 mm mesh: the patch at the reference's 2 mm (a finer patch on the 2 mm
   // mesh costs 4x a tick that already misses 5 kHz)
   struct Mesh {
@@ -137,7 +138,7 @@ int main(int argc, char** argv) {
           err = std::max(err, std::abs(d.force[k] - ref.force[k]));
         }
         const double shape = std::sqrt((d.coarse_shape - ref.coarse_shape).squaredNorm() /
-                                        (static_cast<double>(ref.coarse_shape.size()) / 3.0));
+                                       (static_cast<double>(ref.coarse_shape.size()) / 3.0));
         std::printf("%8.0f %10.0f %10.0f %7d %14.1f %14.2f %12.3f %16.2f\n", hz, 1e3 * margin, 1e3 * spacing,
                     mesh.refinement, d.us_per_local_tick, d.ms_per_global_step, 1e3 * shape, 100 * err / peak);
         std::fprintf(csv, "%.0f,%.0f,%.0f,%.2f,%.3f,%.4f,%.3f,%d,%d\n", hz, 1e3 * margin, 1e3 * spacing,

@@ -27,9 +27,7 @@ struct Setup {
   ForceSink sink;
 
   explicit Setup(int n)
-      : model(BuildFabricModel(
-            MaterialFromKes(scene::LoadKesFabric("wang2011_black_denim_11oz")),
-            {0.2, 0.2, n, n})),
+      : model(BuildFabricModel(MaterialFromKes(scene::LoadKesFabric("wang2011_black_denim_11oz")), {0.2, 0.2, n, n})),
         state(MakeRestState(model)) {
     for (int p = 0; p < model.num_particles; ++p) {
       state.x(p) = state.x(p).cwiseProduct(Eigen::Vector3d(1.01, 0.995, 1.0));
@@ -89,8 +87,8 @@ void BM_Product(benchmark::State& bm) {
   Eigen::VectorXd x = s.state.v_W_m_per_s, y = x;
   double xy = 0.0;
   for (auto _ : bm) {
-    xy += MultiplySplitRows(s.model.product_rows, s.system, s.scalars,
-                            [mode](int r) { return mode[r] == ParticleMode::kFree; }, x, &y);
+    xy += MultiplySplitRows(
+        s.model.product_rows, s.system, s.scalars, [mode](int r) { return mode[r] == ParticleMode::kFree; }, x, &y);
     benchmark::DoNotOptimize(y.data());
   }
   benchmark::DoNotOptimize(xy);
@@ -106,8 +104,7 @@ void BM_GaussSeidelUpdate(benchmark::State& bm) {
   const ParticleMode* mode = s.state.mode.data();
   GaussSeidelPreconditioner gs(s.model.product_rows);
   for (auto _ : bm) {
-    benchmark::DoNotOptimize(gs.Update(s.system, 1.4,
-                                       [mode](int r) { return mode[r] == ParticleMode::kFree; }));
+    benchmark::DoNotOptimize(gs.Update(s.system, 1.4, [mode](int r) { return mode[r] == ParticleMode::kFree; }));
   }
 }
 BENCHMARK(BM_GaussSeidelUpdate)->Arg(20)->Arg(41)->Unit(benchmark::kMicrosecond);
@@ -116,8 +113,7 @@ void BM_GaussSeidelSplitProduct(benchmark::State& bm) {
   Setup s(static_cast<int>(bm.range(0)));
   const ParticleMode* mode = s.state.mode.data();
   GaussSeidelPreconditioner gs(s.model.product_rows);
-  gs.Update(s.system, 1.4,
-            [mode](int r) { return mode[r] == ParticleMode::kFree; });
+  gs.Update(s.system, 1.4, [mode](int r) { return mode[r] == ParticleMode::kFree; });
   const int n = s.model.num_particles;
   PaddedVector x(n), t(n), z(n), y(n);
   for (int p = 0; p < n; ++p) {

@@ -34,8 +34,7 @@ Placement HangingPlacement() {
 void BM_Step(benchmark::State& bm, Integrator method, Preconditioner preconditioner) {
   const int n = static_cast<int>(bm.range(0));
   const FabricModel model =
-      BuildFabricModel(MaterialFromKes(scene::LoadKesFabric(kFabrics[bm.range(2)])),
-                       {0.2, 0.2, n, n});
+      BuildFabricModel(MaterialFromKes(scene::LoadKesFabric(kFabrics[bm.range(2)])), {0.2, 0.2, n, n});
   FabricState s = MakeRestState(model, HangingPlacement());
   for (int p : validation::WarpRow(model, 0)) s.Fix(p);
   StepOptions opt;
@@ -84,17 +83,11 @@ void BM_StepSymplectic(benchmark::State& bm) {
 BENCHMARK(BM_StepImplicitMultilevel)
     ->ArgsProduct({{21, 41, 81}, {1000, 100}, {0, 1}, {10000}})
     ->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_StepImplicitJacobi)
-    ->ArgsProduct({{21, 41, 81}, {1000, 100}, {0}, {10000}})
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_StepSymplectic)
-    ->ArgsProduct({{21, 41, 81}, {0}, {0, 1}, {10000}})
-    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_StepImplicitJacobi)->ArgsProduct({{21, 41, 81}, {1000, 100}, {0}, {10000}})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_StepSymplectic)->ArgsProduct({{21, 41, 81}, {0}, {0, 1}, {10000}})->Unit(benchmark::kMillisecond);
 // The local-patch regime (1 kHz, small patch): where the cheap integrator pays off.
-BENCHMARK(BM_StepImplicitMultilevel)->Args({11, 0, 1, 1000})->Args({21, 0, 1, 1000})
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_StepSymplectic)->Args({11, 0, 1, 1000})->Args({21, 0, 1, 1000})
-    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_StepImplicitMultilevel)->Args({11, 0, 1, 1000})->Args({21, 0, 1, 1000})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_StepSymplectic)->Args({11, 0, 1, 1000})->Args({21, 0, 1, 1000})->Unit(benchmark::kMillisecond);
 
 // Validation 1 with each integrator: static elongation of the 20 x 38 cm strip (448 triangles)
 // under 2.4 N plus self-weight, relative error against the analytic integral.
@@ -123,8 +116,8 @@ void BM_TensileAccuracy(benchmark::State& bm, Integrator method) {
     double z = 0.0;
     for (int p : bottom) z += s.x(p).z();
     const double simulated = -z / static_cast<double>(bottom.size()) - 0.38;
-    const double exact = validation::AnalyticHangingElongation(material.tensile_warp, 0.38, 0.2,
-                                                            material.density_kg_per_m2, 2.4, 9.81);
+    const double exact =
+        validation::AnalyticHangingElongation(material.tensile_warp, 0.38, 0.2, material.density_kg_per_m2, 2.4, 9.81);
     rel = std::abs(simulated - exact) / exact;
   }
   bm.counters["rel_error_pct"] = 100.0 * rel;
@@ -132,12 +125,8 @@ void BM_TensileAccuracy(benchmark::State& bm, Integrator method) {
   bm.counters["substeps"] = substeps;
 }
 
-void BM_TensileAccuracyImplicit(benchmark::State& bm) {
-  BM_TensileAccuracy(bm, Integrator::kImplicitEuler);
-}
-void BM_TensileAccuracySymplectic(benchmark::State& bm) {
-  BM_TensileAccuracy(bm, Integrator::kSymplecticEuler);
-}
+void BM_TensileAccuracyImplicit(benchmark::State& bm) { BM_TensileAccuracy(bm, Integrator::kImplicitEuler); }
+void BM_TensileAccuracySymplectic(benchmark::State& bm) { BM_TensileAccuracy(bm, Integrator::kSymplecticEuler); }
 BENCHMARK(BM_TensileAccuracyImplicit)->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_TensileAccuracySymplectic)->Iterations(1)->Unit(benchmark::kMillisecond);
 

@@ -6,11 +6,10 @@
 #include <cstdio>
 #include <cstdlib>
 
-#define HAPTEX_DEMAND(condition)                                                         \
-  do {                                                                                   \
-    if (!(condition)) {                                                                  \
-      std::fprintf(stderr, "%s:%d: haptex invariant failed: %s\n", __FILE__, __LINE__,   \
-                   #condition);                                                          \
-      std::abort();                                                                      \
-    }                                                                                    \
+#define HAPTEX_DEMAND(condition)                                                                    \
+  do {                                                                                              \
+    if (!(condition)) {                                                                             \
+      std::fprintf(stderr, "%s:%d: haptex invariant failed: %s\n", __FILE__, __LINE__, #condition); \
+      std::abort();                                                                                 \
+    }                                                                                               \
   } while (false)

@@ -41,9 +41,7 @@ HAPTEX_LANES_INLINE V4 Sqrt(V4 a) {
 #endif
 }
 // |a|: the sign bit cleared, as std::abs does.
-HAPTEX_LANES_INLINE V4 Abs(V4 a) {
-  return std::bit_cast<V4>(std::bit_cast<M4>(a) & ~std::bit_cast<M4>(Splat(-0.0)));
-}
+HAPTEX_LANES_INLINE V4 Abs(V4 a) { return std::bit_cast<V4>(std::bit_cast<M4>(a) & ~std::bit_cast<M4>(Splat(-0.0))); }
 HAPTEX_LANES_INLINE V4 Dot3(const V4* a, const V4* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 // Whether any lane of a mask is set: the two halves or-ed, then one sign-bit mask (SSE2, so in
 // both builds) instead of four lane extractions.

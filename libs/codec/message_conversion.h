@@ -20,9 +20,12 @@ inline constexpr int kFingerSlots = 2;
 /// The slot of `finger`, or -1 for FINGER_UNSPECIFIED and unknown values.
 inline int FingerSlot(v1::Finger finger) {
   switch (finger) {
-    case v1::FINGER_THUMB: return kThumbSlot;
-    case v1::FINGER_INDEX: return kIndexSlot;
-    default: return -1;
+    case v1::FINGER_THUMB:
+      return kThumbSlot;
+    case v1::FINGER_INDEX:
+      return kIndexSlot;
+    default:
+      return -1;
   }
 }
 /// The finger of slot 0 or 1.
@@ -30,9 +33,12 @@ inline v1::Finger FingerOfSlot(int slot) { return slot == kThumbSlot ? v1::FINGE
 /// "thumb", "index" or "unspecified", for files and messages people read.
 inline const char* FingerName(v1::Finger finger) {
   switch (finger) {
-    case v1::FINGER_THUMB: return "thumb";
-    case v1::FINGER_INDEX: return "index";
-    default: return "unspecified";
+    case v1::FINGER_THUMB:
+      return "thumb";
+    case v1::FINGER_INDEX:
+      return "index";
+    default:
+      return "unspecified";
   }
 }
 

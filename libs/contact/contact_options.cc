@@ -14,8 +14,7 @@ void Require(bool ok, const std::string& what) {
 void CheckShape(const FingerShape& s, const std::string& name) {
   Require(std::isfinite(s.radius_m) && s.radius_m > 0.0 && s.radius_m < 0.05,
           name + ".radius_m must be in (0, 0.05) m");
-  Require(std::isfinite(s.length_m) && s.length_m >= 0.0 && s.length_m < 0.1,
-          name + ".length_m must be in [0, 0.1) m");
+  Require(std::isfinite(s.length_m) && s.length_m >= 0.0 && s.length_m < 0.1, name + ".length_m must be in [0, 0.1) m");
 }
 
 void CheckMu(const FrictionCoefficients& mu, const std::string& name) {
@@ -34,18 +33,16 @@ void CheckPositive(double v, const std::string& name) {
 void ValidateContactOptions(const ContactOptions& o) {
   CheckShape(o.thumb, "thumb");
   CheckShape(o.index, "index");
-  Require(std::isfinite(o.fabric_half_thickness_m) && o.fabric_half_thickness_m >= 0.0 &&
-              o.fabric_half_thickness_m < 0.005,
-          "fabric_half_thickness_m must be in [0, 0.005) m");
+  Require(
+      std::isfinite(o.fabric_half_thickness_m) && o.fabric_half_thickness_m >= 0.0 && o.fabric_half_thickness_m < 0.005,
+      "fabric_half_thickness_m must be in [0, 0.005) m");
   CheckMu(o.finger_fabric, "finger_fabric");
   CheckMu(o.finger_finger, "finger_finger");
   CheckPositive(o.finger_finger_normal_N_per_m, "finger_finger_normal_N_per_m");
   CheckPositive(o.finger_finger_tangential_N_per_m, "finger_finger_tangential_N_per_m");
   CheckPositive(o.pad_stiffness_N_per_m3, "pad_stiffness_N_per_m3");
-  Require(o.pinch_samples_per_edge >= 1 && o.pinch_samples_per_edge <= 8,
-          "pinch_samples_per_edge must be in [1, 8]");
-  Require(std::isfinite(o.touch_release_gap_m) && o.touch_release_gap_m >= 0.0,
-          "touch_release_gap_m must be >= 0");
+  Require(o.pinch_samples_per_edge >= 1 && o.pinch_samples_per_edge <= 8, "pinch_samples_per_edge must be in [1, 8]");
+  Require(std::isfinite(o.touch_release_gap_m) && o.touch_release_gap_m >= 0.0, "touch_release_gap_m must be >= 0");
   Require(o.dynamic_leave_fraction > 0.0 && o.dynamic_leave_fraction <= o.dynamic_enter_fraction &&
               o.dynamic_enter_fraction <= 1.0,
           "need 0 < dynamic_leave_fraction <= dynamic_enter_fraction <= 1");

@@ -97,21 +97,20 @@ void ContactSolver::Prepare(const FingerInput& thumb, const FingerInput& index, 
   pinching_ = false;
   if (input_[kThumb].present && input_[kIndex].present) {
     Eigen::Vector3d n;
-    const double gap_direct = FingerFingerContact::Gap(options_, input_[kThumb].pose,
-                                                       input_[kIndex].pose, &n, nullptr, nullptr);
+    const double gap_direct =
+        FingerFingerContact::Gap(options_, input_[kThumb].pose, input_[kIndex].pose, &n, nullptr, nullptr);
     const double gap_fabric = gap_direct - 2.0 * options_.fabric_half_thickness_m;
     if (gap_fabric < 0.0) {
       const double grip_N = options_.finger_finger_normal_N_per_m * -gap_fabric;
-      pinching_ = pinch_.Prepare(input_[kThumb].pose, input_[kIndex].pose, grip_N,
-                                 options_.finger_fabric, *state, &pinch_owned_, &springs_);
+      pinching_ = pinch_.Prepare(input_[kThumb].pose, input_[kIndex].pose, grip_N, options_.finger_fabric, *state,
+                                 &pinch_owned_, &springs_);
     }
     if (!pinching_) pinch_.Reset();
-    output_.finger_finger =
-        pinching_ ? finger_finger_.Update(input_[kThumb].pose, input_[kIndex].pose,
-                                          2.0 * options_.fabric_half_thickness_m,
-                                          options_.finger_finger, /*with_friction=*/false)
-                  : finger_finger_.Update(input_[kThumb].pose, input_[kIndex].pose, 0.0,
-                                          options_.finger_finger, /*with_friction=*/true);
+    output_.finger_finger = pinching_ ? finger_finger_.Update(input_[kThumb].pose, input_[kIndex].pose,
+                                                              2.0 * options_.fabric_half_thickness_m,
+                                                              options_.finger_finger, /*with_friction=*/false)
+                                      : finger_finger_.Update(input_[kThumb].pose, input_[kIndex].pose, 0.0,
+                                                              options_.finger_finger, /*with_friction=*/true);
     touching_.Update(pinching_ ? -gap_fabric : -gap_direct);
   } else {
     pinch_.Reset();
@@ -147,14 +146,13 @@ const ContactOutput& ContactSolver::Resolve(const textile::FabricState& state) {
     const int p = springs_.touched(i);
     force_particles_[static_cast<std::size_t>(i)] = p;
     particle_force_W_N_.segment<3>(3 * p) =
-        state.anchor_stiffness_N_per_m[p] *
-        (state.anchor_W_m.segment<3>(3 * p) - state.x_W_m.segment<3>(3 * p));
+        state.anchor_stiffness_N_per_m[p] * (state.anchor_W_m.segment<3>(3 * p) - state.x_W_m.segment<3>(3 * p));
   }
   std::array<FingerFabricResult, 2> one{};
   for (int f = 0; f < 2; ++f) {
     if (!input_[static_cast<std::size_t>(f)].present) continue;
-    finger_fabric_[static_cast<std::size_t>(f)].Resolve(input_[static_cast<std::size_t>(f)].pose,
-                                                        state, rest_uv_m_, &one[static_cast<std::size_t>(f)]);
+    finger_fabric_[static_cast<std::size_t>(f)].Resolve(input_[static_cast<std::size_t>(f)].pose, state, rest_uv_m_,
+                                                        &one[static_cast<std::size_t>(f)]);
   }
   pinch_.Resolve(state, rest_uv_m_, &output_.pinch);
   const PinchResult& pinch = output_.pinch;
@@ -236,8 +234,7 @@ const ContactOutput& ContactSolver::Resolve(const textile::FabricState& state) {
     }
 
     // Stiffness: the finger-finger spring is known; the fabric's is measured.
-    const double k_fabric =
-        stiffness_[static_cast<std::size_t>(f)].Update(fabric_force, in.pose.p_W_m, dt_s_);
+    const double k_fabric = stiffness_[static_cast<std::size_t>(f)].Update(fabric_force, in.pose.p_W_m, dt_s_);
     Eigen::Matrix3d k = -k_fabric * Eigen::Matrix3d::Identity();
     if (ff.touching) k += ff.stiffness_index_W_N_per_m;
     out.stiffness_W_N_per_m = CapStiffness(k, options_.max_stiffness_N_per_m);
@@ -270,9 +267,8 @@ const ContactOutput& ContactSolver::Resolve(const textile::FabricState& state) {
   return output_;
 }
 
-void ContactSolver::TouchFrame(int triangle, const textile::FabricState& state,
-                               const FingerPose& pose, const Eigen::Vector3d& relative_velocity_W,
-                               FingerContactOutput* out) const {
+void ContactSolver::TouchFrame(int triangle, const textile::FabricState& state, const FingerPose& pose,
+                               const Eigen::Vector3d& relative_velocity_W, FingerContactOutput* out) const {
   // Deformed warp and weft vectors (dx/du, dx/dv) of the triangle under the touch point.
   const textile::TriangleElement& e = patch_.triangles[static_cast<std::size_t>(triangle)];
   Eigen::Matrix<double, 3, 2> j = Eigen::Matrix<double, 3, 2>::Zero();

@@ -83,8 +83,7 @@ class ContactSolver {
   ContactSolver(const textile::FabricModel& patch, const ContactOptions& options,
                 const Eigen::Vector2d& uv_origin_m = Eigen::Vector2d::Zero());
 
-  void Prepare(const FingerInput& thumb, const FingerInput& index, double dt_s,
-               textile::FabricState* state);
+  void Prepare(const FingerInput& thumb, const FingerInput& index, double dt_s, textile::FabricState* state);
   const ContactOutput& Resolve(const textile::FabricState& state);
 
   /// Forgets every contact (the next tick starts from state I).
@@ -96,9 +95,7 @@ class ContactSolver {
   const Eigen::VectorXd& particle_force_W_N() const { return particle_force_W_N_; }
   const ContactOptions& options() const { return options_; }
   FingerFabricContact& finger_contact(int slot) { return finger_fabric_[static_cast<std::size_t>(slot)]; }
-  const FingerFabricContact& finger_contact(int slot) const {
-    return finger_fabric_[static_cast<std::size_t>(slot)];
-  }
+  const FingerFabricContact& finger_contact(int slot) const { return finger_fabric_[static_cast<std::size_t>(slot)]; }
   PinchContact& pinch() { return pinch_; }
   const PinchContact& pinch() const { return pinch_; }
   /// Takes over the classifier's hysteresis, the stiffness estimates and the previous finger
@@ -112,8 +109,8 @@ class ContactSolver {
 
   const textile::FabricModel& patch_;
   ContactOptions options_;
-  Eigen::MatrixX2d rest_uv_m_;               ///< per particle, with the origin added
-  std::vector<int> particle_triangle_;       ///< one triangle per particle (tangent frame)
+  Eigen::MatrixX2d rest_uv_m_;          ///< per particle, with the origin added
+  std::vector<int> particle_triangle_;  ///< one triangle per particle (tangent frame)
   AnchorAccumulator springs_;
   std::vector<std::uint8_t> pinch_owned_;
   std::array<FingerFabricContact, 2> finger_fabric_;

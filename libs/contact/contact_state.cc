@@ -4,15 +4,24 @@ namespace haptex::contact {
 
 const char* ToString(ContactState state) {
   switch (state) {
-    case ContactState::kI: return "I";
-    case ContactState::kII: return "II";
-    case ContactState::kIII: return "III";
-    case ContactState::kIV: return "IV";
-    case ContactState::kV: return "V";
-    case ContactState::kVI: return "VI";
-    case ContactState::kVII: return "VII";
-    case ContactState::kVIII: return "VIII";
-    case ContactState::kIX: return "IX";
+    case ContactState::kI:
+      return "I";
+    case ContactState::kII:
+      return "II";
+    case ContactState::kIII:
+      return "III";
+    case ContactState::kIV:
+      return "IV";
+    case ContactState::kV:
+      return "V";
+    case ContactState::kVI:
+      return "VI";
+    case ContactState::kVII:
+      return "VII";
+    case ContactState::kVIII:
+      return "VIII";
+    case ContactState::kIX:
+      return "IX";
   }
   return "?";
 }

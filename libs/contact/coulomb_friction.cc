@@ -5,9 +5,8 @@
 
 namespace haptex::contact {
 
-StickSlipResult UpdateStickSlip(const Eigen::Vector3d& held_W, const Eigen::Vector3d& free_W,
-                                double stiffness_N_per_m, double normal_N,
-                                const FrictionCoefficients& mu, bool was_sliding) {
+StickSlipResult UpdateStickSlip(const Eigen::Vector3d& held_W, const Eigen::Vector3d& free_W, double stiffness_N_per_m,
+                                double normal_N, const FrictionCoefficients& mu, bool was_sliding) {
   StickSlipResult out;
   if (!(normal_N > 0.0) || !(stiffness_N_per_m > 0.0)) {
     out.held_W = free_W;
@@ -32,8 +31,7 @@ StickSlipResult UpdateStickSlip(const Eigen::Vector3d& held_W, const Eigen::Vect
   return out;
 }
 
-FingerConeLoad FingerCone(const Eigen::Vector3d& normal_resultant_W_N,
-                          const Eigen::Vector3d& friction_W_N) {
+FingerConeLoad FingerCone(const Eigen::Vector3d& normal_resultant_W_N, const Eigen::Vector3d& friction_W_N) {
   FingerConeLoad out;
   const double push_N = normal_resultant_W_N.norm();
   if (!(push_N > 0.0)) {
@@ -51,10 +49,8 @@ namespace {
 
 // Distance of the finger's force outside the cone of mu_target when every anchor keeps the
 // fraction min(1, mu / ratio_i) of its friction spring (negative inside).
-double ConeExcess(const Eigen::Vector3d& normal_resultant_W_N,
-                  const Eigen::Ref<const Eigen::Matrix3Xd>& spring_W_N,
-                  const Eigen::Ref<const Eigen::VectorXd>& anchor_ratio, double mu,
-                  double mu_target) {
+double ConeExcess(const Eigen::Vector3d& normal_resultant_W_N, const Eigen::Ref<const Eigen::Matrix3Xd>& spring_W_N,
+                  const Eigen::Ref<const Eigen::VectorXd>& anchor_ratio, double mu, double mu_target) {
   Eigen::Vector3d friction = Eigen::Vector3d::Zero();
   for (Eigen::Index i = 0; i < spring_W_N.cols(); ++i) {
     const double r = anchor_ratio[i];
@@ -68,8 +64,7 @@ double ConeExcess(const Eigen::Vector3d& normal_resultant_W_N,
 
 double SharedSlipCoefficient(const Eigen::Vector3d& normal_resultant_W_N,
                              const Eigen::Ref<const Eigen::Matrix3Xd>& spring_W_N,
-                             const Eigen::Ref<const Eigen::VectorXd>& anchor_ratio,
-                             double mu_target) {
+                             const Eigen::Ref<const Eigen::VectorXd>& anchor_ratio, double mu_target) {
   const double top = anchor_ratio.size() > 0 ? anchor_ratio.maxCoeff() : 0.0;
   if (!(mu_target > 0.0)) return 0.0;
   double lo = 0.0;

@@ -22,9 +22,8 @@ struct StickSlipResult {
 
 /// @param was_sliding the previous tick's state. mu_dynamic <= mu_static is assumed (validated
 /// by ContactOptions); a non-positive normal force releases the held point (no friction).
-StickSlipResult UpdateStickSlip(const Eigen::Vector3d& held_W, const Eigen::Vector3d& free_W,
-                                double stiffness_N_per_m, double normal_N,
-                                const FrictionCoefficients& mu, bool was_sliding);
+StickSlipResult UpdateStickSlip(const Eigen::Vector3d& held_W, const Eigen::Vector3d& free_W, double stiffness_N_per_m,
+                                double normal_N, const FrictionCoefficients& mu, bool was_sliding);
 
 // The friction cone of a whole finger (states IV-VII, paper 5.3 and Fig. 9). The finger's force
 // F^d = sum_i k_i (x_i - x_i^E) splits into the normal springs, -sum_i F_i^N n_i (n_i the outward
@@ -38,8 +37,7 @@ struct FingerConeLoad {
   double normal_N = 0.0;
   double tangential_N = 0.0;
 };
-FingerConeLoad FingerCone(const Eigen::Vector3d& normal_resultant_W_N,
-                          const Eigen::Vector3d& friction_W_N);
+FingerConeLoad FingerCone(const Eigen::Vector3d& normal_resultant_W_N, const Eigen::Vector3d& friction_W_N);
 
 /// The finger slips as a whole: anchor i keeps the fraction min(1, mu / ratio_i) of its friction
 /// spring, where ratio_i = k_i |s_i| / F_i^N is its own F^T/F^N; that is, every anchor follows
@@ -51,7 +49,6 @@ FingerConeLoad FingerCone(const Eigen::Vector3d& normal_resultant_W_N,
 /// `spring_W_N` (3 x m): k_i s_i; `anchor_ratio` (m): ratio_i >= 0.
 double SharedSlipCoefficient(const Eigen::Vector3d& normal_resultant_W_N,
                              const Eigen::Ref<const Eigen::Matrix3Xd>& spring_W_N,
-                             const Eigen::Ref<const Eigen::VectorXd>& anchor_ratio,
-                             double mu_target);
+                             const Eigen::Ref<const Eigen::VectorXd>& anchor_ratio, double mu_target);
 
 }  // namespace haptex::contact

@@ -6,8 +6,8 @@
 
 namespace haptex::contact {
 
-FingerFabricContact::FingerFabricContact(const Eigen::VectorXd& particle_area_m2,
-                                         const FingerShape& shape, const ContactOptions& options)
+FingerFabricContact::FingerFabricContact(const Eigen::VectorXd& particle_area_m2, const FingerShape& shape,
+                                         const ContactOptions& options)
     : shape_(shape),
       radius_eff_m_(shape.radius_m + options.fabric_half_thickness_m),
       k_N_per_m_(options.pad_stiffness_N_per_m3 * particle_area_m2),
@@ -31,9 +31,8 @@ int FingerFabricContact::num_active() const {
 }
 
 void FingerFabricContact::Prepare(const FingerPose& pose, const textile::FabricState& state,
-                                  const std::vector<std::uint8_t>& excluded,
-                                  const FrictionCoefficients& mu, AnchorAccumulator* springs,
-                                  std::uint8_t excluded_bits) {
+                                  const std::vector<std::uint8_t>& excluded, const FrictionCoefficients& mu,
+                                  AnchorAccumulator* springs, std::uint8_t excluded_bits) {
   const Segment seg = CapsuleSegment(shape_, pose);
   const Eigen::Vector3d pad_normal = pose.R_WF.col(2);
   const double reach = radius_eff_m_ + 0.5 * shape_.length_m;
@@ -131,10 +130,9 @@ void FingerFabricContact::Prepare(const FingerPose& pose, const textile::FabricS
   } else {
     mu_target = mu.mu_dynamic;
   }
-  const double shared_mu =
-      mu_target < 0.0 ? 0.0
-                      : SharedSlipCoefficient(normal_resultant_W_N, slot_spring_W_N_.leftCols(m),
-                                              slot_ratio_.head(m), mu_target);
+  const double shared_mu = mu_target < 0.0 ? 0.0
+                                           : SharedSlipCoefficient(normal_resultant_W_N, slot_spring_W_N_.leftCols(m),
+                                                                   slot_ratio_.head(m), mu_target);
 
   for (int j = 0; j < m; ++j) {
     const int p = slot_particle_[static_cast<std::size_t>(j)];
@@ -143,8 +141,7 @@ void FingerFabricContact::Prepare(const FingerPose& pose, const textile::FabricS
     if (mu_target >= 0.0 && ratio > shared_mu) {
       // Slide between the old and the desired point, and stay on the curved surface.
       const double keep = shared_mu / ratio;
-      const Eigen::Vector3d between =
-          slot_free_W_.col(j) - (keep / k_N_per_m_[p]) * slot_spring_W_N_.col(j);
+      const Eigen::Vector3d between = slot_free_W_.col(j) - (keep / k_N_per_m_[p]) * slot_spring_W_N_.col(j);
       c.anchor_W = ProjectOntoCapsule(seg, radius_eff_m_, between, c.normal_W);
     }
     c.held_F = pose.ToFinger(c.anchor_W);

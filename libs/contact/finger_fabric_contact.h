@@ -31,23 +31,22 @@ namespace haptex::contact {
 
 /// What one finger's inverted proxies did over a step.
 struct FingerFabricResult {
-  Eigen::Vector3d force_W_N{Eigen::Vector3d::Zero()};     ///< on the finger
-  Eigen::Vector3d normal_W{Eigen::Vector3d::UnitZ()};     ///< mean outward contact normal
-  double normal_sum_N = 0.0;       ///< sum of per-particle normal forces
-  double sliding_normal_N = 0.0;   ///< part of normal_sum_N whose particles slide
+  Eigen::Vector3d force_W_N{Eigen::Vector3d::Zero()};  ///< on the finger
+  Eigen::Vector3d normal_W{Eigen::Vector3d::UnitZ()};  ///< mean outward contact normal
+  double normal_sum_N = 0.0;                           ///< sum of per-particle normal forces
+  double sliding_normal_N = 0.0;                       ///< part of normal_sum_N whose particles slide
   /// Sum of the per-particle friction springs on the finger (their tangential part).
   Eigen::Vector3d friction_W_N{Eigen::Vector3d::Zero()};
-  int particles = 0;               ///< particles in contact after the step
-  int strongest_particle = -1;     ///< particle with the largest normal force
-  Eigen::Vector2d touch_uv_m{Eigen::Vector2d::Zero()};    ///< normal-force weighted, patch rest uv
+  int particles = 0;                                          ///< particles in contact after the step
+  int strongest_particle = -1;                                ///< particle with the largest normal force
+  Eigen::Vector2d touch_uv_m{Eigen::Vector2d::Zero()};        ///< normal-force weighted, patch rest uv
   Eigen::Vector3d touch_velocity_W{Eigen::Vector3d::Zero()};  ///< fabric velocity there
 };
 
 class FingerFabricContact {
  public:
   /// `particle_area_m2` (size n): the fabric area each particle stands for.
-  FingerFabricContact(const Eigen::VectorXd& particle_area_m2, const FingerShape& shape,
-                      const ContactOptions& options);
+  FingerFabricContact(const Eigen::VectorXd& particle_area_m2, const FingerShape& shape, const ContactOptions& options);
 
   /// Before the fabric step, with the finger's pose at the end of the step: starts contacts for
   /// particles inside the finger, drops those now outside, applies Coulomb's law to the finger
@@ -57,14 +56,13 @@ class FingerFabricContact {
   /// they are certainly out of the finger's reach) and prescribed particles have no contact. The
   /// finger slides if any of its contacts is marked sliding (all are marked alike, so a patch
   /// hand-off that copies ParticleContact keeps the finger's state).
-  void Prepare(const FingerPose& pose, const textile::FabricState& state,
-               const std::vector<std::uint8_t>& excluded, const FrictionCoefficients& mu,
-               AnchorAccumulator* springs, std::uint8_t excluded_bits = 0xff);
+  void Prepare(const FingerPose& pose, const textile::FabricState& state, const std::vector<std::uint8_t>& excluded,
+               const FrictionCoefficients& mu, AnchorAccumulator* springs, std::uint8_t excluded_bits = 0xff);
 
   /// After the step: the force on the finger from the springs as the step applied them, the
   /// per-particle normal forces for the next step's friction, and where the finger touches.
-  void Resolve(const FingerPose& pose, const textile::FabricState& state,
-               const Eigen::MatrixX2d& rest_uv_m, FingerFabricResult* result);
+  void Resolve(const FingerPose& pose, const textile::FabricState& state, const Eigen::MatrixX2d& rest_uv_m,
+               FingerFabricResult* result);
 
   void Reset();
   int num_active() const;
@@ -94,7 +92,7 @@ class FingerFabricContact {
   bool dirty_ = false;  ///< particles_ may differ from the default (Reset has work to do)
   // Scratch of Prepare, one column/entry per contact (sized once: no allocation per tick).
   std::vector<int> slot_particle_;
-  Eigen::Matrix3Xd slot_free_W_;     ///< where the particle meets the surface
+  Eigen::Matrix3Xd slot_free_W_;      ///< where the particle meets the surface
   Eigen::Matrix3Xd slot_spring_W_N_;  ///< k_i s_i: friction spring, held point carried along
   Eigen::VectorXd slot_ratio_;        ///< k_i |s_i| / F_i^N
   /// Whether the active particles are still exactly slot_particle_[0, num_slots_) (in order)

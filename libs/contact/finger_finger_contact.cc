@@ -11,13 +11,11 @@ void FingerFingerContact::Reset() {
   sliding_ = false;
 }
 
-double FingerFingerContact::Gap(const ContactOptions& o, const FingerPose& thumb,
-                                const FingerPose& index, Eigen::Vector3d* normal_W,
-                                Eigen::Vector3d* closest_thumb_W,
+double FingerFingerContact::Gap(const ContactOptions& o, const FingerPose& thumb, const FingerPose& index,
+                                Eigen::Vector3d* normal_W, Eigen::Vector3d* closest_thumb_W,
                                 Eigen::Vector3d* closest_index_W) {
   Eigen::Vector3d ct, ci;
-  ClosestPointsBetweenSegments(CapsuleSegment(o.thumb, thumb), CapsuleSegment(o.index, index), &ct,
-                               &ci);
+  ClosestPointsBetweenSegments(CapsuleSegment(o.thumb, thumb), CapsuleSegment(o.index, index), &ct, &ci);
   const Eigen::Vector3d d = ci - ct;
   const double dist = d.norm();
   // Coincident axes: fall back to the thumb's pad normal (the palmar sides face each other).
@@ -27,9 +25,8 @@ double FingerFingerContact::Gap(const ContactOptions& o, const FingerPose& thumb
   return dist - o.thumb.radius_m - o.index.radius_m;
 }
 
-FingerFingerResult FingerFingerContact::Update(const FingerPose& thumb, const FingerPose& index,
-                                               double gap_offset_m, const FrictionCoefficients& mu,
-                                               bool with_friction) {
+FingerFingerResult FingerFingerContact::Update(const FingerPose& thumb, const FingerPose& index, double gap_offset_m,
+                                               const FrictionCoefficients& mu, bool with_friction) {
   FingerFingerResult r;
   Eigen::Vector3d n, ct;
   const double gap = Gap(options_, thumb, index, &n, &ct, nullptr) - gap_offset_m;

@@ -17,8 +17,8 @@ struct FingerFingerResult {
   double penetration_m = 0.0;
   double normal_N = 0.0;
   double tangential_N = 0.0;
-  Eigen::Vector3d normal_W{Eigen::Vector3d::UnitZ()};    ///< from the thumb towards the index
-  Eigen::Vector3d force_on_index_W_N{Eigen::Vector3d::Zero()};  ///< the thumb gets the opposite
+  Eigen::Vector3d normal_W{Eigen::Vector3d::UnitZ()};                  ///< from the thumb towards the index
+  Eigen::Vector3d force_on_index_W_N{Eigen::Vector3d::Zero()};         ///< the thumb gets the opposite
   Eigen::Matrix3d stiffness_index_W_N_per_m{Eigen::Matrix3d::Zero()};  ///< d F_index / d x_index
 };
 
@@ -32,9 +32,8 @@ class FingerFingerContact {
                             const FrictionCoefficients& mu, bool with_friction);
   void Reset();
   /// Gap between the finger surfaces (negative: they overlap) and the unit normal thumb -> index.
-  static double Gap(const ContactOptions& options, const FingerPose& thumb,
-                    const FingerPose& index, Eigen::Vector3d* normal_W,
-                    Eigen::Vector3d* closest_thumb_W, Eigen::Vector3d* closest_index_W);
+  static double Gap(const ContactOptions& options, const FingerPose& thumb, const FingerPose& index,
+                    Eigen::Vector3d* normal_W, Eigen::Vector3d* closest_thumb_W, Eigen::Vector3d* closest_index_W);
 
  private:
   ContactOptions options_;

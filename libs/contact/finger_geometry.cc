@@ -22,8 +22,7 @@ Segment CapsuleSegment(const FingerShape& shape, const FingerPose& pose) {
   return {pose.p_W_m - half, pose.p_W_m + half};
 }
 
-Eigen::Vector3d ClosestPointOnSegment(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                                      const Eigen::Vector3d& q) {
+Eigen::Vector3d ClosestPointOnSegment(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& q) {
   const Eigen::Vector3d ab = b - a;
   const double len2 = ab.squaredNorm();
   if (len2 <= 0.0) return a;
@@ -31,8 +30,8 @@ Eigen::Vector3d ClosestPointOnSegment(const Eigen::Vector3d& a, const Eigen::Vec
   return a + t * ab;
 }
 
-void ClosestPointsBetweenSegments(const Segment& first, const Segment& second,
-                                  Eigen::Vector3d* on_first, Eigen::Vector3d* on_second) {
+void ClosestPointsBetweenSegments(const Segment& first, const Segment& second, Eigen::Vector3d* on_first,
+                                  Eigen::Vector3d* on_second) {
   // Ericson, Real-Time Collision Detection, 5.1.9 (clamped parameters).
   const Eigen::Vector3d d1 = first.b_W - first.a_W;
   const Eigen::Vector3d d2 = second.b_W - second.a_W;
@@ -80,8 +79,7 @@ SurfaceQuery QueryCapsule(const Segment& segment, double radius_m, const Eigen::
   return out;
 }
 
-Eigen::Vector3d ProjectOntoCapsule(const Segment& segment, double radius_m,
-                                   const Eigen::Vector3d& q_W,
+Eigen::Vector3d ProjectOntoCapsule(const Segment& segment, double radius_m, const Eigen::Vector3d& q_W,
                                    const Eigen::Vector3d& fallback_normal_W) {
   return QueryCapsule(segment, radius_m, q_W, fallback_normal_W).surface_W;
 }

@@ -20,9 +20,7 @@ struct FingerPose {
   Eigen::Matrix3d R_WF{Eigen::Matrix3d::Identity()};
 
   Eigen::Vector3d ToWorld(const Eigen::Vector3d& p_F) const { return p_W_m + R_WF * p_F; }
-  Eigen::Vector3d ToFinger(const Eigen::Vector3d& p_W) const {
-    return R_WF.transpose() * (p_W - p_W_m);
-  }
+  Eigen::Vector3d ToFinger(const Eigen::Vector3d& p_W) const { return R_WF.transpose() * (p_W - p_W_m); }
 };
 
 /// A pose centred at `centre_W` whose pad (+z_F) faces `pad_normal_W`, with the distal axis (+x_F)
@@ -38,12 +36,11 @@ struct Segment {
 Segment CapsuleSegment(const FingerShape& shape, const FingerPose& pose);
 
 /// Closest point to q on segment [a, b].
-Eigen::Vector3d ClosestPointOnSegment(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                                      const Eigen::Vector3d& q);
+Eigen::Vector3d ClosestPointOnSegment(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& q);
 
 /// Closest points between two segments (s on the first, t on the second).
-void ClosestPointsBetweenSegments(const Segment& first, const Segment& second,
-                                  Eigen::Vector3d* on_first, Eigen::Vector3d* on_second);
+void ClosestPointsBetweenSegments(const Segment& first, const Segment& second, Eigen::Vector3d* on_first,
+                                  Eigen::Vector3d* on_second);
 
 /// Where a point is relative to a capsule of radius `radius_m` (the finger radius plus any
 /// contact offset): depth > 0 inside; surface point and outward unit normal at the nearest
@@ -57,8 +54,7 @@ SurfaceQuery QueryCapsule(const Segment& segment, double radius_m, const Eigen::
                           const Eigen::Vector3d& fallback_normal_W);
 
 /// Projects q onto the capsule surface (radius_m): the nearest surface point.
-Eigen::Vector3d ProjectOntoCapsule(const Segment& segment, double radius_m,
-                                   const Eigen::Vector3d& q_W,
+Eigen::Vector3d ProjectOntoCapsule(const Segment& segment, double radius_m, const Eigen::Vector3d& q_W,
                                    const Eigen::Vector3d& fallback_normal_W);
 
 }  // namespace haptex::contact

@@ -5,8 +5,7 @@
 namespace haptex::contact {
 
 PatchSimulation::PatchSimulation(textile::FabricModel model, textile::FabricState state,
-                                 const textile::StepOptions& step_options,
-                                 const ContactOptions& contact_options,
+                                 const textile::StepOptions& step_options, const ContactOptions& contact_options,
                                  const Eigen::Vector2d& uv_origin_m)
     : model_(std::make_unique<textile::FabricModel>(std::move(model))),
       state_(std::move(state)),

@@ -18,9 +18,8 @@ class PatchSimulation {
  public:
   /// Takes the patch's model and initial state (prescribed particles stay prescribed).
   /// @throws std::invalid_argument for invalid step or contact options.
-  PatchSimulation(textile::FabricModel model, textile::FabricState state,
-                  const textile::StepOptions& step_options, const ContactOptions& contact_options,
-                  const Eigen::Vector2d& uv_origin_m = Eigen::Vector2d::Zero());
+  PatchSimulation(textile::FabricModel model, textile::FabricState state, const textile::StepOptions& step_options,
+                  const ContactOptions& contact_options, const Eigen::Vector2d& uv_origin_m = Eigen::Vector2d::Zero());
   PatchSimulation(const PatchSimulation&) = delete;
   PatchSimulation& operator=(const PatchSimulation&) = delete;
 

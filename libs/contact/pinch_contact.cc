@@ -77,8 +77,8 @@ PinchContact::PinchContact(const textile::FabricModel& patch, const ContactOptio
   for (std::size_t i = 0; i < lane_w_.size(); ++i) lane_wk_full_[i] = lane_w_[i] * lane_k_full_[4 * (i / 12) + i % 4];
   // Thresholds on squared distances in C, with the margin of the fast classification.
   const double rt2 = radius_thumb_m_ * radius_thumb_m_, ri2 = radius_index_m_ * radius_index_m_;
-  const double reach = std::min(radius_thumb_m_ + 0.5 * options_.thumb.length_m,
-                                radius_index_m_ + 0.5 * options_.index.length_m);
+  const double reach =
+      std::min(radius_thumb_m_ + 0.5 * options_.thumb.length_m, radius_index_m_ + 0.5 * options_.index.length_m);
   edge_ramp_m_ = std::max(options_.pinch_edge_ramp_m, 0.0);
   const double full_t = radius_thumb_m_ - edge_ramp_m_, full_i = radius_index_m_ - edge_ramp_m_;
   thresholds_.reach2_m2 = reach * reach;
@@ -260,8 +260,7 @@ bool PinchContact::ClassifySamples() {
       num_classify += same ? 0 : 1;
     } else if (held) {
       held = 0;
-      std::fill_n(k_.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(t) * lanes),
-                  per_triangle_, 0.0);
+      std::fill_n(k_.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(t) * lanes), per_triangle_, 0.0);
     }
   }
 
@@ -338,8 +337,8 @@ void PinchContact::ApplyFriction(const FrictionCoefficients& mu) {
   in.normal_per_stiffness_m = grip_N_ / weight_sum_;
   in.mu_static = 2.0 * mu.mu_static;
   in.mu_dynamic = 2.0 * mu.mu_dynamic;
-  const internal::PinchFrictionTotals totals = internal::ApplyPinchFriction(
-      Layout(), in, SampleArrays(), touch_sums_.data(), touch_w_.data(), avx2_);
+  const internal::PinchFrictionTotals totals =
+      internal::ApplyPinchFriction(Layout(), in, SampleArrays(), touch_sums_.data(), touch_w_.data(), avx2_);
   k_ideal_C_ = Eigen::Vector2d(totals.k_ideal_x_N, totals.k_ideal_y_N);
   num_sliding_ = totals.sliding;
   last_triangle_ = active_triangles_[static_cast<std::size_t>(num_active_triangles_ - 1)];
@@ -356,13 +355,12 @@ void PinchContact::LumpSprings(const textile::FabricState& state, AnchorAccumula
     if (state.mode[up] != textile::ParticleMode::kFree) continue;
     const internal::PinchParticleSums& sum = touch_sums_[up];
     const double k = sum.k_N_per_m;
-    springs->AddMoment(p, k, k * state.x_W_m.segment<3>(3 * p) +
-                                 R_WC_ * Eigen::Vector3d(sum.kd_x_N, sum.kd_y_N, sum.kd_z_N));
+    springs->AddMoment(p, k,
+                       k * state.x_W_m.segment<3>(3 * p) + R_WC_ * Eigen::Vector3d(sum.kd_x_N, sum.kd_y_N, sum.kd_z_N));
   }
 }
 
-void PinchContact::Resolve(const textile::FabricState& state, const Eigen::MatrixX2d& rest_uv_m,
-                           PinchResult* result) {
+void PinchContact::Resolve(const textile::FabricState& state, const Eigen::MatrixX2d& rest_uv_m, PinchResult* result) {
   *result = PinchResult{};
   result->active = active_;
   result->normal_W = R_WC_.col(2);
@@ -380,8 +378,8 @@ void PinchContact::Resolve(const textile::FabricState& state, const Eigen::Matri
   }
   const Eigen::Vector3d n = R_WC_.col(2);
   const Eigen::Vector3d k_anchor = R_WC_.col(0) * k_ideal_C_.x() + R_WC_.col(1) * k_ideal_C_.y();
-  result->fabric_force_W_N = k_anchor - kq;                   // sum k (anchor - q)
-  result->friction_W_N = (kq - kq.dot(n) * n) - k_anchor;     // sum k (free - anchor)
+  result->fabric_force_W_N = k_anchor - kq;                // sum k (anchor - q)
+  result->friction_W_N = (kq - kq.dot(n) * n) - k_anchor;  // sum k (free - anchor)
   result->samples = num_active_;
   result->sliding_samples = num_sliding_;
   result->touch_triangle = last_triangle_;

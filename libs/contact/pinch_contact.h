@@ -28,13 +28,13 @@ struct PinchResult {
   bool active = false;
   int samples = 0;
   int sliding_samples = 0;
-  double grip_N = 0.0;                       ///< normal force between the fingers
-  Eigen::Vector3d normal_W{Eigen::Vector3d::UnitZ()};  ///< z_C: thumb -> index
+  double grip_N = 0.0;                                        ///< normal force between the fingers
+  Eigen::Vector3d normal_W{Eigen::Vector3d::UnitZ()};         ///< z_C: thumb -> index
   Eigen::Vector3d fabric_force_W_N{Eigen::Vector3d::Zero()};  ///< sum of sample springs on the fabric
-  Eigen::Vector3d friction_W_N{Eigen::Vector3d::Zero()};  ///< in-plane part of it, on the fingers
+  Eigen::Vector3d friction_W_N{Eigen::Vector3d::Zero()};      ///< in-plane part of it, on the fingers
   Eigen::Vector2d touch_uv_m{Eigen::Vector2d::Zero()};        ///< mean rest uv of the samples
   Eigen::Vector3d touch_velocity_W{Eigen::Vector3d::Zero()};
-  int touch_triangle = -1;                   ///< a triangle under the samples (tangent frame)
+  int touch_triangle = -1;  ///< a triangle under the samples (tangent frame)
 };
 
 /// PinchContact::Prepare's marks of a particle (bits): in both fingers (the pinch's alone), and
@@ -52,12 +52,10 @@ class PinchContact {
   /// (both faces grip: the limit is 2 mu times the sample's share of the grip), marks the
   /// particles in `owned` (kPinchOwnedBit and the others), and adds the samples' springs (lumped onto their triangle's
   /// particles) to `springs`. Returns false when no fabric lies in the intersection.
-  bool Prepare(const FingerPose& thumb, const FingerPose& index, double grip_N,
-               const FrictionCoefficients& mu, const textile::FabricState& state,
-               std::vector<std::uint8_t>* owned, AnchorAccumulator* springs);
+  bool Prepare(const FingerPose& thumb, const FingerPose& index, double grip_N, const FrictionCoefficients& mu,
+               const textile::FabricState& state, std::vector<std::uint8_t>* owned, AnchorAccumulator* springs);
   /// After the step: the forces as applied and where the fabric is touched.
-  void Resolve(const textile::FabricState& state, const Eigen::MatrixX2d& rest_uv_m,
-               PinchResult* result);
+  void Resolve(const textile::FabricState& state, const Eigen::MatrixX2d& rest_uv_m, PinchResult* result);
   void Reset();
   bool active() const { return active_; }
 
@@ -114,8 +112,8 @@ class PinchContact {
   const textile::FabricModel& patch_;
   ContactOptions options_;
   double radius_thumb_m_, radius_index_m_;  ///< reach of the pinch: radius + 2 half thicknesses
-  double k_N_per_m_;  ///< per sample (uniform mesh: triangle area / samples)
-  double edge_ramp_m_ = 0.0;  ///< the springs ramp in over this depth (options, at least 0)
+  double k_N_per_m_;                        ///< per sample (uniform mesh: triangle area / samples)
+  double edge_ramp_m_ = 0.0;                ///< the springs ramp in over this depth (options, at least 0)
   /// Squared distances in C [m^2], margins for rounding included (kMargin): near the
   /// intersection within reach2 of the origin; certainly inside a finger below in_*2, certainly
   /// outside above out_*2, certainly deeper than the ramp below full_*2 (-1: never).
@@ -127,14 +125,14 @@ class PinchContact {
     /// exceeds far_*_r2 + far_*_diam d^2 (a bound of (radius + d)^2, margin included).
     double far_thumb_r2 = 0.0, far_thumb_diam = 0.0, far_index_r2 = 0.0, far_index_diam = 0.0;
   } thresholds_;
-  int per_triangle_ = 1;  ///< samples per triangle
-  int lanes_per_triangle_ = 4;  ///< per_triangle_ rounded up to whole 4-lane chunks
-  bool avx2_ = false;  ///< the friction kernel's AVX2 build (same results)
+  int per_triangle_ = 1;                        ///< samples per triangle
+  int lanes_per_triangle_ = 4;                  ///< per_triangle_ rounded up to whole 4-lane chunks
+  bool avx2_ = false;                           ///< the friction kernel's AVX2 build (same results)
   std::vector<std::array<int, 3>> triangle_p_;  ///< particles of each triangle (compact copy)
   // Every candidate point, fixed at construction: per lane (pinch_sample_lanes.h), triangle-major.
   std::vector<double> ideal_x_, ideal_y_;  ///< ideal position on the contact plane, in C
-  std::vector<double> k_;  ///< spring during the last step (ramps in near the edge); 0: inactive
-  std::vector<long long> sliding_;  ///< -1 sliding, 0 sticking
+  std::vector<double> k_;                  ///< spring during the last step (ramps in near the edge); 0: inactive
+  std::vector<long long> sliding_;         ///< -1 sliding, 0 sticking
   std::vector<double> lane_w_, lane_k_full_, w_sum_full_, lane_wk_full_;  ///< internal::PinchSampleLayout's
   /// Per triangle, a PinchTriangleHold: kNone if none of its samples is active, kAllFull if the
   /// last classification left every sample at the full spring (and nothing changed them since).
@@ -147,16 +145,16 @@ class PinchContact {
   std::vector<internal::PinchOwned> particle_owned_;
   std::vector<std::uint8_t> beyond_;
   std::vector<double> d2_thumb_, d2_index_;  ///< squared distance to each axis
-  std::vector<double> x_C_;  ///< position in C (at Prepare), 4 doubles per particle
+  std::vector<double> x_C_;                  ///< position in C (at Prepare), 4 doubles per particle
   // Per triangle (the first entries in use), sized at construction.
   std::vector<int> candidates_;  ///< triangles that may hold a sample, ascending
   /// Per candidate: deep and all at the full spring last tick, so left as it is.
   std::vector<std::uint8_t> candidate_unchanged_;
-  std::vector<int> classify_;  ///< the candidates not unchanged, ascending
-  std::vector<std::uint8_t> classify_deep_;  ///< per entry of classify_: kPinchDeep or kPinchNotDeep
+  std::vector<int> classify_;                      ///< the candidates not unchanged, ascending
+  std::vector<std::uint8_t> classify_deep_;        ///< per entry of classify_: kPinchDeep or kPinchNotDeep
   std::vector<internal::PinchTriangleHold> hold_;  ///< per entry of classify_
-  std::vector<int> active_triangles_;  ///< triangles with an active sample, ascending
-  std::vector<std::uint8_t> active_full_;  ///< per entry: all its samples active at the full spring
+  std::vector<int> active_triangles_;              ///< triangles with an active sample, ascending
+  std::vector<std::uint8_t> active_full_;          ///< per entry: all its samples active at the full spring
   int num_active_triangles_ = 0;
   // What Resolve needs, per particle touched by an active sample: sums of w k (ideal - q) and of
   // w k, and of w, over the samples on it (the samples' springs and touch points are linear in

@@ -23,9 +23,7 @@ using base::lanes::V4;
 using base::lanes::Where;
 
 // Sum of the four lanes of a count (masks subtracted: +1 per set lane).
-HAPTEX_LANES_INLINE int LaneCount(M4 count) {
-  return static_cast<int>((count[0] + count[1]) + (count[2] + count[3]));
-}
+HAPTEX_LANES_INLINE int LaneCount(M4 count) { return static_cast<int>((count[0] + count[1]) + (count[2] + count[3])); }
 
 HAPTEX_LANES_INLINE V4 Load(const double* p) {
   V4 v;
@@ -143,8 +141,7 @@ HAPTEX_LANES_INLINE int Corners(const PinchTriangleList& list, int a, const doub
 // kChunks: the chunks per triangle as a constant (0: layout.chunks), so that one-chunk
 // triangles (the default, 2 samples per edge) keep every vector in a register.
 template <int kChunks>
-HAPTEX_LANES_INLINE PinchClassifyTotals ClassifyKernel(const PinchSampleLayout& layout,
-                                                       const PinchClassifyInput& in,
+HAPTEX_LANES_INLINE PinchClassifyTotals ClassifyKernel(const PinchSampleLayout& layout, const PinchClassifyInput& in,
                                                        const PinchSampleArrays& s, PinchTriangleHold* hold) {
   const int chunks = kChunks > 0 ? kChunks : layout.chunks;
   const double k_full = layout.k_full_N_per_m;
@@ -224,8 +221,7 @@ HAPTEX_LANES_INLINE PinchClassifyTotals ClassifyKernel(const PinchSampleLayout& 
 }
 
 template <int kChunks>
-HAPTEX_LANES_INLINE PinchFrictionTotals FrictionKernel(const PinchSampleLayout& layout,
-                                                       const PinchFrictionInput& in,
+HAPTEX_LANES_INLINE PinchFrictionTotals FrictionKernel(const PinchSampleLayout& layout, const PinchFrictionInput& in,
                                                        const PinchSampleArrays& s, PinchParticleSums* sums,
                                                        double* w_sums) {
   const double gps = in.normal_per_stiffness_m;
@@ -343,14 +339,13 @@ __attribute__((target("avx2"))) void LocateAvx2(const PinchLocateInput& in, cons
 }
 __attribute__((target("avx2"))) PinchClassifyTotals ClassifyAvx2(const PinchSampleLayout& layout,
                                                                  const PinchClassifyInput& in,
-                                                                 const PinchSampleArrays& s,
-                                                                 PinchTriangleHold* hold) {
+                                                                 const PinchSampleArrays& s, PinchTriangleHold* hold) {
   return layout.chunks == 1 ? ClassifyKernel<1>(layout, in, s, hold) : ClassifyKernel<0>(layout, in, s, hold);
 }
 __attribute__((target("avx2"))) PinchFrictionTotals FrictionAvx2(const PinchSampleLayout& layout,
                                                                  const PinchFrictionInput& in,
-                                                                 const PinchSampleArrays& s,
-                                                                 PinchParticleSums* sums, double* w_sums) {
+                                                                 const PinchSampleArrays& s, PinchParticleSums* sums,
+                                                                 double* w_sums) {
   return layout.chunks == 1 ? FrictionKernel<1>(layout, in, s, sums, w_sums)
                             : FrictionKernel<0>(layout, in, s, sums, w_sums);
 }
@@ -369,8 +364,7 @@ void LocatePinchParticles(const PinchLocateInput& in, const PinchParticleArrays&
 }
 
 PinchClassifyTotals ClassifyPinchSamples(const PinchSampleLayout& layout, const PinchClassifyInput& in,
-                                         const PinchSampleArrays& samples, PinchTriangleHold* hold,
-                                         bool avx2) {
+                                         const PinchSampleArrays& samples, PinchTriangleHold* hold, bool avx2) {
 #ifdef HAPTEX_X86_KERNELS
   HAPTEX_DEMAND(!avx2 || base::CpuHasAvx2());  // else SIGILL
   if (avx2) return ClassifyAvx2(layout, in, samples, hold);
@@ -381,8 +375,8 @@ PinchClassifyTotals ClassifyPinchSamples(const PinchSampleLayout& layout, const 
 }
 
 PinchFrictionTotals ApplyPinchFriction(const PinchSampleLayout& layout, const PinchFrictionInput& in,
-                                       const PinchSampleArrays& samples, PinchParticleSums* sums,
-                                       double* w_sums, bool avx2) {
+                                       const PinchSampleArrays& samples, PinchParticleSums* sums, double* w_sums,
+                                       bool avx2) {
 #ifdef HAPTEX_X86_KERNELS
   HAPTEX_DEMAND(!avx2 || base::CpuHasAvx2());  // else SIGILL
   if (avx2) return FrictionAvx2(layout, in, samples, sums, w_sums);

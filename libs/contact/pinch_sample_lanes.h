@@ -69,9 +69,9 @@ struct PinchParticleArrays {
   double* x_C_m = nullptr;        ///< position in C, (x, y, z, pad)
   double* d2_thumb_m2 = nullptr;  ///< squared distance to the thumb's axis
   double* d2_index_m2 = nullptr;
-  std::uint8_t* near = nullptr;  ///< near the intersection (only its triangles can hold samples)
-  std::uint8_t* deep = nullptr;  ///< below both full_*2 (false for a NaN distance)
-  PinchOwned* owned = nullptr;   ///< kNo for particles not near
+  std::uint8_t* near = nullptr;    ///< near the intersection (only its triangles can hold samples)
+  std::uint8_t* deep = nullptr;    ///< below both full_*2 (false for a NaN distance)
+  PinchOwned* owned = nullptr;     ///< kNo for particles not near
   std::uint8_t* beyond = nullptr;  ///< bit 0: above out_thumb2, bit 1: above out_index2 (certainly outside)
 };
 
@@ -80,9 +80,9 @@ void LocatePinchParticles(const PinchLocateInput& in, const PinchParticleArrays&
 
 /// The triangles a kernel works on, and where their corners are.
 struct PinchTriangleList {
-  const double* x_C_m = nullptr;  ///< 4 per particle: positions in C (PinchParticleArrays)
+  const double* x_C_m = nullptr;                   ///< 4 per particle: positions in C (PinchParticleArrays)
   const std::array<int, 3>* triangle_p = nullptr;  ///< corners of each triangle of the patch
-  const int* triangles = nullptr;  ///< the triangles, ascending
+  const int* triangles = nullptr;                  ///< the triangles, ascending
   int num_triangles = 0;
 };
 
@@ -114,8 +114,8 @@ struct PinchClassifyTotals {
 
 /// What the law needs this tick.
 struct PinchFrictionInput {
-  PinchTriangleList list;              ///< the triangles with an active sample
-  const std::uint8_t* full = nullptr;  ///< per entry: every sample active at the full spring
+  PinchTriangleList list;                    ///< the triangles with an active sample
+  const std::uint8_t* full = nullptr;        ///< per entry: every sample active at the full spring
   double normal_per_stiffness_m = 0.0;       ///< a sample's share of the grip per N/m of its spring
   double mu_static = 0.0, mu_dynamic = 0.0;  ///< per sample: both faces grip (2 mu)
 };
@@ -138,15 +138,14 @@ struct PinchFrictionTotals {
 /// entry per triangle. Entries marked deep hold every sample at the full spring (the distance to
 /// an axis is convex: no point is farther than the farthest corner).
 PinchClassifyTotals ClassifyPinchSamples(const PinchSampleLayout& layout, const PinchClassifyInput& in,
-                                         const PinchSampleArrays& samples, PinchTriangleHold* hold,
-                                         bool avx2);
+                                         const PinchSampleArrays& samples, PinchTriangleHold* hold, bool avx2);
 
 /// Applies the law to every sample of the listed triangles (updating ideal positions and sliding
 /// flags) and adds their springs to `sums` and their weights to `w_sums` (per particle, in
 /// triangle order). A grip of 0 leaves no friction: the ideal positions follow q.
 /// `avx2` picks the AVX2 build (only where the CPU has it); the results are the same.
 PinchFrictionTotals ApplyPinchFriction(const PinchSampleLayout& layout, const PinchFrictionInput& in,
-                                       const PinchSampleArrays& samples, PinchParticleSums* sums,
-                                       double* w_sums, bool avx2);
+                                       const PinchSampleArrays& samples, PinchParticleSums* sums, double* w_sums,
+                                       bool avx2);
 
 }  // namespace haptex::contact::internal

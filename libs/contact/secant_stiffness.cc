@@ -5,8 +5,7 @@
 
 namespace haptex::contact {
 
-double SecantStiffness::Update(const Eigen::Vector3d& force_W_N, const Eigen::Vector3d& x_W_m,
-                               double dt_s) {
+double SecantStiffness::Update(const Eigen::Vector3d& force_W_N, const Eigen::Vector3d& x_W_m, double dt_s) {
   if (have_last_) {
     const Eigen::Vector3d dx = x_W_m - last_x_;
     const double dx2 = dx.squaredNorm();

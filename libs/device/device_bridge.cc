@@ -20,16 +20,17 @@ void DeviceBridgeConfig::Validate() const {
                                 std::to_string(disarm_after_tick_gap_s));
   }
   const Eigen::Matrix3d R = X_WD.linear();
-  if (!X_WD.matrix().allFinite() || !(R.transpose() * R).isIdentity(1e-9) ||
-      std::abs(R.determinant() - 1.0) > 1e-9) {
-    throw std::invalid_argument("DeviceBridgeConfig: X_WD must be a rigid transform (orthonormal "
-                                "rotation with determinant 1, finite translation)");
+  if (!X_WD.matrix().allFinite() || !(R.transpose() * R).isIdentity(1e-9) || std::abs(R.determinant() - 1.0) > 1e-9) {
+    throw std::invalid_argument(
+        "DeviceBridgeConfig: X_WD must be a rigid transform (orthonormal "
+        "rotation with determinant 1, finite translation)");
   }
-  if (!(value_limits.workspace_half_extent_m.array() > 0.0f).all() ||
-      !(value_limits.workspace_margin_m >= 0.0f) || !(value_limits.quaternion_norm_tolerance > 0.0f) ||
-      !(value_limits.max_measured_force_N > 0.0f) || !(value_limits.max_command_force_N > 0.0f)) {
-    throw std::invalid_argument("DeviceBridgeConfig: value_limits must be positive (workspace, "
-                                "margin >= 0, quaternion tolerance, force limits)");
+  if (!(value_limits.workspace_half_extent_m.array() > 0.0f).all() || !(value_limits.workspace_margin_m >= 0.0f) ||
+      !(value_limits.quaternion_norm_tolerance > 0.0f) || !(value_limits.max_measured_force_N > 0.0f) ||
+      !(value_limits.max_command_force_N > 0.0f)) {
+    throw std::invalid_argument(
+        "DeviceBridgeConfig: value_limits must be positive (workspace, "
+        "margin >= 0, quaternion tolerance, force limits)");
   }
 }
 
@@ -130,8 +131,7 @@ void DeviceBridge::Tick(double t_s, double dt_s, std::span<std::byte, kCommandFr
     // off only for the link's sake: force resumes over the short ramp once commands get through
     input.link_interruption = !blocked && link_hiccup;
     if (finger.has_model) {
-      const Eigen::Vector3d& p_W = config_.evaluate_at_predicted_pose ? finger.state.p_pred_W_m
-                                                                      : finger.state.p_W_m;
+      const Eigen::Vector3d& p_W = config_.evaluate_at_predicted_pose ? finger.state.p_pred_W_m : finger.state.p_W_m;
       input.requested_W_N = EvaluateForceModel(finger.model, p_W);
       input.model_age_s = std::max(0.0, t_s - finger.model_rx_s);
       input.model_ttl_s = finger.model.ttl_s;

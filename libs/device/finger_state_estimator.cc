@@ -31,9 +31,8 @@ void FingerStateEstimatorConfig::Validate() const {
                                 std::to_string(velocity_cutoff_Hz));
   }
   if (!(prediction_horizon_s >= 0.0) || !(prediction_horizon_s <= 0.1)) {
-    throw std::invalid_argument(
-        "FingerStateEstimatorConfig: prediction_horizon_s must be in [0, 0.1] s, got " +
-        std::to_string(prediction_horizon_s));
+    throw std::invalid_argument("FingerStateEstimatorConfig: prediction_horizon_s must be in [0, 0.1] s, got " +
+                                std::to_string(prediction_horizon_s));
   }
   if (!(max_sample_gap_s > 0.0) || !std::isfinite(max_sample_gap_s)) {
     throw std::invalid_argument("FingerStateEstimatorConfig: max_sample_gap_s must be > 0, got " +
@@ -41,8 +40,7 @@ void FingerStateEstimatorConfig::Validate() const {
   }
 }
 
-FingerStateEstimator::FingerStateEstimator(const FingerStateEstimatorConfig& config)
-    : config_(config), tau_s_(0.0) {
+FingerStateEstimator::FingerStateEstimator(const FingerStateEstimatorConfig& config) : config_(config), tau_s_(0.0) {
   config_.Validate();
   tau_s_ = 1.0 / (2.0 * std::numbers::pi * config_.velocity_cutoff_Hz);
 }

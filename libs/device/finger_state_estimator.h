@@ -31,8 +31,8 @@ class FingerStateEstimator {
 
   /// Folds one measured pose into `*state` (pose, velocities, prediction). `controller_time_ns`
   /// must not go backwards; an equal time only refreshes the pose.
-  void Update(const Eigen::Vector3d& p_W_m, const Eigen::Quaterniond& q_WF,
-              std::uint64_t controller_time_ns, FingerState* state);
+  void Update(const Eigen::Vector3d& p_W_m, const Eigen::Quaterniond& q_WF, std::uint64_t controller_time_ns,
+              FingerState* state);
 
   /// Forgets history: the next Update starts from zero velocity.
   void Reset();

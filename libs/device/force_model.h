@@ -8,9 +8,9 @@ namespace haptex::device {
 
 /// Force on one fingertip as an affine function of its position. World frame W.
 struct ForceModel {
-  Eigen::Vector3d force0_W_N{Eigen::Vector3d::Zero()};   ///< F0: force at the anchor
+  Eigen::Vector3d force0_W_N{Eigen::Vector3d::Zero()};           ///< F0: force at the anchor
   Eigen::Matrix3d stiffness_W_N_per_m{Eigen::Matrix3d::Zero()};  ///< K = dF/dx (negative for a wall)
-  Eigen::Vector3d x0_W_m{Eigen::Vector3d::Zero()};      ///< anchor position
+  Eigen::Vector3d x0_W_m{Eigen::Vector3d::Zero()};               ///< anchor position
   /// How long after its arrival the model may be used; the bridge also caps this by its own
   /// staleness limit (ForceSafetyConfig::stale_after_s).
   double ttl_s = 0.010;

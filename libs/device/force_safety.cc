@@ -38,24 +38,20 @@ bool ClampNorm(double max_norm, Eigen::Vector3d* v) {
 void ForceSafetyConfig::Validate() const {
   Require(peak_force_N > 0.0 && peak_force_N <= kDevicePeakForce_N, "peak_force_N",
           "must be in (0, " + std::to_string(kDevicePeakForce_N) + "] N (device peak)", peak_force_N);
-  Require(continuous_force_N > 0.0 && continuous_force_N <= kDeviceContinuousForce_N &&
-              continuous_force_N <= peak_force_N,
-          "continuous_force_N", "must be in (0, min(peak_force_N, 6 N)]", continuous_force_N);
-  Require(continuous_window_s > 0.0 && std::isfinite(continuous_window_s), "continuous_window_s",
-          "must be > 0 s", continuous_window_s);
-  Require(slew_N_per_tick > 0.0 && std::isfinite(slew_N_per_tick), "slew_N_per_tick",
-          "must be > 0 N", slew_N_per_tick);
+  Require(
+      continuous_force_N > 0.0 && continuous_force_N <= kDeviceContinuousForce_N && continuous_force_N <= peak_force_N,
+      "continuous_force_N", "must be in (0, min(peak_force_N, 6 N)]", continuous_force_N);
+  Require(continuous_window_s > 0.0 && std::isfinite(continuous_window_s), "continuous_window_s", "must be > 0 s",
+          continuous_window_s);
+  Require(slew_N_per_tick > 0.0 && std::isfinite(slew_N_per_tick), "slew_N_per_tick", "must be > 0 N", slew_N_per_tick);
   Require(stale_after_s > 0.0, "stale_after_s", "must be > 0 s", stale_after_s);
   Require(stale_ramp_s >= 0.0, "stale_ramp_s", "must be >= 0 s", stale_ramp_s);
-  Require(stale_after_s + stale_ramp_s <= kMaxForceModelSilence_s + 1e-12,
-          "stale_after_s + stale_ramp_s", "must be <= 0.020 s (zero force 20 ms after the last model)",
-          stale_after_s + stale_ramp_s);
-  Require(startup_ramp_s >= 0.0 && std::isfinite(startup_ramp_s), "startup_ramp_s",
-          "must be >= 0 s", startup_ramp_s);
-  Require(resume_ramp_s >= 0.0 && std::isfinite(resume_ramp_s), "resume_ramp_s", "must be >= 0 s",
-          resume_ramp_s);
-  Require(resume_within_s >= 0.0 && std::isfinite(resume_within_s), "resume_within_s",
-          "must be >= 0 s", resume_within_s);
+  Require(stale_after_s + stale_ramp_s <= kMaxForceModelSilence_s + 1e-12, "stale_after_s + stale_ramp_s",
+          "must be <= 0.020 s (zero force 20 ms after the last model)", stale_after_s + stale_ramp_s);
+  Require(startup_ramp_s >= 0.0 && std::isfinite(startup_ramp_s), "startup_ramp_s", "must be >= 0 s", startup_ramp_s);
+  Require(resume_ramp_s >= 0.0 && std::isfinite(resume_ramp_s), "resume_ramp_s", "must be >= 0 s", resume_ramp_s);
+  Require(resume_within_s >= 0.0 && std::isfinite(resume_within_s), "resume_within_s", "must be >= 0 s",
+          resume_within_s);
 }
 
 ForceSafety::ForceSafety(const ForceSafetyConfig& config) : config_(config) { config_.Validate(); }
@@ -110,8 +106,7 @@ SafetyOutput ForceSafety::Step(const SafetyInput& input, double dt_s) {
   } else {
     armed_s_ += dt_s;
   }
-  const double ramp_s =
-      resumable_ ? std::min(config_.resume_ramp_s, config_.startup_ramp_s) : config_.startup_ramp_s;
+  const double ramp_s = resumable_ ? std::min(config_.resume_ramp_s, config_.startup_ramp_s) : config_.startup_ramp_s;
   const double startup_gain = ramp_s > 0.0 ? std::min(1.0, armed_s_ / ramp_s) : 1.0;
   if (input.output_allowed && watchdog_gain > 0.0 && armed_s_ >= ramp_s - kTimeTolerance_s) {
     resumable_ = true;

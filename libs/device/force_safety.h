@@ -15,16 +15,16 @@ inline constexpr double kMaxForceModelSilence_s = 0.020;
 
 /// Limits of the safety stage. Validate() throws std::invalid_argument with a clear message.
 struct ForceSafetyConfig {
-  double peak_force_N = 20.0;        ///< |F| never exceeds this (direction kept)
+  double peak_force_N = 20.0;  ///< |F| never exceeds this (direction kept)
   /// RMS |F| over the window below never exceeds this (i^2 t style thermal limit). The allowed
   /// magnitude is peak when cold and falls linearly to this as the mean square approaches its square.
   double continuous_force_N = 6.0;
   /// Time constant of the exponentially weighted mean of |F|^2 used for the continuous limit.
   double continuous_window_s = 1.0;
-  double slew_N_per_tick = 0.5;      ///< max |F(k) - F(k-1)| per Step (2.5 kN/s at 5 kHz)
-  double stale_after_s = 0.010;      ///< a ForceModel is fresh for min(ttl, this) after arrival
-  double stale_ramp_s = 0.010;       ///< then the force ramps linearly to zero over this
-  double startup_ramp_s = 0.5;       ///< force scales in linearly over this after (re)arming
+  double slew_N_per_tick = 0.5;  ///< max |F(k) - F(k-1)| per Step (2.5 kN/s at 5 kHz)
+  double stale_after_s = 0.010;  ///< a ForceModel is fresh for min(ttl, this) after arrival
+  double stale_ramp_s = 0.010;   ///< then the force ramps linearly to zero over this
+  double startup_ramp_s = 0.5;   ///< force scales in linearly over this after (re)arming
   /// After a brief link interruption (SafetyInput::link_interruption) of a fully armed stage, the
   /// force scales in over this instead (at most startup_ramp_s): the user still holds the device
   /// where the force was, and a slow ramp lets squeezing fingers close through the virtual object
@@ -41,9 +41,9 @@ struct ForceSafetyConfig {
 /// Inputs of one safety step.
 struct SafetyInput {
   Eigen::Vector3d requested_W_N{Eigen::Vector3d::Zero()};  ///< evaluated ForceModel (may be NaN)
-  double model_age_s = 0.0;    ///< now minus arrival of the model; +inf if there is none
-  double model_ttl_s = 0.0;    ///< the model's own ttl
-  bool output_allowed = false; ///< device present, calibrated, not shut down
+  double model_age_s = 0.0;                                ///< now minus arrival of the model; +inf if there is none
+  double model_ttl_s = 0.0;                                ///< the model's own ttl
+  bool output_allowed = false;                             ///< device present, calibrated, not shut down
   /// Output is off only because the link to the controller hiccupped (the host's own loop stalled,
   /// or the controller reported that commands stopped reaching it); the device is still there.
   bool link_interruption = false;
@@ -59,12 +59,12 @@ struct SafetyOutput {
 /// Counters of everything the stage changed (one count per Step in which it happened).
 struct SafetyCounters {
   std::uint64_t steps = 0;
-  std::uint64_t non_finite = 0;          ///< NaN/Inf request replaced by zero
+  std::uint64_t non_finite = 0;  ///< NaN/Inf request replaced by zero
   std::uint64_t peak_limited = 0;
   std::uint64_t continuous_limited = 0;
   std::uint64_t slew_limited = 0;
-  std::uint64_t stale_steps = 0;         ///< model older than its freshness limit
-  std::uint64_t watchdog_zero_steps = 0; ///< force held at zero by the watchdog
+  std::uint64_t stale_steps = 0;          ///< model older than its freshness limit
+  std::uint64_t watchdog_zero_steps = 0;  ///< force held at zero by the watchdog
 };
 
 /// Per-manipulator safety stage. Order: NaN -> ramps (watchdog x start-up) -> peak and continuous
@@ -96,7 +96,7 @@ class ForceSafety {
   Eigen::Vector3d previous_W_N_{Eigen::Vector3d::Zero()};
   double mean_square_N2_ = 0.0;
   double armed_s_ = 0.0;
-  bool resumable_ = false;    ///< reached full scale, only brief link interruptions since
+  bool resumable_ = false;      ///< reached full scale, only brief link interruptions since
   double interrupted_s_ = 0.0;  ///< time without output since full scale was last reached
 };
 

@@ -77,11 +77,12 @@ FrameError CheckEnvelope(std::span<const std::byte> d, std::uint32_t magic, std:
   return FrameError::kNone;
 }
 
-bool AllFinite(const Eigen::Vector3f& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
+bool AllFinite(const Eigen::Vector3f& v) {
+  return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z());
+}
 
 FrameError CheckManipulator(const ManipulatorStatus& m, const GrabValueLimits& limits) {
-  if (!AllFinite(m.p_D_m) || !AllFinite(m.force_D_N) || !std::isfinite(m.q_DF.w()) ||
-      !AllFinite(m.q_DF.vec())) {
+  if (!AllFinite(m.p_D_m) || !AllFinite(m.force_D_N) || !std::isfinite(m.q_DF.w()) || !AllFinite(m.q_DF.vec())) {
     return FrameError::kNonFinite;
   }
   const Eigen::Vector3f bound = limits.workspace_half_extent_m.array() + limits.workspace_margin_m;
@@ -97,17 +98,28 @@ FrameError CheckManipulator(const ManipulatorStatus& m, const GrabValueLimits& l
 
 std::string_view FrameErrorName(FrameError error) {
   switch (error) {
-    case FrameError::kNone: return "accepted";
-    case FrameError::kTooShort: return "too_short";
-    case FrameError::kTooLong: return "too_long";
-    case FrameError::kBadMagic: return "bad_magic";
-    case FrameError::kBadVersion: return "bad_version";
-    case FrameError::kBadChecksum: return "bad_checksum";
-    case FrameError::kNonFinite: return "non_finite";
-    case FrameError::kOutOfWorkspace: return "out_of_workspace";
-    case FrameError::kBadQuaternion: return "bad_quaternion";
-    case FrameError::kForceOutOfRange: return "force_out_of_range";
-    case FrameError::kCount: break;
+    case FrameError::kNone:
+      return "accepted";
+    case FrameError::kTooShort:
+      return "too_short";
+    case FrameError::kTooLong:
+      return "too_long";
+    case FrameError::kBadMagic:
+      return "bad_magic";
+    case FrameError::kBadVersion:
+      return "bad_version";
+    case FrameError::kBadChecksum:
+      return "bad_checksum";
+    case FrameError::kNonFinite:
+      return "non_finite";
+    case FrameError::kOutOfWorkspace:
+      return "out_of_workspace";
+    case FrameError::kBadQuaternion:
+      return "bad_quaternion";
+    case FrameError::kForceOutOfRange:
+      return "force_out_of_range";
+    case FrameError::kCount:
+      break;
   }
   return "invalid";
 }
@@ -155,10 +167,8 @@ void EncodeCommandFrame(const CommandFrame& frame, std::span<std::byte, kCommand
   WriteChecksum(out);
 }
 
-FrameError DecodeStatusFrame(std::span<const std::byte> datagram, const GrabValueLimits& limits,
-                             StatusFrame* out) {
-  if (const FrameError e = CheckEnvelope(datagram, kStatusMagic, kStatusFrameSize);
-      e != FrameError::kNone) {
+FrameError DecodeStatusFrame(std::span<const std::byte> datagram, const GrabValueLimits& limits, StatusFrame* out) {
+  if (const FrameError e = CheckEnvelope(datagram, kStatusMagic, kStatusFrameSize); e != FrameError::kNone) {
     return e;
   }
   StatusFrame f;
@@ -183,10 +193,8 @@ FrameError DecodeStatusFrame(std::span<const std::byte> datagram, const GrabValu
   return FrameError::kNone;
 }
 
-FrameError DecodeCommandFrame(std::span<const std::byte> datagram, const GrabValueLimits& limits,
-                              CommandFrame* out) {
-  if (const FrameError e = CheckEnvelope(datagram, kCommandMagic, kCommandFrameSize);
-      e != FrameError::kNone) {
+FrameError DecodeCommandFrame(std::span<const std::byte> datagram, const GrabValueLimits& limits, CommandFrame* out) {
+  if (const FrameError e = CheckEnvelope(datagram, kCommandMagic, kCommandFrameSize); e != FrameError::kNone) {
     return e;
   }
   CommandFrame f;

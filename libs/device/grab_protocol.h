@@ -29,19 +29,19 @@ enum class Manipulator : std::uint8_t { kThumb = 0, kIndex = 1 };
 
 /// Controller-wide status bits (StatusFrame offset 6).
 namespace controller_flags {
-inline constexpr std::uint16_t kEmergencyStop = 1u << 0;  // e-stop engaged, forces off
-inline constexpr std::uint16_t kHostTimeout = 1u << 1;    // no valid command for 5 ms: zero force
+inline constexpr std::uint16_t kEmergencyStop = 1u << 0;    // e-stop engaged, forces off
+inline constexpr std::uint16_t kHostTimeout = 1u << 1;      // no valid command for 5 ms: zero force
 inline constexpr std::uint16_t kCommandRejected = 1u << 2;  // a host datagram was rejected since last frame
 }  // namespace controller_flags
 
 /// Per-manipulator status bits (StatusFrame manipulator offset +40).
 namespace manipulator_flags {
-inline constexpr std::uint16_t kCalibrated = 1u << 0;       // homed: pose is valid
-inline constexpr std::uint16_t kForceEnabled = 1u << 1;     // amplifiers on, tracking the command
-inline constexpr std::uint16_t kForceSaturated = 1u << 2;   // command not reachable here
-inline constexpr std::uint16_t kWorkspaceLimit = 1u << 3;   // at a mechanical limit
-inline constexpr std::uint16_t kForceSensorFault = 1u << 4; // measured force invalid (sent as 0)
-inline constexpr std::uint16_t kOverTemperature = 1u << 5;  // thermal derating active
+inline constexpr std::uint16_t kCalibrated = 1u << 0;        // homed: pose is valid
+inline constexpr std::uint16_t kForceEnabled = 1u << 1;      // amplifiers on, tracking the command
+inline constexpr std::uint16_t kForceSaturated = 1u << 2;    // command not reachable here
+inline constexpr std::uint16_t kWorkspaceLimit = 1u << 3;    // at a mechanical limit
+inline constexpr std::uint16_t kForceSensorFault = 1u << 4;  // measured force invalid (sent as 0)
+inline constexpr std::uint16_t kOverTemperature = 1u << 5;   // thermal derating active
 }  // namespace manipulator_flags
 
 /// Host-wide command bits (CommandFrame offset 6).
@@ -58,18 +58,18 @@ inline constexpr std::uint16_t kLimited = 1u << 2;      // host clamped this for
 
 /// One manipulator as reported by the controller. Frame D: the device workspace frame.
 struct ManipulatorStatus {
-  Eigen::Vector3f p_D_m{Eigen::Vector3f::Zero()};          ///< contact part position [m]
+  Eigen::Vector3f p_D_m{Eigen::Vector3f::Zero()};           ///< contact part position [m]
   Eigen::Quaternionf q_DF{Eigen::Quaternionf::Identity()};  ///< contact-part frame F to D
-  Eigen::Vector3f force_D_N{Eigen::Vector3f::Zero()};      ///< measured force on the fingertip [N]
+  Eigen::Vector3f force_D_N{Eigen::Vector3f::Zero()};       ///< measured force on the fingertip [N]
   std::uint16_t flags = 0;                                  ///< manipulator_flags
 };
 
 /// Controller -> host datagram (kStatusFrameSize bytes on the wire).
 struct StatusFrame {
   std::uint16_t controller_flags = 0;
-  std::uint32_t sequence = 0;             ///< +1 per frame, wraps
-  std::uint32_t echo_host_sequence = 0;   ///< last accepted CommandFrame.sequence, 0 if none
-  std::uint64_t controller_time_ns = 0;   ///< controller monotonic clock
+  std::uint32_t sequence = 0;            ///< +1 per frame, wraps
+  std::uint32_t echo_host_sequence = 0;  ///< last accepted CommandFrame.sequence, 0 if none
+  std::uint64_t controller_time_ns = 0;  ///< controller monotonic clock
   std::array<ManipulatorStatus, kManipulatorCount> manipulators{};
 };
 
@@ -82,9 +82,9 @@ struct ManipulatorCommand {
 /// Host -> controller datagram (kCommandFrameSize bytes on the wire).
 struct CommandFrame {
   std::uint16_t host_flags = 0;
-  std::uint32_t sequence = 0;                   ///< +1 per frame starting at 1, wraps (skipping 0)
-  std::uint32_t echo_controller_sequence = 0;   ///< StatusFrame.sequence this force was computed from
-  std::uint64_t echo_controller_time_ns = 0;    ///< StatusFrame.controller_time_ns of that frame
+  std::uint32_t sequence = 0;                  ///< +1 per frame starting at 1, wraps (skipping 0)
+  std::uint32_t echo_controller_sequence = 0;  ///< StatusFrame.sequence this force was computed from
+  std::uint64_t echo_controller_time_ns = 0;   ///< StatusFrame.controller_time_ns of that frame
   std::array<ManipulatorCommand, kManipulatorCount> manipulators{};
 };
 
@@ -125,10 +125,10 @@ class FrameCounters {
 struct GrabValueLimits {
   /// Half extents of the workspace box centred on D's origin: 400 x 200 x 300 mm (x, y, z).
   Eigen::Vector3f workspace_half_extent_m{0.200f, 0.100f, 0.150f};
-  float workspace_margin_m = 0.005f;     ///< tolerance outside the box (sensor overshoot)
+  float workspace_margin_m = 0.005f;        ///< tolerance outside the box (sensor overshoot)
   float quaternion_norm_tolerance = 1e-3f;  ///< accept | |q| - 1 | <= this
-  float max_measured_force_N = 60.0f;    ///< 3x device peak: above this the sensor is broken
-  float max_command_force_N = 25.0f;     ///< controller clamps to 20 N; above 25 N is corrupt
+  float max_measured_force_N = 60.0f;       ///< 3x device peak: above this the sensor is broken
+  float max_command_force_N = 25.0f;        ///< controller clamps to 20 N; above 25 N is corrupt
 };
 
 /// Writes `frame` into exactly kStatusFrameSize bytes, computing the checksum. Never fails: values
@@ -138,11 +138,9 @@ void EncodeStatusFrame(const StatusFrame& frame, std::span<std::byte, kStatusFra
 void EncodeCommandFrame(const CommandFrame& frame, std::span<std::byte, kCommandFrameSize> out);
 
 /// Decodes and checks one datagram. On kNone `*out` holds the frame; otherwise `*out` is unchanged.
-FrameError DecodeStatusFrame(std::span<const std::byte> datagram, const GrabValueLimits& limits,
-                             StatusFrame* out);
+FrameError DecodeStatusFrame(std::span<const std::byte> datagram, const GrabValueLimits& limits, StatusFrame* out);
 /// Decodes and checks one command datagram (used by controllers, including the mock).
-FrameError DecodeCommandFrame(std::span<const std::byte> datagram, const GrabValueLimits& limits,
-                              CommandFrame* out);
+FrameError DecodeCommandFrame(std::span<const std::byte> datagram, const GrabValueLimits& limits, CommandFrame* out);
 
 /// Sequence comparison modulo 2^32 (RFC 1982 style): true if `a` is newer than `b`.
 constexpr bool SequenceNewer(std::uint32_t a, std::uint32_t b) {

@@ -28,13 +28,11 @@ void MockControllerConfig::Validate() const {
           "finger.device_damping_N_s_per_m must be >= 0");
   Require(finger.force_time_constant_s >= 0.0 && std::isfinite(finger.force_time_constant_s),
           "finger.force_time_constant_s must be >= 0");
-  Require(position_quantum_m >= 0.0 && position_quantum_m < 0.001,
-          "position_quantum_m must be in [0, 1 mm)");
+  Require(position_quantum_m >= 0.0 && position_quantum_m < 0.001, "position_quantum_m must be in [0, 1 mm)");
   Require(force_noise_N >= 0.0 && force_noise_N < 5.0, "force_noise_N must be in [0, 5) N");
   Require(PositiveFinite(host_timeout_s), "host_timeout_s must be > 0");
   Require(PositiveFinite(peak_force_N), "peak_force_N must be > 0");
-  Require((limits.workspace_half_extent_m.array() > 0.0f).all(),
-          "limits.workspace_half_extent_m must be > 0");
+  Require((limits.workspace_half_extent_m.array() > 0.0f).all(), "limits.workspace_half_extent_m must be > 0");
 }
 
 MockGrabController::MockGrabController(const MockControllerConfig& config, ScriptParams script)
@@ -52,8 +50,7 @@ MockGrabController::MockGrabController(const MockControllerConfig& config, Scrip
   }
 }
 
-void MockGrabController::SetFinger(Manipulator m, const Eigen::Vector3d& p_D_m,
-                                   const Eigen::Vector3d& v_D_m_per_s) {
+void MockGrabController::SetFinger(Manipulator m, const Eigen::Vector3d& p_D_m, const Eigen::Vector3d& v_D_m_per_s) {
   MockFingerState& f = fingers_[static_cast<std::size_t>(m)];
   f.p_D_m = p_D_m;
   f.v_D_m_per_s = v_D_m_per_s;
@@ -93,9 +90,7 @@ void MockGrabController::Step(double t_s, double dt_s, std::span<std::byte, kSta
 
   const FingerTargets target = EvaluateScript(script_, t_end_s);
   const MockFingerParams& fp = config_.finger;
-  const double force_alpha = fp.force_time_constant_s > 0.0
-                                 ? 1.0 - std::exp(-dt_s / fp.force_time_constant_s)
-                                 : 1.0;
+  const double force_alpha = fp.force_time_constant_s > 0.0 ? 1.0 - std::exp(-dt_s / fp.force_time_constant_s) : 1.0;
   const Eigen::Array3d bound = config_.limits.workspace_half_extent_m.cast<double>().array();
 
   StatusFrame status;
@@ -121,8 +116,7 @@ void MockGrabController::Step(double t_s, double dt_s, std::span<std::byte, kSta
     // finger dynamics, semi-implicit Euler: user pull + rendered force - mechanism friction
     const Eigen::Vector3d user_N = fp.user_stiffness_N_per_m * (target.p_D_m[i] - f.p_D_m) +
                                    fp.user_damping_N_s_per_m * (target.v_D_m_per_s[i] - f.v_D_m_per_s);
-    const Eigen::Vector3d a = (user_N + f.applied_force_D_N -
-                               fp.device_damping_N_s_per_m * f.v_D_m_per_s) / fp.mass_kg;
+    const Eigen::Vector3d a = (user_N + f.applied_force_D_N - fp.device_damping_N_s_per_m * f.v_D_m_per_s) / fp.mass_kg;
     f.v_D_m_per_s += dt_s * a;
     f.p_D_m += dt_s * f.v_D_m_per_s;
 
@@ -149,9 +143,8 @@ void MockGrabController::Step(double t_s, double dt_s, std::span<std::byte, kSta
     m.flags = flags;
   }
 
-  status.controller_flags = static_cast<std::uint16_t>(
-      (timed_out && !shutdown ? controller_flags::kHostTimeout : 0) |
-      (command_rejected_ ? controller_flags::kCommandRejected : 0));
+  status.controller_flags = static_cast<std::uint16_t>((timed_out && !shutdown ? controller_flags::kHostTimeout : 0) |
+                                                       (command_rejected_ ? controller_flags::kCommandRejected : 0));
   command_rejected_ = false;
   status.sequence = ++sequence_;
   status.echo_host_sequence = has_command_ ? command_.sequence : 0;

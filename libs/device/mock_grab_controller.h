@@ -17,11 +17,11 @@ namespace haptex::device {
 
 /// Fingertip + end-effector dynamics and the artificial user's grip on it.
 struct MockFingerParams {
-  double mass_kg = 0.1;                     ///< fingertip, gimbal and moving links
-  double user_stiffness_N_per_m = 300.0;    ///< pull toward the scripted target
-  double user_damping_N_s_per_m = 4.0;      ///< toward the target's velocity
-  double device_damping_N_s_per_m = 0.5;    ///< viscous friction of the mechanism
-  double force_time_constant_s = 0.0005;    ///< inner force loop: first-order lag to the command
+  double mass_kg = 0.1;                   ///< fingertip, gimbal and moving links
+  double user_stiffness_N_per_m = 300.0;  ///< pull toward the scripted target
+  double user_damping_N_s_per_m = 4.0;    ///< toward the target's velocity
+  double device_damping_N_s_per_m = 0.5;  ///< viscous friction of the mechanism
+  double force_time_constant_s = 0.0005;  ///< inner force loop: first-order lag to the command
 };
 
 /// Mock controller settings. Validate() throws std::invalid_argument with a clear message.
@@ -49,8 +49,8 @@ struct MockFingerState {
 
 struct MockCounters {
   std::uint64_t steps = 0;
-  std::uint64_t host_timeouts = 0;         ///< transitions into host timeout
-  std::uint64_t commands_out_of_order = 0; ///< valid command, sequence not newer: ignored
+  std::uint64_t host_timeouts = 0;          ///< transitions into host timeout
+  std::uint64_t commands_out_of_order = 0;  ///< valid command, sequence not newer: ignored
 };
 
 /// Simulated GRAB controller. Host time and controller time are the same simulated clock here.

@@ -24,8 +24,7 @@ Blend MinimumJerk(double t_s, double duration_s) {
   if (t_s >= duration_s) return {1.0, 0.0};
   const double u = t_s / duration_s;
   const double u2 = u * u;
-  return {u2 * u * (10.0 - 15.0 * u + 6.0 * u2),
-          30.0 * u2 * (1.0 - 2.0 * u + u2) / duration_s};
+  return {u2 * u * (10.0 - 15.0 * u + 6.0 * u2), 30.0 * u2 * (1.0 - 2.0 * u + u2) / duration_s};
 }
 
 std::size_t Slot(Manipulator m) { return static_cast<std::size_t>(m); }
@@ -35,8 +34,7 @@ constexpr std::array<double, kManipulatorCount> kSide = {-1.0, 1.0};
 
 // Approach from rest to the fabric, then press: the common start of every grasp script.
 // Returns the time at which the press is complete.
-double Grasp(const ScriptParams& p, double t_s, std::array<bool, kManipulatorCount> moving,
-             FingerTargets* out) {
+double Grasp(const ScriptParams& p, double t_s, std::array<bool, kManipulatorCount> moving, FingerTargets* out) {
   const Blend approach = MinimumJerk(t_s, p.approach_duration_s);
   const Blend press = MinimumJerk(t_s - p.approach_duration_s, p.press_duration_s);
   for (std::size_t i = 0; i < kManipulatorCount; ++i) {
@@ -69,8 +67,7 @@ void Playback(const std::vector<TrajectorySample>& samples, double t_s, FingerTa
   const TrajectorySample& a = *(after - 1);
   const double span_s = b.t_s - a.t_s;
   const double u = (t_s - a.t_s) / span_s;
-  out->p_D_m = {a.thumb_D_m + u * (b.thumb_D_m - a.thumb_D_m),
-                a.index_D_m + u * (b.index_D_m - a.index_D_m)};
+  out->p_D_m = {a.thumb_D_m + u * (b.thumb_D_m - a.thumb_D_m), a.index_D_m + u * (b.index_D_m - a.index_D_m)};
   out->v_D_m_per_s = {(b.thumb_D_m - a.thumb_D_m) / span_s, (b.index_D_m - a.index_D_m) / span_s};
 }
 
@@ -137,8 +134,7 @@ DemoPhase EvaluateDemo(const ScriptParams& p, double t_s, FingerTargets* out) {
   double remaining_s = std::max(t_s, 0.0);
   DemoPhase phase = DemoPhase::kDone;
   Pose last{};
-  const bool inside = VisitDemo(p, [&](DemoPhase ph, const Pose& from, const Pose& to, double move_s,
-                                       double hold_s) {
+  const bool inside = VisitDemo(p, [&](DemoPhase ph, const Pose& from, const Pose& to, double move_s, double hold_s) {
     last = to;
     if (remaining_s < move_s) {
       phase = ph;
@@ -177,13 +173,11 @@ void ScriptParams::Validate() const {
   Require(fabric_normal_D.allFinite() && std::abs(fabric_normal_D.norm() - 1.0) < 1e-6,
           "fabric_normal_D must be a unit vector");
   Require(rest_gap_m >= 0.0 && rest_gap_m < 0.2, "rest_gap_m must be in [0, 0.2) m");
-  Require(approach_duration_s > 0.0 && std::isfinite(approach_duration_s),
-          "approach_duration_s must be > 0 s");
+  Require(approach_duration_s > 0.0 && std::isfinite(approach_duration_s), "approach_duration_s must be > 0 s");
   Require(press_duration_s > 0.0 && std::isfinite(press_duration_s), "press_duration_s must be > 0 s");
   Require(press_depth_m >= 0.0 && press_depth_m < 0.05, "press_depth_m must be in [0, 0.05) m");
   Require(stretch_D_m.allFinite() && stretch_D_m.norm() < 0.2, "stretch_D_m must be finite, < 0.2 m");
-  Require(stretch_duration_s > 0.0 && std::isfinite(stretch_duration_s),
-          "stretch_duration_s must be > 0 s");
+  Require(stretch_duration_s > 0.0 && std::isfinite(stretch_duration_s), "stretch_duration_s must be > 0 s");
   Require(rub_direction_D.allFinite() && std::abs(rub_direction_D.norm() - 1.0) < 1e-6,
           "rub_direction_D must be a unit vector");
   Require(rub_amplitude_m >= 0.0 && rub_amplitude_m < 0.1, "rub_amplitude_m must be in [0, 0.1) m");
@@ -229,8 +223,7 @@ FingerTargets EvaluateScript(const ScriptParams& p, double t_s) {
     case ScriptKind::kLift: {
       const double t0 = Grasp(p, t_s, {true, true}, &out);
       const bool stretch = p.kind == ScriptKind::kPinchAndStretch;
-      const Eigen::Vector3d move_D_m =
-          stretch ? p.stretch_D_m : Eigen::Vector3d(0.0, 0.0, p.lift_height_m);
+      const Eigen::Vector3d move_D_m = stretch ? p.stretch_D_m : Eigen::Vector3d(0.0, 0.0, p.lift_height_m);
       const Blend b = MinimumJerk(t_s - t0, stretch ? p.stretch_duration_s : p.lift_duration_s);
       for (std::size_t i = 0; i < kManipulatorCount; ++i) {
         out.p_D_m[i] += b.s * move_D_m;
@@ -258,9 +251,7 @@ FingerTargets EvaluateScript(const ScriptParams& p, double t_s) {
   return out;
 }
 
-DemoPhase DemoPhaseAt(const ScriptParams& params, double t_s) {
-  return EvaluateDemo(params, t_s, nullptr);
-}
+DemoPhase DemoPhaseAt(const ScriptParams& params, double t_s) { return EvaluateDemo(params, t_s, nullptr); }
 
 double DemoDuration(const ScriptParams& params) {
   double total_s = 0.0;
@@ -273,15 +264,24 @@ double DemoDuration(const ScriptParams& params) {
 
 const char* DemoPhaseName(DemoPhase phase) {
   switch (phase) {
-    case DemoPhase::kSettle: return "settle";
-    case DemoPhase::kApproach: return "approach";
-    case DemoPhase::kTouch: return "touch";
-    case DemoPhase::kPinch: return "pinch";
-    case DemoPhase::kStretch: return "stretch";
-    case DemoPhase::kRub: return "rub";
-    case DemoPhase::kRelease: return "release";
-    case DemoPhase::kRetract: return "retract";
-    case DemoPhase::kDone: return "done";
+    case DemoPhase::kSettle:
+      return "settle";
+    case DemoPhase::kApproach:
+      return "approach";
+    case DemoPhase::kTouch:
+      return "touch";
+    case DemoPhase::kPinch:
+      return "pinch";
+    case DemoPhase::kStretch:
+      return "stretch";
+    case DemoPhase::kRub:
+      return "rub";
+    case DemoPhase::kRelease:
+      return "release";
+    case DemoPhase::kRetract:
+      return "retract";
+    case DemoPhase::kDone:
+      return "done";
   }
   return "unknown";
 }
@@ -295,7 +295,8 @@ ScriptKind ScriptKindFromName(const std::string& name) {
   if (name == "lift") return ScriptKind::kLift;
   if (name == "playback") return ScriptKind::kPlayback;
   if (name == "demo") return ScriptKind::kDemo;
-  throw std::invalid_argument("unknown script '" + name + "' (idle, approach, grasp, pinch, rub, lift, playback or demo)");
+  throw std::invalid_argument("unknown script '" + name +
+                              "' (idle, approach, grasp, pinch, rub, lift, playback or demo)");
 }
 
 }  // namespace haptex::device

@@ -46,17 +46,17 @@ struct ScriptParams {
   Eigen::Vector3d fabric_point_D_m{Eigen::Vector3d::Zero()};  ///< where the fingers meet the fabric
   /// Unit normal of the fabric, from the thumb's (front) side to the index's (back) side.
   Eigen::Vector3d fabric_normal_D{0.0, 1.0, 0.0};
-  double rest_gap_m = 0.030;          ///< each finger's distance from the fabric at rest
-  double approach_duration_s = 1.0;   ///< rest -> touching the fabric
-  double press_duration_s = 0.3;      ///< touching -> pressed by press_depth_m
-  double press_depth_m = 0.004;       ///< target beyond the fabric plane (how hard the user presses)
+  double rest_gap_m = 0.030;                       ///< each finger's distance from the fabric at rest
+  double approach_duration_s = 1.0;                ///< rest -> touching the fabric
+  double press_duration_s = 0.3;                   ///< touching -> pressed by press_depth_m
+  double press_depth_m = 0.004;                    ///< target beyond the fabric plane (how hard the user presses)
   Manipulator touch_finger = Manipulator::kThumb;  ///< which finger kApproachAndTouch uses
   Eigen::Vector3d stretch_D_m{0.010, 0.0, 0.0};    ///< kPinchAndStretch displacement
   double stretch_duration_s = 1.0;
   Eigen::Vector3d rub_direction_D{1.0, 0.0, 0.0};  ///< kRub slide direction (unit, in the fabric)
   double rub_amplitude_m = 0.010;
   double rub_frequency_Hz = 2.0;
-  double lift_height_m = 0.030;       ///< kLift, along +z of D
+  double lift_height_m = 0.030;  ///< kLift, along +z of D
   double lift_duration_s = 1.0;
   std::vector<TrajectorySample> trajectory;  ///< kPlayback samples (strictly increasing t_s)
   // kDemo only (the other kinds keep their durations above):

@@ -49,8 +49,8 @@ std::vector<TrajectorySample> ParseTrajectoryCsv(std::string_view text) {
 
     if (!header_seen) {
       if (line != kTrajectoryCsvHeader) {
-        Fail(line_number, "expected header '" + std::string(kTrajectoryCsvHeader) + "', got '" +
-                              std::string(line) + "'");
+        Fail(line_number,
+             "expected header '" + std::string(kTrajectoryCsvHeader) + "', got '" + std::string(line) + "'");
       }
       header_seen = true;
       continue;
@@ -82,8 +82,7 @@ std::vector<TrajectorySample> ParseTrajectoryCsv(std::string_view text) {
   }
   if (!header_seen) throw std::invalid_argument("trajectory CSV is empty (no header)");
   if (samples.size() < 2) {
-    throw std::invalid_argument("trajectory CSV needs at least 2 samples, got " +
-                                std::to_string(samples.size()));
+    throw std::invalid_argument("trajectory CSV needs at least 2 samples, got " + std::to_string(samples.size()));
   }
   return samples;
 }

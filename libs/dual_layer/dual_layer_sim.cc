@@ -10,18 +10,19 @@ DualLayerSim::DualLayerSim(const textile::FabricMaterial& material, textile::Fab
     : material_(material),
       global_model_(std::move(global_model)),
       global_state_(std::move(global_state)),
-      global_stepper_(global_model_, [&] {
-        textile::StepOptions o;
-        o.dt_s = global_dt_s;
-        o.cg_tolerance = 1e-4;
-        return o;
-      }()),
+      global_stepper_(global_model_,
+                      [&] {
+                        textile::StepOptions o;
+                        o.dt_s = global_dt_s;
+                        o.cg_tolerance = 1e-4;
+                        return o;
+                      }()),
       global_dt_s_(global_dt_s),
       local_dt_s_(local_dt_s),
       contact_(contact),
       margin_m_(patch_margin_m),
-      refined_(MakeRefinedGrid(global_model_.mesh.particles_warp(), global_model_.mesh.particles_weft(),
-                               refinement_levels)),
+      refined_(
+          MakeRefinedGrid(global_model_.mesh.particles_warp(), global_model_.mesh.particles_weft(), refinement_levels)),
       ticks_per_global_(static_cast<int>(std::lround(global_dt_s / local_dt_s))) {
   merged_.reserve(static_cast<std::size_t>(global_model_.num_particles));
 }

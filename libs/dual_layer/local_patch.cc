@@ -9,8 +9,7 @@
 
 namespace haptex::dual_layer {
 
-const contact::ContactOutput& LocalPatch::Tick(const contact::FingerInput& thumb,
-                                               const contact::FingerInput& index) {
+const contact::ContactOutput& LocalPatch::Tick(const contact::FingerInput& thumb, const contact::FingerInput& index) {
   const contact::ContactOutput& out = sim->Tick(thumb, index);
   force_sum_W_N += sim->solver().particle_force_W_N();
   ++ticks_since_result;
@@ -20,12 +19,13 @@ const contact::ContactOutput& LocalPatch::Tick(const contact::FingerInput& thumb
 std::unique_ptr<LocalPatch> BuildLocalPatch(const PatchData& data, const textile::FabricMaterial& material,
                                             const textile::ModelOptions& model_options,
                                             const textile::StepOptions& step,
-                                            const contact::ContactOptions& contact_options,
-                                            int particle_id_space) {
+                                            const contact::ContactOptions& contact_options, int particle_id_space) {
   const int n = data.num_particles;
   // Grid structure: u grows fastest; count the u values of the first row.
   int nu = 1;
-  while (nu < n && data.rest_uv_m[2 * static_cast<std::size_t>(nu)] > data.rest_uv_m[2 * static_cast<std::size_t>(nu - 1)]) ++nu;
+  while (nu < n &&
+         data.rest_uv_m[2 * static_cast<std::size_t>(nu)] > data.rest_uv_m[2 * static_cast<std::size_t>(nu - 1)])
+    ++nu;
   if (nu < 2 || n % nu != 0 || n / nu < 2) {
     throw std::invalid_argument("LocalPatch " + std::to_string(data.patch_id) + ": not a grid rectangle");
   }
@@ -55,8 +55,8 @@ std::unique_ptr<LocalPatch> BuildLocalPatch(const PatchData& data, const textile
     if (data.border[static_cast<std::size_t>(p)]) state.Prescribe(p, state.v(p));
   }
   auto rt = std::make_unique<LocalPatch>();
-  rt->sim = std::make_unique<contact::PatchSimulation>(std::move(model), std::move(state), step,
-                                                       contact_options, Eigen::Vector2d(u0, v0));
+  rt->sim = std::make_unique<contact::PatchSimulation>(std::move(model), std::move(state), step, contact_options,
+                                                       Eigen::Vector2d(u0, v0));
   rt->patch_id = data.patch_id;
   rt->global_dt_s = data.global_dt_s;
   rt->global_id = data.ids;

@@ -20,10 +20,10 @@ struct LocalPatch {
   std::unique_ptr<contact::PatchSimulation> sim;
   std::uint64_t patch_id = 0;
   double global_dt_s = 0.0;
-  std::vector<std::uint32_t> global_id;  ///< per patch particle
-  std::vector<int> local_of_global;      ///< per particle id (fabric and refined): patch index or -1
+  std::vector<std::uint32_t> global_id;          ///< per patch particle
+  std::vector<int> local_of_global;              ///< per particle id (fabric and refined): patch index or -1
   std::vector<std::array<int, 6>> triangles_of;  ///< per patch particle: triangles it is the first vertex of (-1: none)
-  Eigen::VectorXd force_sum_W_N;         ///< contact force summed over the ticks since the last result
+  Eigen::VectorXd force_sum_W_N;                 ///< contact force summed over the ticks since the last result
   int ticks_since_result = 0;
 
   /// One haptic tick of the patch with the fingers' poses at its end; accumulates the contact
@@ -31,9 +31,7 @@ struct LocalPatch {
   const contact::ContactOutput& Tick(const contact::FingerInput& thumb, const contact::FingerInput& index);
   /// True once a global step's worth of ticks of `local_dt_s` has passed since the last result
   /// (within half a tick).
-  bool ResultDue(double local_dt_s) const {
-    return ticks_since_result * local_dt_s >= global_dt_s - 0.5 * local_dt_s;
-  }
+  bool ResultDue(double local_dt_s) const { return ticks_since_result * local_dt_s >= global_dt_s - 0.5 * local_dt_s; }
 };
 
 /// Builds a patch from received data: checks it is a grid rectangle (ids, rest coordinates),
@@ -42,8 +40,7 @@ struct LocalPatch {
 std::unique_ptr<LocalPatch> BuildLocalPatch(const PatchData& data, const textile::FabricMaterial& material,
                                             const textile::ModelOptions& model_options,
                                             const textile::StepOptions& step,
-                                            const contact::ContactOptions& contact_options,
-                                            int particle_id_space);
+                                            const contact::ContactOptions& contact_options, int particle_id_space);
 
 /// Carries the local state of `old` into `fresh` by particle id, so the hand-off applies no force
 /// step: positions and velocities of shared free particles (the local ones are newer), and each

@@ -6,14 +6,14 @@
 namespace haptex::dual_layer {
 
 FingerSphere SweptSphere(const Eigen::Vector3d& position_W_m, const Eigen::Vector3d& predicted_W_m,
-                         const Eigen::Vector3d& velocity_W_m_per_s, double finger_reach_m,
-                         double global_dt_s, double margin_m) {
+                         const Eigen::Vector3d& velocity_W_m_per_s, double finger_reach_m, double global_dt_s,
+                         double margin_m) {
   FingerSphere s;
   s.present = position_W_m.allFinite() && predicted_W_m.allFinite() && velocity_W_m_per_s.allFinite();
   if (!s.present) return s;
   s.centre_W_m = position_W_m;
-  s.radius_m = finger_reach_m + (predicted_W_m - position_W_m).norm() +
-               velocity_W_m_per_s.norm() * global_dt_s + margin_m;
+  s.radius_m =
+      finger_reach_m + (predicted_W_m - position_W_m).norm() + velocity_W_m_per_s.norm() * global_dt_s + margin_m;
   return s;
 }
 
@@ -65,15 +65,17 @@ void CutPatch(const textile::FabricModel& model, const textile::FabricState& sta
   // Refined grid points I in [i0 f, i1 f], J in [j0 f, j1 f]; f = 1 is the rectangle itself.
   const int I0 = rect.i0 * f, I1 = rect.i1 * f, J0 = rect.j0 * f, J1 = rect.j1 * f;
   const int pu = I1 - I0 + 1;
-  const double area_density_kg_per_m2 = model.mass_kg.sum() / (model.mesh.rest_uv_m(model.mesh.Index(nu - 1, nv - 1)).x() *
-                                                               model.mesh.rest_uv_m(model.mesh.Index(nu - 1, nv - 1)).y());
-  const Eigen::Vector2d cell_m = model.mesh.rest_uv_m(model.mesh.Index(1, 1)) - model.mesh.rest_uv_m(model.mesh.Index(0, 0));
+  const double area_density_kg_per_m2 =
+      model.mass_kg.sum() / (model.mesh.rest_uv_m(model.mesh.Index(nu - 1, nv - 1)).x() *
+                             model.mesh.rest_uv_m(model.mesh.Index(nu - 1, nv - 1)).y());
+  const Eigen::Vector2d cell_m =
+      model.mesh.rest_uv_m(model.mesh.Index(1, 1)) - model.mesh.rest_uv_m(model.mesh.Index(0, 0));
   const double fine_cell_area_m2 = cell_m.x() * cell_m.y() / (f * f);
   for (int J = J0; J <= J1; ++J) {
     for (int I = I0; I <= I1; ++I) {
       out->ids.push_back(refined.IdOf(I, J));
-      const bool rect_edge = (I == I0 && rect.i0 > 0) || (I == I1 && rect.i1 < nu - 1) ||
-                             (J == J0 && rect.j0 > 0) || (J == J1 && rect.j1 < nv - 1);
+      const bool rect_edge = (I == I0 && rect.i0 > 0) || (I == I1 && rect.i1 < nu - 1) || (J == J0 && rect.j0 > 0) ||
+                             (J == J1 && rect.j1 < nv - 1);
       if (refined.IsCoarse(I, J)) {
         const int p = model.mesh.Index(I / f, J / f);
         const Eigen::Vector2d& uv = model.mesh.rest_uv_m(p);
@@ -99,7 +101,8 @@ void CutPatch(const textile::FabricModel& model, const textile::FabricState& sta
           uv += w[c] * model.mesh.rest_uv_m(corner[c]);
           x += w[c] * state.x(corner[c]);
           v += w[c] * velocity_W_m_per_s.segment<3>(3 * corner[c]);
-          all_prescribed = all_prescribed && state.mode[static_cast<std::size_t>(corner[c])] != textile::ParticleMode::kFree;
+          all_prescribed =
+              all_prescribed && state.mode[static_cast<std::size_t>(corner[c])] != textile::ParticleMode::kFree;
         }
         out->rest_uv_m.push_back(uv.x());
         out->rest_uv_m.push_back(uv.y());
@@ -123,9 +126,9 @@ void CutPatch(const textile::FabricModel& model, const textile::FabricState& sta
     for (int I = I0; I < I1; ++I) {
       const auto p00 = static_cast<std::uint32_t>((I - I0) + pu * (J - J0));
       const std::uint32_t p10 = p00 + 1, p01 = p00 + static_cast<std::uint32_t>(pu), p11 = p01 + 1;
-      const std::array<std::uint32_t, 6> t =
-          (I + J) % 2 == 0 ? std::array<std::uint32_t, 6>{p00, p10, p11, p00, p11, p01}
-                           : std::array<std::uint32_t, 6>{p00, p10, p01, p10, p11, p01};
+      const std::array<std::uint32_t, 6> t = (I + J) % 2 == 0
+                                                 ? std::array<std::uint32_t, 6>{p00, p10, p11, p00, p11, p01}
+                                                 : std::array<std::uint32_t, 6>{p00, p10, p01, p10, p11, p01};
       for (std::uint32_t k : t) out->triangles.push_back(k);
     }
   }

@@ -25,8 +25,8 @@ struct FingerSphere {
 /// capsule), the distance to its predicted position, its speed times the step, and the scene's
 /// patch margin.
 FingerSphere SweptSphere(const Eigen::Vector3d& position_W_m, const Eigen::Vector3d& predicted_W_m,
-                         const Eigen::Vector3d& velocity_W_m_per_s, double finger_reach_m,
-                         double global_dt_s, double margin_m);
+                         const Eigen::Vector3d& velocity_W_m_per_s, double finger_reach_m, double global_dt_s,
+                         double margin_m);
 
 /// Grid index rectangle [i0, i1] x [j0, j1] of a patch.
 struct PatchRect {

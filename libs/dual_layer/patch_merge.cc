@@ -4,8 +4,7 @@
 
 namespace haptex::dual_layer {
 
-int MergePatchResult(const PatchResultData& r, int id_space, textile::FabricState* state,
-                     std::vector<int>* merged) {
+int MergePatchResult(const PatchResultData& r, int id_space, textile::FabricState* state, std::vector<int>* merged) {
   const int m = r.num_particles();
   if (r.x_W_m.size() != 3 * r.ids.size() || r.v_W_m_per_s.size() != 3 * r.ids.size() ||
       r.external_force_W_N.size() != 3 * r.ids.size()) {

@@ -24,10 +24,9 @@ std::array<contact::FingerInput, 2> PinchStretchFingers(double t, const contact:
   const double y = r + 0.003 - std::min(1.0, t / 0.3) * 0.0055;
   const double dz = 0.003 * std::clamp((t - 0.5) / 1.5, 0.0, 1.0);
   const Eigen::Vector3d x = Eigen::Vector3d::UnitX();
-  return {contact::FingerInput{true, contact::PoseFacing(Eigen::Vector3d(0, -y, -0.06 - dz),
-                                                                 Eigen::Vector3d(0, 1, 0), x)},
-          contact::FingerInput{true, contact::PoseFacing(Eigen::Vector3d(0, y, -0.06 - dz),
-                                                                 Eigen::Vector3d(0, -1, 0), x)}};
+  return {
+      contact::FingerInput{true, contact::PoseFacing(Eigen::Vector3d(0, -y, -0.06 - dz), Eigen::Vector3d(0, 1, 0), x)},
+      contact::FingerInput{true, contact::PoseFacing(Eigen::Vector3d(0, y, -0.06 - dz), Eigen::Vector3d(0, -1, 0), x)}};
 }
 
 }  // namespace haptex::dual_layer

@@ -14,8 +14,8 @@ static_assert(DatagramMac::kTagBytes == crypto_aead_xchacha20poly1305_ietf_ABYTE
 DatagramMac::DatagramMac(const SessionKey& key) {
   EnsureSodiumInitialised();
   static constexpr unsigned char kLabel[] = "haptex datagram mac v2";
-  crypto_generichash(mac_key_.data(), mac_key_.size(), kLabel, sizeof(kLabel) - 1,
-                     key.bytes().data(), key.bytes().size());
+  crypto_generichash(mac_key_.data(), mac_key_.size(), kLabel, sizeof(kLabel) - 1, key.bytes().data(),
+                     key.bytes().size());
 }
 
 void DatagramMac::NewNonce(std::uint8_t* nonce_out) {
@@ -28,17 +28,16 @@ void DatagramMac::Compute(std::span<const std::uint8_t> authenticated, const std
   // the message is empty; libsodium still wants valid pointers for it
   unsigned char empty = 0;
   unsigned long long tag_bytes = 0;
-  crypto_aead_xchacha20poly1305_ietf_encrypt_detached(
-      &empty, tag_out, &tag_bytes, &empty, 0, authenticated.data(),
-      authenticated.size(), /*nsec=*/nullptr, nonce, mac_key_.data());
+  crypto_aead_xchacha20poly1305_ietf_encrypt_detached(&empty, tag_out, &tag_bytes, &empty, 0, authenticated.data(),
+                                                      authenticated.size(), /*nsec=*/nullptr, nonce, mac_key_.data());
 }
 
 bool DatagramMac::Verify(std::span<const std::uint8_t> authenticated, const std::uint8_t* nonce,
                          const std::uint8_t* tag) const {
   unsigned char empty = 0;
-  return crypto_aead_xchacha20poly1305_ietf_decrypt_detached(
-             &empty, /*nsec=*/nullptr, &empty, 0, tag, authenticated.data(),
-             authenticated.size(), nonce, mac_key_.data()) == 0;
+  return crypto_aead_xchacha20poly1305_ietf_decrypt_detached(&empty, /*nsec=*/nullptr, &empty, 0, tag,
+                                                             authenticated.data(), authenticated.size(), nonce,
+                                                             mac_key_.data()) == 0;
 }
 
 NonceSequence::NonceSequence() {

@@ -28,11 +28,9 @@ class DatagramMac final {
   /// A fresh random nonce (the operating system's CSPRNG: one syscall; see NonceSequence).
   static void NewNonce(std::uint8_t* nonce_out);
   /// The tag over `authenticated` (which may contain the nonce itself).
-  void Compute(std::span<const std::uint8_t> authenticated, const std::uint8_t* nonce,
-               std::uint8_t* tag_out) const;
+  void Compute(std::span<const std::uint8_t> authenticated, const std::uint8_t* nonce, std::uint8_t* tag_out) const;
   /// Constant-time verification.
-  bool Verify(std::span<const std::uint8_t> authenticated, const std::uint8_t* nonce,
-              const std::uint8_t* tag) const;
+  bool Verify(std::span<const std::uint8_t> authenticated, const std::uint8_t* nonce, const std::uint8_t* tag) const;
 
  private:
   std::array<std::uint8_t, 32> mac_key_{};

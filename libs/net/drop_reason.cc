@@ -4,22 +4,38 @@ namespace haptex::net {
 
 std::string_view DropReasonName(DropReason reason) {
   switch (reason) {
-    case DropReason::kNone: return "accepted";
-    case DropReason::kTruncated: return "truncated";
-    case DropReason::kOversized: return "oversized";
-    case DropReason::kBadMagic: return "bad_magic";
-    case DropReason::kBadMac: return "bad_mac";
-    case DropReason::kUnparsable: return "unparsable";
-    case DropReason::kWrongVersion: return "wrong_version";
-    case DropReason::kWrongSession: return "wrong_session";
-    case DropReason::kMissingSender: return "missing_sender";
-    case DropReason::kUnknownBody: return "unknown_body";
-    case DropReason::kStaleEpoch: return "stale_epoch";
-    case DropReason::kReplayed: return "replayed";
-    case DropReason::kStale: return "stale";
-    case DropReason::kTooManySenders: return "too_many_senders";
-    case DropReason::kSendFailed: return "send_failed";
-    case DropReason::kCount: break;
+    case DropReason::kNone:
+      return "accepted";
+    case DropReason::kTruncated:
+      return "truncated";
+    case DropReason::kOversized:
+      return "oversized";
+    case DropReason::kBadMagic:
+      return "bad_magic";
+    case DropReason::kBadMac:
+      return "bad_mac";
+    case DropReason::kUnparsable:
+      return "unparsable";
+    case DropReason::kWrongVersion:
+      return "wrong_version";
+    case DropReason::kWrongSession:
+      return "wrong_session";
+    case DropReason::kMissingSender:
+      return "missing_sender";
+    case DropReason::kUnknownBody:
+      return "unknown_body";
+    case DropReason::kStaleEpoch:
+      return "stale_epoch";
+    case DropReason::kReplayed:
+      return "replayed";
+    case DropReason::kStale:
+      return "stale";
+    case DropReason::kTooManySenders:
+      return "too_many_senders";
+    case DropReason::kSendFailed:
+      return "send_failed";
+    case DropReason::kCount:
+      break;
   }
   return "invalid";
 }

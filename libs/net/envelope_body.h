@@ -8,11 +8,11 @@ namespace haptex::net {
 template <class Body>
 struct EnvelopeBody;  // undefined: not an Envelope body
 
-#define HAPTEX_ENVELOPE_BODY(Type, Field)                                       \
-  template <>                                                                   \
-  struct EnvelopeBody<v1::Type> {                                               \
-    static constexpr int kFieldNumber = v1::Envelope::k##Field##FieldNumber;    \
-    static constexpr v1::Envelope::BodyCase kCase = v1::Envelope::k##Field;     \
+#define HAPTEX_ENVELOPE_BODY(Type, Field)                                    \
+  template <>                                                                \
+  struct EnvelopeBody<v1::Type> {                                            \
+    static constexpr int kFieldNumber = v1::Envelope::k##Field##FieldNumber; \
+    static constexpr v1::Envelope::BodyCase kCase = v1::Envelope::k##Field;  \
   }
 
 HAPTEX_ENVELOPE_BODY(FingerStates, FingerStates);

@@ -19,25 +19,23 @@ constexpr std::uint32_t Tag(int field, std::uint32_t wire_type) {
 }
 
 // Upper bound of the Envelope header fields (everything but the body) on the wire.
-constexpr std::size_t kHeaderBoundBytes = 6 /*version*/ + 9 /*session*/ +
-                                          (2 + SenderTable::kMaxNameBytes) /*sender*/ +
-                                          9 * 3 /*epoch, sequence, time*/;
+constexpr std::size_t kHeaderBoundBytes =
+    6 /*version*/ + 9 /*session*/ + (2 + SenderTable::kMaxNameBytes) /*sender*/ + 9 * 3 /*epoch, sequence, time*/;
 
 }  // namespace
 
 EnvelopeSealer::EnvelopeSealer(const SessionKey& key, SenderIdentity identity)
     : mac_(key), identity_(std::move(identity)) {
   if (identity_.name.empty() || identity_.name.size() > SenderTable::kMaxNameBytes) {
-    throw std::invalid_argument("sender name must have 1 to " +
-                                std::to_string(SenderTable::kMaxNameBytes) + " characters");
+    throw std::invalid_argument("sender name must have 1 to " + std::to_string(SenderTable::kMaxNameBytes) +
+                                " characters");
   }
   if (identity_.epoch == 0) throw std::invalid_argument("sender epoch must be > 0");
   if (identity_.session_id == 0) throw std::invalid_argument("session id must be > 0");
 }
 
-std::size_t EnvelopeSealer::SealBody(const google::protobuf::MessageLite& body,
-                                     int body_field_number, std::int64_t send_time_ns,
-                                     std::span<std::uint8_t> out) {
+std::size_t EnvelopeSealer::SealBody(const google::protobuf::MessageLite& body, int body_field_number,
+                                     std::int64_t send_time_ns, std::span<std::uint8_t> out) {
   const std::size_t body_bytes = body.ByteSizeLong();
   const std::size_t bound = kDatagramOverheadBytes + kHeaderBoundBytes + 6 + body_bytes;
   if (bound > out.size() || body_bytes > kMaxUdpPayloadBytes) return 0;
@@ -84,14 +82,12 @@ std::size_t EnvelopeSealer::SealRaw(const v1::Envelope& envelope, std::span<std:
   return total;
 }
 
-EnvelopeOpener::EnvelopeOpener(const SessionKey& key, std::uint64_t session_id,
-                               std::size_t max_datagram_bytes)
+EnvelopeOpener::EnvelopeOpener(const SessionKey& key, std::uint64_t session_id, std::size_t max_datagram_bytes)
     : mac_(key), session_id_(session_id), max_datagram_bytes_(max_datagram_bytes) {
   if (session_id == 0) throw std::invalid_argument("session id must be > 0");
   if (max_datagram_bytes < kDatagramOverheadBytes || max_datagram_bytes > kMaxUdpPayloadBytes) {
-    throw std::invalid_argument("max datagram size must be between " +
-                                std::to_string(kDatagramOverheadBytes) + " and " +
-                                std::to_string(kMaxUdpPayloadBytes) + " bytes");
+    throw std::invalid_argument("max datagram size must be between " + std::to_string(kDatagramOverheadBytes) +
+                                " and " + std::to_string(kMaxUdpPayloadBytes) + " bytes");
   }
 }
 
@@ -101,8 +97,7 @@ DropReason EnvelopeOpener::Open(std::span<const std::uint8_t> datagram, v1::Enve
   return reason;
 }
 
-DropReason EnvelopeOpener::Classify(std::span<const std::uint8_t> datagram,
-                                    v1::Envelope* envelope) {
+DropReason EnvelopeOpener::Classify(std::span<const std::uint8_t> datagram, v1::Envelope* envelope) {
   if (datagram.size() < kDatagramOverheadBytes) return DropReason::kTruncated;
   if (datagram.size() > max_datagram_bytes_) return DropReason::kOversized;
   if (!std::equal(kDatagramMagic.begin(), kDatagramMagic.end(), datagram.begin())) {

@@ -54,8 +54,8 @@ class EnvelopeSealer final {
   }
 
   /// Same, for a body chosen at run time (field number of the Envelope oneof).
-  std::size_t SealBody(const google::protobuf::MessageLite& body, int body_field_number,
-                       std::int64_t send_time_ns, std::span<std::uint8_t> out);
+  std::size_t SealBody(const google::protobuf::MessageLite& body, int body_field_number, std::int64_t send_time_ns,
+                       std::span<std::uint8_t> out);
 
   /// Seals an Envelope whose header fields are written by the caller, as is (tests and tools
   /// that need to forge old epochs or foreign sessions).
@@ -73,8 +73,7 @@ class EnvelopeSealer final {
 
 class EnvelopeOpener final {
  public:
-  EnvelopeOpener(const SessionKey& key, std::uint64_t session_id,
-                 std::size_t max_datagram_bytes = 60000);
+  EnvelopeOpener(const SessionKey& key, std::uint64_t session_id, std::size_t max_datagram_bytes = 60000);
 
   /// Authenticates, parses into *envelope and checks it. Counts the outcome.
   DropReason Open(std::span<const std::uint8_t> datagram, v1::Envelope* envelope);

@@ -13,9 +13,9 @@ SenderIdentity WithEpoch(SenderIdentity identity) {
 }  // namespace
 
 std::uint64_t WallClockNs() {
-  return static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                        std::chrono::system_clock::now().time_since_epoch())
-                                        .count());
+  return static_cast<std::uint64_t>(
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+          .count());
 }
 
 Messenger::Messenger(const SessionKey& key, MessengerConfig config)
@@ -61,8 +61,7 @@ Messenger::Received Messenger::ReceiveOne(Endpoint* from, const v1::Envelope** e
   }
   arena_->Reset();
   auto* parsed = google::protobuf::Arena::CreateMessage<v1::Envelope>(arena_.get());
-  const DropReason reason =
-      opener_.Open(std::span<const std::uint8_t>(receive_buffer_.data(), *bytes), parsed);
+  const DropReason reason = opener_.Open(std::span<const std::uint8_t>(receive_buffer_.data(), *bytes), parsed);
   if (reason != DropReason::kNone) return Received::kDropped;
   *envelope = parsed;
   return Received::kAccepted;

@@ -22,8 +22,7 @@ DropReason ReplayWindow::Check(std::uint64_t sequence) {
   return DropReason::kNone;
 }
 
-DropReason SenderTable::Check(std::string_view sender, std::uint64_t epoch,
-                              std::uint64_t sequence) {
+DropReason SenderTable::Check(std::string_view sender, std::uint64_t epoch, std::uint64_t sequence) {
   if (sender.empty() || sender.size() > kMaxNameBytes || epoch == 0) {
     return DropReason::kMissingSender;
   }

@@ -18,7 +18,10 @@ class ReplayWindow final {
   /// Returns kNone and records the sequence, or kReplayed / kStale without recording.
   DropReason Check(std::uint64_t sequence);
   /// Forgets everything (the sender restarted).
-  void Reset() { highest_ = 0; seen_ = 0; }
+  void Reset() {
+    highest_ = 0;
+    seen_ = 0;
+  }
   std::uint64_t highest() const { return highest_; }
 
  private:

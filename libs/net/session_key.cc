@@ -9,17 +9,15 @@
 namespace haptex::net {
 
 SessionKey SessionKey::FromHex(std::string_view hex) {
-  while (!hex.empty() && (hex.front() == ' ' || hex.front() == '\n' || hex.front() == '\t' ||
-                          hex.front() == '\r')) {
+  while (!hex.empty() && (hex.front() == ' ' || hex.front() == '\n' || hex.front() == '\t' || hex.front() == '\r')) {
     hex.remove_prefix(1);
   }
-  while (!hex.empty() && (hex.back() == ' ' || hex.back() == '\n' || hex.back() == '\t' ||
-                          hex.back() == '\r')) {
+  while (!hex.empty() && (hex.back() == ' ' || hex.back() == '\n' || hex.back() == '\t' || hex.back() == '\r')) {
     hex.remove_suffix(1);
   }
   if (hex.size() != 2 * kBytes) {
-    throw std::invalid_argument("session key must be " + std::to_string(2 * kBytes) +
-                                " hex digits, got " + std::to_string(hex.size()) + " characters");
+    throw std::invalid_argument("session key must be " + std::to_string(2 * kBytes) + " hex digits, got " +
+                                std::to_string(hex.size()) + " characters");
   }
   SessionKey key;
   for (std::size_t i = 0; i < kBytes; ++i) {
@@ -57,8 +55,7 @@ std::uint64_t SessionKey::DerivedSessionId() const {
   // A keyed hash of a fixed label: the id reveals nothing about the key.
   static constexpr unsigned char kLabel[] = "haptex session id v1";
   std::array<std::uint8_t, 8> out{};
-  crypto_generichash(out.data(), out.size(), kLabel, sizeof(kLabel) - 1, bytes_.data(),
-                     bytes_.size());
+  crypto_generichash(out.data(), out.size(), kLabel, sizeof(kLabel) - 1, bytes_.data(), bytes_.size());
   std::uint64_t id = 0;
   for (std::uint8_t b : out) id = (id << 8) | b;
   return id == 0 ? 1 : id;

@@ -19,8 +19,8 @@ asio::ip::udp::endpoint ResolveUdpAddress(std::string_view address) {
   unsigned port = 0;
   const auto [end, ec] = std::from_chars(port_text.data(), port_text.data() + port_text.size(), port);
   if (ec != std::errc() || end != port_text.data() + port_text.size() || port > 65535) {
-    throw std::invalid_argument("address " + quoted + " has an invalid port '" +
-                                std::string(port_text) + "' (0..65535)");
+    throw std::invalid_argument("address " + quoted + " has an invalid port '" + std::string(port_text) +
+                                "' (0..65535)");
   }
   if (host.size() >= 2 && host.front() == '[' && host.back() == ']') {
     host = host.substr(1, host.size() - 2);
@@ -33,11 +33,10 @@ asio::ip::udp::endpoint ResolveUdpAddress(std::string_view address) {
 
   asio::io_context io;
   asio::ip::udp::resolver resolver(io);
-  const auto results = resolver.resolve(asio::ip::udp::v4(), std::string(host),
-                                        std::to_string(port), error);
+  const auto results = resolver.resolve(asio::ip::udp::v4(), std::string(host), std::to_string(port), error);
   if (error || results.empty()) {
-    throw std::invalid_argument("cannot resolve host '" + std::string(host) + "' in address " +
-                                quoted + ": " + (error ? error.message() : "no address"));
+    throw std::invalid_argument("cannot resolve host '" + std::string(host) + "' in address " + quoted + ": " +
+                                (error ? error.message() : "no address"));
   }
   return results.begin()->endpoint();
 }

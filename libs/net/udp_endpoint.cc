@@ -21,8 +21,8 @@ UdpEndpoint::UdpEndpoint(std::string_view bind_address) : socket_(io_) {
   asio::error_code error;
   // Close-on-exec from its first instant (SOCK_CLOEXEC: no window for a fork in another thread),
   // so no process this one starts inherits the socket. Asio's open() would not set it.
-  const int fd = ::socket(endpoint.protocol().family(), endpoint.protocol().type() | SOCK_CLOEXEC,
-                          endpoint.protocol().protocol());
+  const int fd =
+      ::socket(endpoint.protocol().family(), endpoint.protocol().type() | SOCK_CLOEXEC, endpoint.protocol().protocol());
   if (fd < 0) {
     error = asio::error_code(errno, asio::error::get_system_category());
   } else {
@@ -31,8 +31,7 @@ UdpEndpoint::UdpEndpoint(std::string_view bind_address) : socket_(io_) {
   }
   if (!error) socket_.bind(endpoint, error);
   if (error) {
-    throw std::runtime_error("cannot bind UDP " + std::string(bind_address) + ": " +
-                             error.message());
+    throw std::runtime_error("cannot bind UDP " + std::string(bind_address) + ": " + error.message());
   }
   socket_.non_blocking(true);
   // Room for bursts (a ClothFrame in chunks); the kernel caps this at net.core.rmem_max.
@@ -46,8 +45,7 @@ std::optional<std::size_t> UdpEndpoint::ReceiveOne(std::span<std::uint8_t> buffe
   for (;;) {
     asio::error_code error;
     // MSG_TRUNC makes the kernel report the full size of a datagram larger than the buffer.
-    const std::size_t bytes =
-        socket_.receive_from(asio::buffer(buffer.data(), buffer.size()), *from, MSG_TRUNC, error);
+    const std::size_t bytes = socket_.receive_from(asio::buffer(buffer.data(), buffer.size()), *from, MSG_TRUNC, error);
     if (!error) return bytes;
     if (error == asio::error::would_block || error == asio::error::try_again) return std::nullopt;
     // ICMP errors of earlier sends (connection refused) surface here; skip them.

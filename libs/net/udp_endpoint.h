@@ -35,8 +35,7 @@ class UdpEndpoint final {
   /// Same, and *arrival_ns is when the kernel received the datagram, on the steady clock
   /// (SO_TIMESTAMPNS, converted), so latency counts the time a datagram waited in the socket.
   /// Falls back to the time of the call when the kernel gives no timestamp.
-  std::optional<std::size_t> ReceiveOne(std::span<std::uint8_t> buffer, Endpoint* from,
-                                        std::int64_t* arrival_ns);
+  std::optional<std::size_t> ReceiveOne(std::span<std::uint8_t> buffer, Endpoint* from, std::int64_t* arrival_ns);
 
   /// Sends without blocking; false when the kernel refuses (buffer full, unreachable, too large).
   bool SendTo(std::span<const std::uint8_t> datagram, const Endpoint& to);

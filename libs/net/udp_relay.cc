@@ -45,9 +45,7 @@ const UdpRelayConfig& Validated(const UdpRelayConfig& config) {
 // relay that should release to the microsecond asks for the smallest slack while it runs.
 class MinimalTimerSlack final {
  public:
-  MinimalTimerSlack() : previous_(prctl(PR_GET_TIMERSLACK, 0, 0, 0, 0)) {
-    prctl(PR_SET_TIMERSLACK, 1UL, 0, 0, 0);
-  }
+  MinimalTimerSlack() : previous_(prctl(PR_GET_TIMERSLACK, 0, 0, 0, 0)) { prctl(PR_SET_TIMERSLACK, 1UL, 0, 0, 0); }
   ~MinimalTimerSlack() {
     if (previous_ > 0) prctl(PR_SET_TIMERSLACK, static_cast<unsigned long>(previous_), 0, 0, 0);
   }
@@ -61,8 +59,8 @@ class MinimalTimerSlack final {
 }  // namespace
 
 UdpRelay::Direction::Direction(const netsim::ImpairmentConfig& config, std::uint64_t seed,
-                               const netsim::PacketPoolSizes& buffers, UdpEndpoint* in_socket,
-                               UdpEndpoint* out_socket, std::optional<Endpoint> fixed_destination)
+                               const netsim::PacketPoolSizes& buffers, UdpEndpoint* in_socket, UdpEndpoint* out_socket,
+                               std::optional<Endpoint> fixed_destination)
     : model(config, seed),
       pool(buffers),
       queue(pool.capacity()),
@@ -76,19 +74,17 @@ UdpRelay::UdpRelay(const UdpRelayConfig& config)
       forward_(config.forward, config.forward_seed, config.buffers, &listen_, &upstream_,
                ResolveUdpAddress(config.to_address)),
       back_(config.back, config.back_seed, config.buffers, &upstream_, &listen_,
-            config.back_to_address.empty()
-                ? std::nullopt
-                : std::optional<Endpoint>(ResolveUdpAddress(config.back_to_address))),
+            config.back_to_address.empty() ? std::nullopt
+                                           : std::optional<Endpoint>(ResolveUdpAddress(config.back_to_address))),
       duration_ns_(config.duration_s > 0.0 ? std::llround(config.duration_s * 1e9)
-                                            : std::numeric_limits<std::int64_t>::max()),
+                                           : std::numeric_limits<std::int64_t>::max()),
       scratch_(kScratchBytes) {}
 
 void UdpRelay::Run(const std::function<bool()>& stop_requested) {
   const MinimalTimerSlack slack;
   const std::int64_t start_ns = base::SteadyNowNs();
-  const std::int64_t end_ns = duration_ns_ == std::numeric_limits<std::int64_t>::max()
-                                  ? duration_ns_
-                                  : start_ns + duration_ns_;
+  const std::int64_t end_ns =
+      duration_ns_ == std::numeric_limits<std::int64_t>::max() ? duration_ns_ : start_ns + duration_ns_;
   pollfd sockets[2] = {{listen_.native_handle(), POLLIN, 0}, {upstream_.native_handle(), POLLIN, 0}};
   // The first timestamped receive turns kernel stamps on (Linux does it through deferred work):
   // before any traffic if possible.
@@ -105,8 +101,7 @@ void UdpRelay::Run(const std::function<bool()>& stop_requested) {
     if (!forward_.queue.empty()) wake_ns = std::min(wake_ns, forward_.queue.Top().release_ns);
     if (!back_.queue.empty()) wake_ns = std::min(wake_ns, back_.queue.Top().release_ns);
     const std::int64_t wait_ns = std::max<std::int64_t>(0, wake_ns - now_ns);
-    const timespec timeout{static_cast<time_t>(wait_ns / 1'000'000'000),
-                           static_cast<long>(wait_ns % 1'000'000'000)};
+    const timespec timeout{static_cast<time_t>(wait_ns / 1'000'000'000), static_cast<long>(wait_ns % 1'000'000'000)};
     // a signal ends the wait early (EINTR); the loop then asks stop_requested()
     if (ppoll(sockets, 2, &timeout, nullptr) <= 0) continue;
     if (sockets[0].revents != 0) ReceiveBatch(&forward_);
@@ -131,9 +126,8 @@ void UdpRelay::ReceiveBatch(Direction* direction) {
       // the model was told how many buffers are free, so neither can fail
       const std::uint32_t buffer = *direction->pool.Acquire(size_bytes);
       std::memcpy(direction->pool.Buffer(buffer).data(), scratch_.data(), size_bytes);
-      direction->queue.Push({decision.release_ns[static_cast<std::size_t>(copy)],
-                             decision.arrival_ns, decision.sequence, buffer,
-                             static_cast<std::uint32_t>(size_bytes)});
+      direction->queue.Push({decision.release_ns[static_cast<std::size_t>(copy)], decision.arrival_ns,
+                             decision.sequence, buffer, static_cast<std::uint32_t>(size_bytes)});
     }
   }
 }
@@ -141,9 +135,7 @@ void UdpRelay::ReceiveBatch(Direction* direction) {
 void UdpRelay::SendDue(Direction* direction, std::int64_t now_ns) {
   while (!direction->queue.empty() && direction->queue.Top().release_ns <= now_ns) {
     const netsim::ScheduledCopy copy = direction->queue.Pop();
-    const Endpoint* to = direction->destination ? &*direction->destination
-                         : last_client_          ? &*last_client_
-                                                 : nullptr;
+    const Endpoint* to = direction->destination ? &*direction->destination : last_client_ ? &*last_client_ : nullptr;
     if (to == nullptr) {
       direction->model.OnUndelivered(netsim::DropCause::kNoDestination);
     } else {

@@ -35,8 +35,8 @@ struct UdpRelayConfig {
   netsim::ImpairmentConfig back;      // server side -> client
   std::uint64_t forward_seed = 1;
   std::uint64_t back_seed = 2;
-  double duration_s = 0.0;            // 0: until stopped
-  netsim::PacketPoolSizes buffers;    // per direction
+  double duration_s = 0.0;          // 0: until stopped
+  netsim::PacketPoolSizes buffers;  // per direction
 };
 
 class UdpRelay final {
@@ -62,9 +62,8 @@ class UdpRelay final {
 
  private:
   struct Direction {
-    Direction(const netsim::ImpairmentConfig& config, std::uint64_t seed,
-              const netsim::PacketPoolSizes& buffers, UdpEndpoint* in_socket,
-              UdpEndpoint* out_socket, std::optional<Endpoint> fixed_destination);
+    Direction(const netsim::ImpairmentConfig& config, std::uint64_t seed, const netsim::PacketPoolSizes& buffers,
+              UdpEndpoint* in_socket, UdpEndpoint* out_socket, std::optional<Endpoint> fixed_destination);
     netsim::ImpairmentModel model;
     netsim::PacketPool pool;
     netsim::ReleaseQueue queue;

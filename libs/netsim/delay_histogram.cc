@@ -9,8 +9,8 @@ namespace haptex::netsim {
 int DelayHistogram::BucketOf(std::uint64_t value_ns) {
   if (value_ns < 2 * kSubBuckets) return static_cast<int>(value_ns);
   const int msb = 63 - std::countl_zero(value_ns);
-  const int shift = msb - kSubBucketBits;                  // >= 1
-  const auto top = static_cast<int>(value_ns >> shift);   // in [64, 127]
+  const int shift = msb - kSubBucketBits;                // >= 1
+  const auto top = static_cast<int>(value_ns >> shift);  // in [64, 127]
   return kSubBuckets * shift + top;
 }
 
@@ -34,15 +34,13 @@ void DelayHistogram::Record(std::int64_t delay_ns) {
 double DelayHistogram::Quantile_ns(double q) const {
   if (count_ == 0) return 0.0;
   q = std::isnan(q) ? 0.0 : std::clamp(q, 0.0, 1.0);
-  const auto rank = std::max<std::uint64_t>(
-      1, static_cast<std::uint64_t>(std::ceil(q * static_cast<double>(count_))));
+  const auto rank = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::ceil(q * static_cast<double>(count_))));
   if (rank >= count_) return static_cast<double>(max_ns_);
   std::uint64_t seen = 0;
   for (int b = 0; b < kBucketCount; ++b) {
     seen += buckets_[static_cast<std::size_t>(b)];
     if (seen >= rank) {
-      return std::clamp(BucketMiddle_ns(b), static_cast<double>(min_ns_),
-                        static_cast<double>(max_ns_));
+      return std::clamp(BucketMiddle_ns(b), static_cast<double>(min_ns_), static_cast<double>(max_ns_));
     }
   }
   return static_cast<double>(max_ns_);

@@ -4,13 +4,20 @@ namespace haptex::netsim {
 
 std::string_view DropCauseName(DropCause cause) {
   switch (cause) {
-    case DropCause::kLoss: return "loss";
-    case DropCause::kBurstLoss: return "burst_loss";
-    case DropCause::kQueueOverflow: return "queue_overflow";
-    case DropCause::kOversize: return "oversize";
-    case DropCause::kSendFailed: return "send_failed";
-    case DropCause::kNoDestination: return "no_destination";
-    case DropCause::kUnsentAtStop: return "unsent_at_stop";
+    case DropCause::kLoss:
+      return "loss";
+    case DropCause::kBurstLoss:
+      return "burst_loss";
+    case DropCause::kQueueOverflow:
+      return "queue_overflow";
+    case DropCause::kOversize:
+      return "oversize";
+    case DropCause::kSendFailed:
+      return "send_failed";
+    case DropCause::kNoDestination:
+      return "no_destination";
+    case DropCause::kUnsentAtStop:
+      return "unsent_at_stop";
   }
   return "unknown";
 }

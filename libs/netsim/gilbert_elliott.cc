@@ -14,8 +14,7 @@ void ValidateGilbertElliott(const GilbertElliottConfig& config, const char* pref
   CheckProbability(name + "loss_good", config.loss_good);
   CheckProbability(name + "loss_bad", config.loss_bad);
   if (config.p_good_to_bad > 0.0 && config.p_bad_to_good == 0.0) {
-    throw std::invalid_argument(name + "r must be > 0 when " + name +
-                                "p > 0: the bad state would never end");
+    throw std::invalid_argument(name + "r must be > 0 when " + name + "p > 0: the bad state would never end");
   }
 }
 

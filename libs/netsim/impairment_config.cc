@@ -9,8 +9,10 @@ namespace haptex::netsim {
 
 std::string_view JitterDistributionName(JitterDistribution distribution) {
   switch (distribution) {
-    case JitterDistribution::kUniform: return "uniform";
-    case JitterDistribution::kNormal: return "normal";
+    case JitterDistribution::kUniform:
+      return "uniform";
+    case JitterDistribution::kNormal:
+      return "normal";
   }
   return "unknown";
 }
@@ -18,8 +20,7 @@ std::string_view JitterDistributionName(JitterDistribution distribution) {
 JitterDistribution ParseJitterDistribution(std::string_view name) {
   if (name == "uniform") return JitterDistribution::kUniform;
   if (name == "normal") return JitterDistribution::kNormal;
-  throw std::invalid_argument("jitter distribution must be 'uniform' or 'normal', got '" +
-                              std::string(name) + "'");
+  throw std::invalid_argument("jitter distribution must be 'uniform' or 'normal', got '" + std::string(name) + "'");
 }
 
 void Validate(const ImpairmentConfig& config) {

@@ -21,7 +21,7 @@ JitterDistribution ParseJitterDistribution(std::string_view name);
 
 struct ImpairmentConfig {
   static constexpr double kMaxDelay_ms = 60'000.0;
-  static constexpr double kMaxRate_kbps = 100'000'000.0;   // 100 Gbit/s
+  static constexpr double kMaxRate_kbps = 100'000'000.0;  // 100 Gbit/s
   static constexpr std::size_t kMaxQueue_bytes = std::size_t{1} << 30;
   static constexpr std::size_t kMaxDatagram_bytes = 65'535;
 
@@ -30,7 +30,7 @@ struct ImpairmentConfig {
   // total delay negative are drawn again (truncation), so delay_ms + jitter never goes below 0.
   double jitter_ms = 0.0;
   JitterDistribution jitter_distribution = JitterDistribution::kUniform;
-  double loss = 0.0;  // independent loss probability
+  double loss = 0.0;           // independent loss probability
   GilbertElliottConfig burst;  // burst loss, on top of `loss`
   double duplicate = 0.0;      // probability that a datagram is sent twice
   // Probability that a datagram is held back by reorder_delay_ms more, so later ones overtake it.

@@ -37,8 +37,7 @@ ImpairmentModel::ImpairmentModel(const ImpairmentConfig& config, std::uint64_t s
       jitter_draws_(seed, kJitterStream),
       reorder_draws_(seed, kReorderStream) {}
 
-Decision ImpairmentModel::Decide(std::int64_t arrival_ns, std::size_t size_bytes,
-                                 std::size_t free_buffers) {
+Decision ImpairmentModel::Decide(std::int64_t arrival_ns, std::size_t size_bytes, std::size_t free_buffers) {
   Decision decision;
   decision.sequence = next_sequence_++;
   decision.arrival_ns = std::max(arrival_ns, last_arrival_ns_);
@@ -84,13 +83,11 @@ Decision ImpairmentModel::Decide(std::int64_t arrival_ns, std::size_t size_bytes
   return decision;
 }
 
-bool ImpairmentModel::PassRateLimit(std::int64_t arrival_ns, std::size_t size_bytes,
-                                    std::int64_t* departure_ns) {
+bool ImpairmentModel::PassRateLimit(std::int64_t arrival_ns, std::size_t size_bytes, std::int64_t* departure_ns) {
   if (config_.rate_kbps <= 0.0) return true;
   const std::int64_t start_ns = std::max(arrival_ns, link_free_ns_);
   // bytes of earlier datagrams not yet serialised when this one arrives
-  const double backlog_bytes =
-      static_cast<double>(start_ns - arrival_ns) * config_.rate_kbps / 8e6;
+  const double backlog_bytes = static_cast<double>(start_ns - arrival_ns) * config_.rate_kbps / 8e6;
   if (backlog_bytes + static_cast<double>(size_bytes) > static_cast<double>(config_.queue_bytes)) {
     return false;
   }
@@ -117,8 +114,7 @@ std::int64_t ImpairmentModel::DrawJitter_ns() {
   return std::max(ToNs(jitter_ms), -delay_ns_);
 }
 
-void ImpairmentModel::OnDelivered(std::uint64_t sequence, std::int64_t arrival_ns,
-                                  std::int64_t sent_ns) {
+void ImpairmentModel::OnDelivered(std::uint64_t sequence, std::int64_t arrival_ns, std::int64_t sent_ns) {
   ++stats_.forwarded;
   if (delivered_any_ && sequence < highest_delivered_) {
     ++stats_.reordered;

@@ -33,7 +33,7 @@ struct ImpairmentStats {
 };
 
 struct Decision {
-  std::uint64_t sequence = 0;  // arrival order, from 0
+  std::uint64_t sequence = 0;   // arrival order, from 0
   std::int64_t arrival_ns = 0;  // the arrival time used (never before the previous datagram's)
   int copies = 0;               // copies to release: 0 (dropped), 1, or 2 (duplicated)
   std::array<std::int64_t, 2> release_ns{};

@@ -5,8 +5,7 @@
 namespace haptex::netsim {
 
 PacketPool::PacketPool(const PacketPoolSizes& sizes) : sizes_(sizes) {
-  if (sizes.small_bytes == 0 || sizes.large_bytes < sizes.small_bytes ||
-      sizes.small_count + sizes.large_count == 0) {
+  if (sizes.small_bytes == 0 || sizes.large_bytes < sizes.small_bytes || sizes.small_count + sizes.large_count == 0) {
     throw std::invalid_argument("packet pool: buffer sizes and counts must be > 0, large >= small");
   }
   if (sizes.small_count + sizes.large_count > (std::size_t{1} << 31)) {
@@ -48,8 +47,6 @@ std::span<std::uint8_t> PacketPool::Buffer(std::uint32_t id) {
   return {large_.get() + (id - sizes_.small_count) * sizes_.large_bytes, sizes_.large_bytes};
 }
 
-void PacketPool::Release(std::uint32_t id) {
-  (id < sizes_.small_count ? free_small_ : free_large_).push_back(id);
-}
+void PacketPool::Release(std::uint32_t id) { (id < sizes_.small_count ? free_small_ : free_large_).push_back(id); }
 
 }  // namespace haptex::netsim

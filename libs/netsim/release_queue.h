@@ -12,8 +12,8 @@ namespace haptex::netsim {
 struct ScheduledCopy {
   std::int64_t release_ns = 0;
   std::int64_t arrival_ns = 0;
-  std::uint64_t sequence = 0;    // the model's Decision::sequence
-  std::uint32_t buffer = 0;      // the caller's handle to the bytes (e.g. a PacketPool id)
+  std::uint64_t sequence = 0;  // the model's Decision::sequence
+  std::uint32_t buffer = 0;    // the caller's handle to the bytes (e.g. a PacketPool id)
   std::uint32_t size_bytes = 0;
 };
 

@@ -6,8 +6,8 @@
 
 namespace haptex::runtime {
 
-HealthPublisher::HealthPublisher(HealthReporter* reporter, net::Messenger* messenger,
-                                 net::Messenger::PeerId peer, double rate_hz, std::int64_t start_ns)
+HealthPublisher::HealthPublisher(HealthReporter* reporter, net::Messenger* messenger, net::Messenger::PeerId peer,
+                                 double rate_hz, std::int64_t start_ns)
     : reporter_(reporter), messenger_(messenger), peer_(peer), start_ns_(start_ns), next_ns_(start_ns) {
   if (!(rate_hz > 0.0 && rate_hz <= 1000.0)) {
     throw std::invalid_argument("health rate must be in (0, 1000] Hz, got " + std::to_string(rate_hz));

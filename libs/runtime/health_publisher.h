@@ -12,8 +12,8 @@ namespace haptex::runtime {
 class HealthPublisher final {
  public:
   /// Throws std::invalid_argument unless 0 < rate_hz <= 1000.
-  HealthPublisher(HealthReporter* reporter, net::Messenger* messenger, net::Messenger::PeerId peer,
-                  double rate_hz, std::int64_t start_ns);
+  HealthPublisher(HealthReporter* reporter, net::Messenger* messenger, net::Messenger::PeerId peer, double rate_hz,
+                  std::int64_t start_ns);
 
   /// Sends Health when one period has passed since the last one. Returns true when it sent.
   bool MaybePublish(std::int64_t now_ns);

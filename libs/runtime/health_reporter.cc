@@ -16,8 +16,7 @@ void HealthReporter::AddLoop(const LoopStats* loop) {
 
 void HealthReporter::AddLatency(std::string name, const LatencyHistogram* histogram) {
   AddLatency(std::move(name), [histogram] {
-    return LatencySummary{histogram->count(), histogram->Percentile(0.50) * 1e-3,
-                          histogram->Percentile(0.99) * 1e-3,
+    return LatencySummary{histogram->count(), histogram->Percentile(0.50) * 1e-3, histogram->Percentile(0.99) * 1e-3,
                           static_cast<double>(histogram->max_ns()) * 1e-3};
   });
 }

@@ -38,8 +38,7 @@ void LatencyHistogram::Reset() { *this = LatencyHistogram{}; }
 double LatencyHistogram::Percentile(double q) const {
   if (count_ == 0) return 0.0;
   q = std::clamp(q, 0.0, 1.0);
-  const auto rank = std::max<std::uint64_t>(
-      1, static_cast<std::uint64_t>(std::ceil(q * static_cast<double>(count_))));
+  const auto rank = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::ceil(q * static_cast<double>(count_))));
   if (rank >= count_) return static_cast<double>(max_ns_);
   std::uint64_t seen = 0;
   for (int b = 0; b < kBucketCount; ++b) {

@@ -8,8 +8,7 @@ namespace haptex::runtime {
 
 PeriodicLoop::PeriodicLoop(std::string name, double rate_hz) {
   if (!(rate_hz > 0.0) || rate_hz > 100e3 || !std::isfinite(rate_hz)) {
-    throw std::invalid_argument("loop '" + name + "': rate must be in (0, 100000] Hz, got " +
-                                std::to_string(rate_hz));
+    throw std::invalid_argument("loop '" + name + "': rate must be in (0, 100000] Hz, got " + std::to_string(rate_hz));
   }
   period_ns_ = static_cast<std::int64_t>(std::llround(1e9 / rate_hz));
   dt_s_ = static_cast<double>(period_ns_) * 1e-9;

@@ -12,8 +12,8 @@ class logger;
 namespace haptex::runtime {
 
 struct RtOptions {
-  int fifo_priority = 0;   // 0: normal scheduling; 1..99: SCHED_FIFO
-  std::vector<int> cpus;   // empty: any CPU
+  int fifo_priority = 0;  // 0: normal scheduling; 1..99: SCHED_FIFO
+  std::vector<int> cpus;  // empty: any CPU
   bool lock_memory = false;
 };
 

@@ -37,8 +37,7 @@ RtSetupResult TrySetCpuAffinity(const std::vector<int>& cpus) {
   std::string names;
   for (int cpu : cpus) {
     if (cpu < 0 || cpu >= online) {
-      return {false, "CPU " + std::to_string(cpu) + " does not exist (0.." +
-                         std::to_string(online - 1) + ")"};
+      return {false, "CPU " + std::to_string(cpu) + " does not exist (0.." + std::to_string(online - 1) + ")"};
     }
     CPU_SET(cpu, &set);
     names += (names.empty() ? "" : ",") + std::to_string(cpu);

@@ -13,8 +13,7 @@ namespace haptex::runtime {
 
 template <class T, std::size_t kCapacity>
 class SpscRing final {
-  static_assert(kCapacity >= 2 && (kCapacity & (kCapacity - 1)) == 0,
-                "capacity must be a power of two");
+  static_assert(kCapacity >= 2 && (kCapacity & (kCapacity - 1)) == 0, "capacity must be a power of two");
 
  public:
   bool TryPush(const T& item) {
@@ -41,9 +40,7 @@ class SpscRing final {
     return true;
   }
 
-  std::size_t size() const {
-    return head_.load(std::memory_order_acquire) - tail_.load(std::memory_order_acquire);
-  }
+  std::size_t size() const { return head_.load(std::memory_order_acquire) - tail_.load(std::memory_order_acquire); }
 
  private:
   std::array<T, kCapacity> items_{};

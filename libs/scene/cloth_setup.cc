@@ -92,8 +92,8 @@ SceneLoads::SceneLoads(const v1::Scene& scene, const textile::FabricModel& model
   for (int i = 0; i < nu; ++i) bottom_edge_.push_back(i + nu * (nv - 1));
   for (const v1::Load& load : loads_) {
     if (load.kind() == v1::Load::KIND_POINT && static_cast<int>(load.particle()) >= model.num_particles) {
-      throw std::invalid_argument("load on particle " + std::to_string(load.particle()) +
-                                  ", but the cloth has " + std::to_string(model.num_particles));
+      throw std::invalid_argument("load on particle " + std::to_string(load.particle()) + ", but the cloth has " +
+                                  std::to_string(model.num_particles));
     }
   }
 }
@@ -113,8 +113,8 @@ void SceneLoads::Apply(double t, textile::FabricState* state) const {
   for (const v1::Load& load : loads_) {
     const double factor = Factor(load, t);
     if (factor == 0.0) continue;
-    const Eigen::Vector3d force = factor * Eigen::Vector3d(load.force_w_n().x(), load.force_w_n().y(),
-                                                           load.force_w_n().z());
+    const Eigen::Vector3d force =
+        factor * Eigen::Vector3d(load.force_w_n().x(), load.force_w_n().y(), load.force_w_n().z());
     if (load.kind() == v1::Load::KIND_POINT) {
       state->external_force_W_N.segment<3>(3 * static_cast<int>(load.particle())) += force;
     } else if (load.kind() == v1::Load::KIND_BOTTOM_EDGE) {

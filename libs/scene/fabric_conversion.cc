@@ -16,9 +16,7 @@ textile::kes::KesTensile ToTensile(const v1::KesTensile& t) {
   return out;
 }
 
-textile::kes::KesBending ToBending(const v1::KesBending& b) {
-  return {b.b_gfcm2_per_cm(), b.two_hb_gfcm_per_cm()};
-}
+textile::kes::KesBending ToBending(const v1::KesBending& b) { return {b.b_gfcm2_per_cm(), b.two_hb_gfcm_per_cm()}; }
 
 }  // namespace
 

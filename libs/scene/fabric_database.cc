@@ -14,14 +14,12 @@ namespace {
 
 constexpr char kExtension[] = ".textproto";
 
-void RequireRange(const google::protobuf::Message& parent, const char* field, double value,
-                  double min_exclusive, double max_inclusive, const char* unit,
-                  const FieldLocator& where, std::vector<TextIssue>* issues) {
+void RequireRange(const google::protobuf::Message& parent, const char* field, double value, double min_exclusive,
+                  double max_inclusive, const char* unit, const FieldLocator& where, std::vector<TextIssue>* issues) {
   if (!std::isfinite(value) || value <= min_exclusive || value > max_inclusive) {
     issues->push_back(where.At(parent, field, -1,
-                               std::string(field) + " must be in (" + std::to_string(min_exclusive) +
-                                   ", " + std::to_string(max_inclusive) + "] " + unit + ", got " +
-                                   std::to_string(value)));
+                               std::string(field) + " must be in (" + std::to_string(min_exclusive) + ", " +
+                                   std::to_string(max_inclusive) + "] " + unit + ", got " + std::to_string(value)));
   }
 }
 
@@ -30,8 +28,8 @@ void RequireRange(const google::protobuf::Message& parent, const char* field, do
 std::vector<TextIssue> ValidateFabric(const v1::Fabric& fabric, const FieldLocator& where) {
   std::vector<TextIssue> issues;
   if (fabric.name().empty()) issues.push_back(where.Here("fabric has no name"));
-  const std::pair<const char*, const v1::KesTensile*> tensiles[] = {
-      {"warp_tensile", &fabric.warp_tensile()}, {"weft_tensile", &fabric.weft_tensile()}};
+  const std::pair<const char*, const v1::KesTensile*> tensiles[] = {{"warp_tensile", &fabric.warp_tensile()},
+                                                                    {"weft_tensile", &fabric.weft_tensile()}};
   for (const auto& [direction, tensile_ptr] : tensiles) {
     const v1::KesTensile& tensile = *tensile_ptr;
     const FieldLocator at = where.Nested(fabric, direction);
@@ -44,19 +42,19 @@ std::vector<TextIssue> ValidateFabric(const v1::Fabric& fabric, const FieldLocat
     }
     for (int i = 0; i < tensile.loading_curve_size(); ++i) {
       const auto& p = tensile.loading_curve(i);
-      const bool increasing = i == 0 || (p.x() > tensile.loading_curve(i - 1).x() &&
-                                         p.y() >= tensile.loading_curve(i - 1).y());
+      const bool increasing =
+          i == 0 || (p.x() > tensile.loading_curve(i - 1).x() && p.y() >= tensile.loading_curve(i - 1).y());
       if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || p.x() < 0 || p.y() < 0 || !increasing) {
-        issues.push_back(at.At(tensile, "loading_curve", i,
-                               "loading_curve points must be finite, >= 0 and increasing"));
+        issues.push_back(
+            at.At(tensile, "loading_curve", i, "loading_curve points must be finite, >= 0 and increasing"));
       }
     }
   }
   const FieldLocator shear = where.Nested(fabric, "shear");
-  RequireRange(fabric.shear(), "g_gf_per_cm_deg", fabric.shear().g_gf_per_cm_deg(), 0.0, 100.0,
-               "gf/(cm deg)", shear, &issues);
-  const std::pair<const char*, const v1::KesBending*> bendings[] = {
-      {"warp_bending", &fabric.warp_bending()}, {"weft_bending", &fabric.weft_bending()}};
+  RequireRange(fabric.shear(), "g_gf_per_cm_deg", fabric.shear().g_gf_per_cm_deg(), 0.0, 100.0, "gf/(cm deg)", shear,
+               &issues);
+  const std::pair<const char*, const v1::KesBending*> bendings[] = {{"warp_bending", &fabric.warp_bending()},
+                                                                    {"weft_bending", &fabric.weft_bending()}};
   for (const auto& [direction, bending_ptr] : bendings) {
     const v1::KesBending& bending = *bending_ptr;
     RequireRange(bending, "b_gfcm2_per_cm", bending.b_gfcm2_per_cm(), 0.0, 100.0, "gf cm^2/cm",
@@ -64,12 +62,11 @@ std::vector<TextIssue> ValidateFabric(const v1::Fabric& fabric, const FieldLocat
   }
   // thickness 0: the source does not give it (contact uses a default offset)
   if (!std::isfinite(fabric.thickness_mm()) || fabric.thickness_mm() < 0.0 || fabric.thickness_mm() > 20.0) {
-    issues.push_back(where.At(fabric, "thickness_mm", -1,
-                              "thickness_mm must be in [0, 20] mm (0: not given), got " +
-                                  std::to_string(fabric.thickness_mm())));
+    issues.push_back(
+        where.At(fabric, "thickness_mm", -1,
+                 "thickness_mm must be in [0, 20] mm (0: not given), got " + std::to_string(fabric.thickness_mm())));
   }
-  RequireRange(fabric, "weight_mg_per_cm2", fabric.weight_mg_per_cm2(), 0.0, 200.0, "mg/cm^2",
-               where, &issues);
+  RequireRange(fabric, "weight_mg_per_cm2", fabric.weight_mg_per_cm2(), 0.0, 200.0, "mg/cm^2", where, &issues);
   if (fabric.has_finger_friction()) {
     const auto& f = fabric.finger_friction();
     const FieldLocator at = where.Nested(fabric, "finger_friction");
@@ -107,13 +104,9 @@ std::vector<std::string> FabricDatabase::Names() const {
   return names;
 }
 
-bool FabricDatabase::Contains(const std::string& name) const {
-  return std::filesystem::is_regular_file(PathOf(name));
-}
+bool FabricDatabase::Contains(const std::string& name) const { return std::filesystem::is_regular_file(PathOf(name)); }
 
-std::string FabricDatabase::PathOf(const std::string& name) const {
-  return directory_ + "/" + name + kExtension;
-}
+std::string FabricDatabase::PathOf(const std::string& name) const { return directory_ + "/" + name + kExtension; }
 
 v1::Fabric FabricDatabase::Load(const std::string& name) const {
   const std::string path = PathOf(name);
@@ -127,8 +120,8 @@ v1::Fabric FabricDatabase::Load(const std::string& name) const {
   const FieldLocator where(parsed.locations.get(), {1, 1, ""});
   std::vector<TextIssue> issues = ValidateFabric(fabric, where);
   if (fabric.name() != name) {
-    issues.push_back(where.At(fabric, "name", -1,
-                              "name '" + fabric.name() + "' differs from the file name '" + name + "'"));
+    issues.push_back(
+        where.At(fabric, "name", -1, "name '" + fabric.name() + "' differs from the file name '" + name + "'"));
   }
   if (!issues.empty()) throw TextProtoError(path, std::move(issues));
   return fabric;

@@ -16,8 +16,12 @@ inline double OrDefault(double value, double fallback) { return value > 0 ? valu
 
 /// Cloth size along warp and weft [m] and particles per row and column: textile::GridSpec's
 /// unless given.
-inline double ClothWidthM(const v1::ClothGeometry& c) { return OrDefault(c.width_m(), textile::GridSpec{}.length_warp_m); }
-inline double ClothHeightM(const v1::ClothGeometry& c) { return OrDefault(c.height_m(), textile::GridSpec{}.width_weft_m); }
+inline double ClothWidthM(const v1::ClothGeometry& c) {
+  return OrDefault(c.width_m(), textile::GridSpec{}.length_warp_m);
+}
+inline double ClothHeightM(const v1::ClothGeometry& c) {
+  return OrDefault(c.height_m(), textile::GridSpec{}.width_weft_m);
+}
 inline int ClothParticlesU(const v1::ClothGeometry& c) {
   return c.particles_u() > 0 ? static_cast<int>(c.particles_u()) : textile::GridSpec{}.particles_warp;
 }
@@ -31,7 +35,8 @@ inline contact::FingerShape FingerShapeFromScene(const v1::FingerSpec& finger) {
   const contact::FingerShape defaults;
   contact::FingerShape shape;
   shape.radius_m = OrDefault(finger.radius_m(), defaults.radius_m);
-  shape.length_m = finger.shape() == v1::FingerSpec::SHAPE_SPHERE ? 0.0 : OrDefault(finger.length_m(), defaults.length_m);
+  shape.length_m =
+      finger.shape() == v1::FingerSpec::SHAPE_SPHERE ? 0.0 : OrDefault(finger.length_m(), defaults.length_m);
   return shape;
 }
 

@@ -22,14 +22,22 @@ double ForceModelStaleS(const v1::Scene& scene) { return BridgeConfigFromScene(s
 
 device::ScriptKind ScriptKindFromScene(v1::MockUserScript::Kind kind) {
   switch (kind) {
-    case v1::MockUserScript::KIND_APPROACH_AND_TOUCH: return device::ScriptKind::kApproachAndTouch;
-    case v1::MockUserScript::KIND_GRASP_AND_SQUEEZE: return device::ScriptKind::kGraspAndSqueeze;
-    case v1::MockUserScript::KIND_PINCH_AND_STRETCH: return device::ScriptKind::kPinchAndStretch;
-    case v1::MockUserScript::KIND_RUB: return device::ScriptKind::kRub;
-    case v1::MockUserScript::KIND_LIFT: return device::ScriptKind::kLift;
-    case v1::MockUserScript::KIND_PLAYBACK: return device::ScriptKind::kPlayback;
-    case v1::MockUserScript::KIND_DEMO: return device::ScriptKind::kDemo;
-    default: return device::ScriptKind::kIdle;
+    case v1::MockUserScript::KIND_APPROACH_AND_TOUCH:
+      return device::ScriptKind::kApproachAndTouch;
+    case v1::MockUserScript::KIND_GRASP_AND_SQUEEZE:
+      return device::ScriptKind::kGraspAndSqueeze;
+    case v1::MockUserScript::KIND_PINCH_AND_STRETCH:
+      return device::ScriptKind::kPinchAndStretch;
+    case v1::MockUserScript::KIND_RUB:
+      return device::ScriptKind::kRub;
+    case v1::MockUserScript::KIND_LIFT:
+      return device::ScriptKind::kLift;
+    case v1::MockUserScript::KIND_PLAYBACK:
+      return device::ScriptKind::kPlayback;
+    case v1::MockUserScript::KIND_DEMO:
+      return device::ScriptKind::kDemo;
+    default:
+      return device::ScriptKind::kIdle;
   }
 }
 
@@ -42,7 +50,8 @@ device::ScriptParams MockScriptFromScene(const v1::Scene& scene, const device::M
   // fabric_normal_D points from the thumb's side to the index's side
   script.fabric_normal_D = flat ? Eigen::Vector3d(0, 0, -1) : Eigen::Vector3d(0, -1, 0);
   // default touch point: the fabric's centre at rest (cloth_setup.h)
-  script.fabric_point_D_m = stand_W + (flat ? Eigen::Vector3d(0, height_m / 2, 0) : Eigen::Vector3d(0, 0, -height_m / 2));
+  script.fabric_point_D_m =
+      stand_W + (flat ? Eigen::Vector3d(0, height_m / 2, 0) : Eigen::Vector3d(0, 0, -height_m / 2));
 
   bool has_thumb = false, has_index = false;
   for (const v1::FingerSpec& f : scene.fingers()) {

@@ -22,16 +22,17 @@ class Checker {
   explicit Checker(std::vector<TextIssue>* issues) : issues_(issues) {}
 
   // value == 0 means "default"; otherwise it must lie in [min, max].
-  void ZeroOrRange(const Message& m, const char* field, double value, double min, double max,
-                   const char* unit, const FieldLocator& at) {
+  void ZeroOrRange(const Message& m, const char* field, double value, double min, double max, const char* unit,
+                   const FieldLocator& at) {
     if (value == 0.0) return;
     Range(m, field, value, min, max, unit, at);
   }
-  void Range(const Message& m, const char* field, double value, double min, double max,
-             const char* unit, const FieldLocator& at) {
+  void Range(const Message& m, const char* field, double value, double min, double max, const char* unit,
+             const FieldLocator& at) {
     if (!std::isfinite(value) || value < min || value > max) {
-      Add(at.At(m, field, -1, std::string(field) + " must be in [" + Number(min) + ", " +
-                                  Number(max) + "] " + unit + ", got " + Number(value)));
+      Add(at.At(m, field, -1,
+                std::string(field) + " must be in [" + Number(min) + ", " + Number(max) + "] " + unit + ", got " +
+                    Number(value)));
     }
   }
   void Add(TextIssue issue) { issues_->push_back(std::move(issue)); }
@@ -55,23 +56,23 @@ void CheckCloth(const v1::ClothGeometry& cloth, const FieldLocator& at, Checker&
   if (cloth.mounting() == v1::ClothGeometry::MOUNTING_FLAT_LEDGE) {
     c.Range(cloth, "ledge_v_m", cloth.ledge_v_m(), 1e-3, height, "m (must lie on the cloth)", at);
   }
-  const auto count = static_cast<std::uint64_t>(ClothParticlesU(cloth)) * static_cast<std::uint64_t>(ClothParticlesV(cloth));
+  const auto count =
+      static_cast<std::uint64_t>(ClothParticlesU(cloth)) * static_cast<std::uint64_t>(ClothParticlesV(cloth));
   for (int i = 0; i < cloth.fixed_particles_size(); ++i) {
     if (cloth.fixed_particles(i) >= count) {
       c.Add(at.At(cloth, "fixed_particles", i,
-                  "fixed particle " + std::to_string(cloth.fixed_particles(i)) +
-                      " does not exist (the grid has " + std::to_string(count) + " particles)"));
+                  "fixed particle " + std::to_string(cloth.fixed_particles(i)) + " does not exist (the grid has " +
+                      std::to_string(count) + " particles)"));
     }
   }
 }
 
-void CheckVec(const Message& parent, const char* field, const v1::Vec3& v, double max_norm,
-              const char* unit, const FieldLocator& at, Checker& c) {
+void CheckVec(const Message& parent, const char* field, const v1::Vec3& v, double max_norm, const char* unit,
+              const FieldLocator& at, Checker& c) {
   const double norm = std::sqrt(v.x() * v.x() + v.y() * v.y() + v.z() * v.z());
   if (!std::isfinite(norm) || norm > max_norm) {
     c.Add(at.At(parent, field, -1,
-                std::string(field) + " must be finite with magnitude <= " + Checker::Number(max_norm) +
-                    " " + unit));
+                std::string(field) + " must be finite with magnitude <= " + Checker::Number(max_norm) + " " + unit));
   }
 }
 
@@ -82,8 +83,9 @@ void CheckLoads(const v1::Scene& scene, const FieldLocator& where, Checker& c) {
     const v1::Load& load = scene.loads(i);
     const FieldLocator at = where.Nested(scene, "loads", i);
     if (load.kind() == v1::Load::KIND_POINT && load.particle() >= particles) {
-      c.Add(at.At(load, "particle", -1, "particle " + std::to_string(load.particle()) +
-                                            " does not exist (the grid has " + std::to_string(particles) + ")"));
+      c.Add(at.At(load, "particle", -1,
+                  "particle " + std::to_string(load.particle()) + " does not exist (the grid has " +
+                      std::to_string(particles) + ")"));
     }
     if (load.kind() == v1::Load::KIND_UNSPECIFIED) {
       c.Add(at.Here("load needs a kind (KIND_POINT or KIND_BOTTOM_EDGE)"));
@@ -135,7 +137,8 @@ void CheckTactileSurface(const v1::TactileSurface& s, const FieldLocator& at, Ch
   c.ZeroOrRange(s, "yarn_diameter_mm", s.yarn_diameter_mm(), 0.02, 5.0, "mm", at);
   c.ZeroOrRange(s, "smd_um", s.smd_um(), 0.1, 100.0, "um", at);
   if (s.pattern() == v1::Weave::PATTERN_KNIT) {
-    c.Add(at.At(s, "pattern", -1, "the tactile surface is built for woven patterns: PATTERN_PLAIN, PATTERN_TWILL or PATTERN_SATIN"));
+    c.Add(at.At(s, "pattern", -1,
+                "the tactile surface is built for woven patterns: PATTERN_PLAIN, PATTERN_TWILL or PATTERN_SATIN"));
   }
   const bool any_value = s.pattern() != v1::Weave::PATTERN_UNSPECIFIED || s.warp_pitch_mm() != 0 ||
                          s.weft_pitch_mm() != 0 || s.yarn_diameter_mm() != 0 || s.smd_um() != 0;
@@ -149,7 +152,8 @@ void CheckDevice(const v1::Scene& scene, const FieldLocator& where, Checker& c) 
   const FieldLocator at = where.Nested(scene, "device");
   if (scene.fingers_size() > 0 && d.kind_case() == v1::DeviceSpec::KIND_NOT_SET) {
     c.Add(where.At(scene, "fingers", 0,
-                   "a scene with fingers needs a device: `device { mock {} }` or `device { grab { controller_address: \"host:port\" } }`"));
+                   "a scene with fingers needs a device: `device { mock {} }` or `device { grab { controller_address: "
+                   "\"host:port\" } }`"));
   }
   if (d.has_grab()) {
     try {
@@ -284,8 +288,7 @@ void CheckSessionKey(const v1::Scene& scene, const FieldLocator& where, Checker&
 
 }  // namespace
 
-std::vector<TextIssue> ValidateScene(const v1::Scene& scene, const FieldLocator& where,
-                                     const FabricDatabase& fabrics) {
+std::vector<TextIssue> ValidateScene(const v1::Scene& scene, const FieldLocator& where, const FabricDatabase& fabrics) {
   std::vector<TextIssue> issues;
   Checker c(&issues);
   if (scene.name().empty()) c.Add(where.Here("scene needs a name"));
@@ -298,18 +301,19 @@ std::vector<TextIssue> ValidateScene(const v1::Scene& scene, const FieldLocator&
         std::string known;
         for (const auto& n : fabrics.Names()) known += (known.empty() ? "" : ", ") + n;
         c.Add(fabric_at.At(scene.fabric(), "database_name", -1,
-                           "no fabric '" + scene.fabric().database_name() + "' in " +
-                               fabrics.directory() + " (known: " + known + ")"));
+                           "no fabric '" + scene.fabric().database_name() + "' in " + fabrics.directory() +
+                               " (known: " + known + ")"));
       }
       break;
     case v1::FabricChoice::kInlineFabric:
-      for (TextIssue& issue : ValidateFabric(scene.fabric().inline_fabric(),
-                                             fabric_at.Nested(scene.fabric(), "inline_fabric"))) {
+      for (TextIssue& issue :
+           ValidateFabric(scene.fabric().inline_fabric(), fabric_at.Nested(scene.fabric(), "inline_fabric"))) {
         c.Add(std::move(issue));
       }
       break;
     default:
-      c.Add(where.Here("scene needs a fabric: `fabric { database_name: \"...\" }` or `fabric { inline_fabric { ... } }`"));
+      c.Add(where.Here(
+          "scene needs a fabric: `fabric { database_name: \"...\" }` or `fabric { inline_fabric { ... } }`"));
   }
   CheckCloth(scene.cloth(), where.Nested(scene, "cloth"), c);
   CheckLoads(scene, where, c);
@@ -336,8 +340,7 @@ std::vector<TextIssue> ValidateScene(const v1::Scene& scene, const FieldLocator&
   return issues;
 }
 
-LoadedScene ParseScene(const std::string& text, const std::string& name,
-                       const FabricDatabase& fabrics) {
+LoadedScene ParseScene(const std::string& text, const std::string& name, const FabricDatabase& fabrics) {
   LoadedScene loaded;
   loaded.path = name;
   const ParsedText parsed = ParseTextProto(text, name, &loaded.scene);

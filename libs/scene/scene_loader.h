@@ -18,13 +18,11 @@ struct LoadedScene {
 };
 
 /// Semantic checks of a parsed scene (fabric data included). Empty when usable.
-std::vector<TextIssue> ValidateScene(const v1::Scene& scene, const FieldLocator& where,
-                                     const FabricDatabase& fabrics);
+std::vector<TextIssue> ValidateScene(const v1::Scene& scene, const FieldLocator& where, const FabricDatabase& fabrics);
 
 /// Throws TextProtoError listing every problem.
 LoadedScene LoadScene(const std::string& path, const FabricDatabase& fabrics);
 /// Same for scene text held in memory (`name` appears in errors).
-LoadedScene ParseScene(const std::string& text, const std::string& name,
-                       const FabricDatabase& fabrics);
+LoadedScene ParseScene(const std::string& text, const std::string& name, const FabricDatabase& fabrics);
 
 }  // namespace haptex::scene

@@ -16,10 +16,17 @@ double Pick(double override_value, double fabric_value) { return override_value 
 TactileSurfaceOverrides WithSceneSurface(const v1::TactileSurface& s, TactileSurfaceOverrides o) {
   if (o.pattern.empty()) {
     switch (s.pattern()) {
-      case v1::Weave::PATTERN_PLAIN: o.pattern = "plain"; break;
-      case v1::Weave::PATTERN_TWILL: o.pattern = "twill"; break;
-      case v1::Weave::PATTERN_SATIN: o.pattern = "satin"; break;
-      default: break;
+      case v1::Weave::PATTERN_PLAIN:
+        o.pattern = "plain";
+        break;
+      case v1::Weave::PATTERN_TWILL:
+        o.pattern = "twill";
+        break;
+      case v1::Weave::PATTERN_SATIN:
+        o.pattern = "satin";
+        break;
+      default:
+        break;
     }
   }
   o.warp_pitch_mm = Pick(o.warp_pitch_mm, s.warp_pitch_mm());
@@ -39,10 +46,17 @@ tactile::WeaveParams TactileWeave(const v1::Fabric& fabric, const TactileSurface
   std::string pattern = o.pattern;
   if (pattern.empty()) {
     switch (fabric.weave().pattern()) {
-      case v1::Weave::PATTERN_PLAIN: pattern = "plain"; break;
-      case v1::Weave::PATTERN_TWILL: pattern = "twill"; break;
-      case v1::Weave::PATTERN_SATIN: pattern = "satin"; break;
-      default: break;
+      case v1::Weave::PATTERN_PLAIN:
+        pattern = "plain";
+        break;
+      case v1::Weave::PATTERN_TWILL:
+        pattern = "twill";
+        break;
+      case v1::Weave::PATTERN_SATIN:
+        pattern = "satin";
+        break;
+      default:
+        break;
     }
   }
   if (pattern == "plain") {

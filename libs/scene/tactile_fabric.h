@@ -8,21 +8,21 @@
 #include "haptex/v1/fabric.pb.h"
 #include "haptex/v1/scene.pb.h"
 #include "libs/tactile/height_map.h"
-#include "libs/tactile/pin_renderer.h"
 #include "libs/tactile/periodic_tile.h"
+#include "libs/tactile/pin_renderer.h"
 #include "libs/tactile/weave_surface.h"
 
 namespace haptex::scene {
 
 /// Values given by hand, replacing (or supplying) the fabric's own. 0 / empty: use the fabric's.
 struct TactileSurfaceOverrides {
-  std::string pattern;         // plain, twill or satin
+  std::string pattern;  // plain, twill or satin
   double warp_pitch_mm = 0;
   double weft_pitch_mm = 0;
   double yarn_diameter_mm = 0;
   double smd_um = 0;
-  std::string image_path;      // a PGM height image instead of a weave
-  double image_pixel_um = 0;   // its pixel size
+  std::string image_path;     // a PGM height image instead of a weave
+  double image_pixel_um = 0;  // its pixel size
 };
 
 /// The scene's tactile surface (tactile.surface) under the values given by hand: a value given by

@@ -13,8 +13,7 @@ std::string Describe(const std::string& file, const std::vector<TextIssue>& issu
   std::string text;
   for (const TextIssue& issue : issues) {
     if (!text.empty()) text += "\n";
-    text += file + ":" + std::to_string(issue.line) + ":" + std::to_string(issue.column) + ": " +
-            issue.message;
+    text += file + ":" + std::to_string(issue.line) + ":" + std::to_string(issue.column) + ": " + issue.message;
   }
   return text;
 }
@@ -22,12 +21,10 @@ std::string Describe(const std::string& file, const std::vector<TextIssue>& issu
 class CollectIssues : public google::protobuf::io::ErrorCollector {
  public:
   explicit CollectIssues(std::vector<TextIssue>* issues) : issues_(issues) {}
-  void AddError(int line, google::protobuf::io::ColumnNumber column,
-                const std::string& message) override {
+  void AddError(int line, google::protobuf::io::ColumnNumber column, const std::string& message) override {
     issues_->push_back({line + 1, column + 1, message});
   }
-  void AddWarning(int line, google::protobuf::io::ColumnNumber column,
-                  const std::string& message) override {
+  void AddWarning(int line, google::protobuf::io::ColumnNumber column, const std::string& message) override {
     issues_->push_back({line + 1, column + 1, "warning: " + message});
   }
 
@@ -35,12 +32,10 @@ class CollectIssues : public google::protobuf::io::ErrorCollector {
   std::vector<TextIssue>* issues_;
 };
 
-const google::protobuf::FieldDescriptor* FieldOf(const google::protobuf::Message& parent,
-                                                  std::string_view field) {
+const google::protobuf::FieldDescriptor* FieldOf(const google::protobuf::Message& parent, std::string_view field) {
   const auto* descriptor = parent.GetDescriptor()->FindFieldByName(std::string(field));
   if (descriptor == nullptr) {
-    throw std::logic_error("no field '" + std::string(field) + "' in " +
-                           parent.GetDescriptor()->full_name());
+    throw std::logic_error("no field '" + std::string(field) + "' in " + parent.GetDescriptor()->full_name());
   }
   return descriptor;
 }
@@ -50,8 +45,7 @@ const google::protobuf::FieldDescriptor* FieldOf(const google::protobuf::Message
 TextProtoError::TextProtoError(std::string file, std::vector<TextIssue> issues)
     : std::runtime_error(Describe(file, issues)), file_(std::move(file)), issues_(std::move(issues)) {}
 
-ParsedText ParseTextProto(std::string_view text, const std::string& file,
-                          google::protobuf::Message* message) {
+ParsedText ParseTextProto(std::string_view text, const std::string& file, google::protobuf::Message* message) {
   ParsedText parsed;
   parsed.locations = std::make_unique<google::protobuf::TextFormat::ParseInfoTree>();
   std::vector<TextIssue> issues;
@@ -77,16 +71,15 @@ ParsedText ParseTextProtoFile(const std::string& path, google::protobuf::Message
   return ParseTextProto(buffer.str(), path, message);
 }
 
-FieldLocator FieldLocator::Nested(const google::protobuf::Message& parent, std::string_view field,
-                                  int index) const {
+FieldLocator FieldLocator::Nested(const google::protobuf::Message& parent, std::string_view field, int index) const {
   const TextIssue here = At(parent, field, index, "");
   const google::protobuf::TextFormat::ParseInfoTree* nested =
       tree_ ? tree_->GetTreeForNested(FieldOf(parent, field), index) : nullptr;
   return FieldLocator(nested, here);
 }
 
-TextIssue FieldLocator::At(const google::protobuf::Message& parent, std::string_view field,
-                           int index, std::string message) const {
+TextIssue FieldLocator::At(const google::protobuf::Message& parent, std::string_view field, int index,
+                           std::string message) const {
   TextIssue issue = fallback_;
   if (tree_ != nullptr) {
     const auto location = tree_->GetLocation(FieldOf(parent, field), index);

@@ -38,8 +38,7 @@ struct ParsedText {
 
 /// Parses `text` into *message; throws TextProtoError (named `file`) on syntax errors, unknown
 /// fields or bad values. The returned tree locates fields for later semantic errors.
-ParsedText ParseTextProto(std::string_view text, const std::string& file,
-                          google::protobuf::Message* message);
+ParsedText ParseTextProto(std::string_view text, const std::string& file, google::protobuf::Message* message);
 
 /// Reads and parses a file; a missing or unreadable file is a TextProtoError at 1:1.
 ParsedText ParseTextProtoFile(const std::string& path, google::protobuf::Message* message);
@@ -52,11 +51,9 @@ class FieldLocator {
       : tree_(tree), fallback_(std::move(fallback)) {}
 
   /// The locator of a nested message field (index for repeated fields, -1 otherwise).
-  FieldLocator Nested(const google::protobuf::Message& parent, std::string_view field,
-                      int index = -1) const;
+  FieldLocator Nested(const google::protobuf::Message& parent, std::string_view field, int index = -1) const;
   /// An issue at the given field of `parent`.
-  TextIssue At(const google::protobuf::Message& parent, std::string_view field, int index,
-               std::string message) const;
+  TextIssue At(const google::protobuf::Message& parent, std::string_view field, int index, std::string message) const;
   TextIssue Here(std::string message) const;
 
  private:

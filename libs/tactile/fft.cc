@@ -44,8 +44,7 @@ void Direct(std::vector<std::complex<double>>& a, bool inverse) {
     std::complex<double> sum(0.0, 0.0);
     for (std::size_t j = 0; j < n; ++j) {
       // Reduce k*j mod n first so the angle stays accurate.
-      const double angle = sign * 2.0 * std::numbers::pi * static_cast<double>((k * j) % n) /
-                           static_cast<double>(n);
+      const double angle = sign * 2.0 * std::numbers::pi * static_cast<double>((k * j) % n) / static_cast<double>(n);
       sum += a[j] * std::complex<double>(std::cos(angle), std::sin(angle));
     }
     out[k] = sum;

@@ -20,13 +20,9 @@ HeightMap::HeightMap(Eigen::ArrayXXd height_um, double pixel_size_m)
   }
 }
 
-double HeightMap::MeanAbsoluteDeviationUm() const {
-  return (height_um_ - height_um_.mean()).abs().mean();
-}
+double HeightMap::MeanAbsoluteDeviationUm() const { return (height_um_ - height_um_.mean()).abs().mean(); }
 
-double HeightMap::RmsDeviationUm() const {
-  return std::sqrt((height_um_ - height_um_.mean()).square().mean());
-}
+double HeightMap::RmsDeviationUm() const { return std::sqrt((height_um_ - height_um_.mean()).square().mean()); }
 
 double HeightMap::SampleUm(double x_m, double y_m) const {
   const double fx = std::clamp(x_m / pixel_size_m_, 0.0, static_cast<double>(size_x() - 1));
@@ -36,8 +32,8 @@ double HeightMap::SampleUm(double x_m, double y_m) const {
   const double tx = fx - ix;
   const double ty = fy - iy;
   const auto& h = height_um_;
-  return (1.0 - tx) * (1.0 - ty) * h(ix, iy) + tx * (1.0 - ty) * h(ix + 1, iy) +
-         (1.0 - tx) * ty * h(ix, iy + 1) + tx * ty * h(ix + 1, iy + 1);
+  return (1.0 - tx) * (1.0 - ty) * h(ix, iy) + tx * (1.0 - ty) * h(ix + 1, iy) + (1.0 - tx) * ty * h(ix, iy + 1) +
+         tx * ty * h(ix + 1, iy + 1);
 }
 
 void HeightMap::ScaleDeviation(double factor) {

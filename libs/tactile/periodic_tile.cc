@@ -151,8 +151,7 @@ PeriodicTile PeriodicTile::Smoothed(double sigma_m) const {
   if (sigma_m == 0.0) return *this;
   // Cell harmonic (k, l) has spatial frequency B^-T (k, l) [cycles/m].
   const Eigen::Matrix2d reciprocal = inverse_.transpose();
-  PeriodicTile out(basis_m_, origin_m_,
-                   GaussianLowPass(TileHeightsUm(), sigma_m, [&](int k, int l) {
+  PeriodicTile out(basis_m_, origin_m_, GaussianLowPass(TileHeightsUm(), sigma_m, [&](int k, int l) {
                      return Eigen::Vector2d(reciprocal * Eigen::Vector2d(k, l));
                    }));
   if (has_noise()) {

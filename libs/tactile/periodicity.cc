@@ -227,7 +227,8 @@ LatticeEstimate EstimateLattice(const HeightMap& map, const PeriodicityOptions& 
 PeriodicTile ExtractPeriodicTile(const HeightMap& map, const Eigen::Matrix2d& basis_m,
                                  const PeriodicityOptions& options) {
   const double pixel = map.pixel_size_m();
-  if (!(options.tile_oversampling > 0.0)) throw std::invalid_argument("PeriodicityOptions: tile_oversampling must be > 0");
+  if (!(options.tile_oversampling > 0.0))
+    throw std::invalid_argument("PeriodicityOptions: tile_oversampling must be > 0");
   const int ns = std::max(8, static_cast<int>(std::ceil(basis_m.col(0).norm() / pixel * options.tile_oversampling)));
   const int nt = std::max(8, static_cast<int>(std::ceil(basis_m.col(1).norm() / pixel * options.tile_oversampling)));
   if (ns > 4096 || nt > 4096) throw std::runtime_error("ExtractPeriodicTile: cell too large for the pixel size");
@@ -251,7 +252,8 @@ PeriodicTile ExtractPeriodicTile(const HeightMap& map, const Eigen::Matrix2d& ba
       int count = 0;
       for (int m = m_lo; m <= m_hi; ++m) {
         for (int n = n_lo; n <= n_hi; ++n) {
-          const Eigen::Vector2d p = basis_m * Eigen::Vector2d(n + static_cast<double>(is) / ns, m + static_cast<double>(it) / nt);
+          const Eigen::Vector2d p =
+              basis_m * Eigen::Vector2d(n + static_cast<double>(is) / ns, m + static_cast<double>(it) / nt);
           if (p.x() < 0.0 || p.y() < 0.0 || p.x() > ex || p.y() > ey) continue;
           sum += map.SampleUm(p.x(), p.y());
           ++count;

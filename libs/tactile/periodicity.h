@@ -32,11 +32,11 @@ struct PeriodicityOptions {
 
 /// Lattice found in a height map.
 struct LatticeEstimate {
-  Eigen::Matrix2d basis_m;      ///< columns a, b [m], Lagrange-Gauss reduced, det > 0
-  int peaks_used = 0;           ///< autocorrelation peaks in the least-squares refinement
-  double peak_correlation = 0;  ///< strongest non-origin autocorrelation peak (R(0) = 1)
-  int sublattice_index = 1;     ///< cell area / area of the peak lattice's cell
-  double periodicity_index = 0; ///< of the mean tile on this lattice
+  Eigen::Matrix2d basis_m;       ///< columns a, b [m], Lagrange-Gauss reduced, det > 0
+  int peaks_used = 0;            ///< autocorrelation peaks in the least-squares refinement
+  double peak_correlation = 0;   ///< strongest non-origin autocorrelation peak (R(0) = 1)
+  int sublattice_index = 1;      ///< cell area / area of the peak lattice's cell
+  double periodicity_index = 0;  ///< of the mean tile on this lattice
 };
 
 /// Autocorrelation of the mean-plane-detrended map, normalised by the overlap count and by its

@@ -19,8 +19,7 @@ const RendererConfig& Validated(const RendererConfig& c) {
   Require(std::isfinite(c.display_rate_hz) && c.display_rate_hz > 0.0, "display_rate_hz must be > 0");
   Require(std::isfinite(c.sample_rate_hz) && c.sample_rate_hz >= c.display_rate_hz,
           "sample_rate_hz must be finite and >= display_rate_hz");
-  Require(c.low_primary_hz > 0.0 && c.high_primary_hz > c.low_primary_hz &&
-              c.high_primary_hz < 0.5 * c.sample_rate_hz,
+  Require(c.low_primary_hz > 0.0 && c.high_primary_hz > c.low_primary_hz && c.high_primary_hz < 0.5 * c.sample_rate_hz,
           "need 0 < low_primary_hz < high_primary_hz < sample_rate_hz / 2");
   Require(c.envelope_time_constant_s > 0.0 && std::isfinite(c.envelope_time_constant_s),
           "envelope_time_constant_s must be > 0");
@@ -34,8 +33,7 @@ const RendererConfig& Validated(const RendererConfig& c) {
   Require(c.reference_force_N > 0.0 && c.max_force_N > 0.0 && std::isfinite(c.max_force_N),
           "reference_force_N and max_force_N must be > 0");
   Require(c.max_amplitude_40hz_um > 0.0 && c.max_amplitude_320hz_um > 0.0, "display maximum amplitudes must be > 0");
-  Require(c.contact_radius_at_reference_force_m > 0.0 && c.max_contact_radius_m > 0.0,
-          "contact radii must be > 0");
+  Require(c.contact_radius_at_reference_force_m > 0.0 && c.max_contact_radius_m > 0.0, "contact radii must be > 0");
   Require(c.layout.pitch_m > 0.0, "layout.pitch_m must be > 0");
   return c;
 }
@@ -43,7 +41,8 @@ const RendererConfig& Validated(const RendererConfig& c) {
 bool Finite(const Eigen::Vector2d& v) { return std::isfinite(v.x()) && std::isfinite(v.y()); }
 
 double ProcessChannel(const ReceptorChannelFilter& filter, double alpha, double height_um, PinChannelState& s) {
-  const double y = filter.gain_per_um() * s.low_pass.Process(filter.low_pass(), s.high_pass.Process(filter.high_pass(), height_um));
+  const double y =
+      filter.gain_per_um() * s.low_pass.Process(filter.low_pass(), s.high_pass.Process(filter.high_pass(), height_um));
   s.envelope1 += alpha * (y * y - s.envelope1);
   s.envelope2 += alpha * (s.envelope1 - s.envelope2);
   return y;
@@ -99,8 +98,8 @@ std::vector<RendererModel::Level> RendererModel::MakeLevels(const PeriodicTile& 
   // Level k covers speeds up to v0 2^k with sigma = max(footprint, factor v0 2^k / fs); level 0 is
   // the footprint alone (or covers an eighth of the speed range when there is no footprint).
   const double per_speed = c.anti_alias_factor / c.sample_rate_hz;
-  double max_speed = c.footprint_sigma_m > 0.0 && per_speed > 0.0 ? c.footprint_sigma_m / per_speed
-                                                                   : c.max_speed_m_per_s / 8.0;
+  double max_speed =
+      c.footprint_sigma_m > 0.0 && per_speed > 0.0 ? c.footprint_sigma_m / per_speed : c.max_speed_m_per_s / 8.0;
   std::vector<Level> levels;
   while (true) {
     const double sigma = std::max(c.footprint_sigma_m, per_speed * max_speed);
@@ -143,10 +142,9 @@ int RenderStep(const RendererModel& model, const FingerInput& in, double dt_s, F
   }
 
   // Input faults: silence for this step, and the path restarts from the next good point.
-  const bool valid = Finite(in.touch_point_m) && Finite(in.slip_velocity_m_per_s) &&
-                     std::isfinite(in.normal_force_N) && in.normal_force_N >= 0.0 &&
-                     std::isfinite(in.orientation_rad) && std::isfinite(in.contact_radius_m) &&
-                     in.contact_radius_m >= 0.0;
+  const bool valid = Finite(in.touch_point_m) && Finite(in.slip_velocity_m_per_s) && std::isfinite(in.normal_force_N) &&
+                     in.normal_force_N >= 0.0 && std::isfinite(in.orientation_rad) &&
+                     std::isfinite(in.contact_radius_m) && in.contact_radius_m >= 0.0;
   bool active = false;
   double force_gain = 0.0;
   double speed_m_per_s = 0.0;

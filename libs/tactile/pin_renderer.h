@@ -138,9 +138,9 @@ struct FingerRenderState {
   bool has_last_point = false;
   bool filters_primed = false;
   bool sliding = false;
-  double next_sample_in_s = 0.0;    ///< time from the end of the last step to the next sample
+  double next_sample_in_s = 0.0;  ///< time from the end of the last step to the next sample
   double samples_since_frame = 0.0;
-  PinFrame frame;                   ///< newest frame
+  PinFrame frame;  ///< newest frame
   RenderCounters counters;
 
   /// Back to silence (keeps counters and the frame sequence).

@@ -55,7 +55,8 @@ std::vector<Eigen::Vector2d> DominantFrequencies(const PowerSpectrum& spectrum, 
   }
   std::sort(peaks.begin(), peaks.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
   std::vector<Eigen::Vector2d> out;
-  for (int i = 0; i < count && i < static_cast<int>(peaks.size()); ++i) out.push_back(peaks[static_cast<std::size_t>(i)].second);
+  for (int i = 0; i < count && i < static_cast<int>(peaks.size()); ++i)
+    out.push_back(peaks[static_cast<std::size_t>(i)].second);
   return out;
 }
 

@@ -5,8 +5,8 @@
 #include <numbers>
 #include <numeric>
 #include <random>
-#include <utility>
 #include <stdexcept>
+#include <utility>
 
 namespace haptex::tactile {
 namespace {
@@ -26,9 +26,8 @@ void Validate(const WeaveParams& p) {
   if (p.pattern == WeavePattern::kTwill && (p.twill_over < 1 || p.twill_under < 1)) {
     throw std::invalid_argument("WeaveParams: twill_over and twill_under must be >= 1");
   }
-  if (p.pattern == WeavePattern::kSatin &&
-      (p.satin_repeat < 3 || p.satin_step < 1 || p.satin_step >= p.satin_repeat ||
-       std::gcd(p.satin_step, p.satin_repeat) != 1)) {
+  if (p.pattern == WeavePattern::kSatin && (p.satin_repeat < 3 || p.satin_step < 1 || p.satin_step >= p.satin_repeat ||
+                                            std::gcd(p.satin_step, p.satin_repeat) != 1)) {
     throw std::invalid_argument("WeaveParams: satin needs repeat >= 3 and a step coprime with it");
   }
 }

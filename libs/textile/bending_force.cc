@@ -2,8 +2,7 @@
 
 namespace haptex::textile {
 
-void AddBendingForces(const FabricModel& model, const Eigen::VectorXd& x, const Eigen::VectorXd& v,
-                      ForceSink* sink) {
+void AddBendingForces(const FabricModel& model, const Eigen::VectorXd& x, const Eigen::VectorXd& v, ForceSink* sink) {
   const double damping_s = model.options.damping.bend_s;
   for (std::size_t b = 0; b < model.bends.size(); ++b) {
     const BendElement& e = model.bends[b];

@@ -11,7 +11,7 @@ namespace haptex::textile {
 
 /// Per triplet along a warp (weft) line: R = sum alpha_k x_k, force -lambda alpha_k (R + bend_s
 /// R_dot), with lambda = 2 B w / (l0 + l1) so that the energy equals B kappa^2 / 2 per area.
-void AddBendingForces(const FabricModel& model, const Eigen::VectorXd& x_W_m,
-                      const Eigen::VectorXd& v_W_m_per_s, ForceSink* sink);
+void AddBendingForces(const FabricModel& model, const Eigen::VectorXd& x_W_m, const Eigen::VectorXd& v_W_m_per_s,
+                      ForceSink* sink);
 
 }  // namespace haptex::textile

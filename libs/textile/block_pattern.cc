@@ -64,16 +64,15 @@ BlockPattern BlockPattern::FromPairs(int rows, const std::vector<std::pair<int, 
   return p;
 }
 
-SplitRows SplitRows::FromPattern(const BlockPattern& pattern,
-                                 const std::vector<unsigned char>& is_scalar) {
+SplitRows SplitRows::FromPattern(const BlockPattern& pattern, const std::vector<unsigned char>& is_scalar) {
   HAPTEX_DEMAND(is_scalar.size() == pattern.cols.size());
   SplitRows s;
   s.general_start.push_back(0);
   s.general_first_slot.assign(static_cast<std::size_t>(pattern.rows()), 0);
   s.scalar_start.push_back(0);
   for (int r = 0; r < pattern.rows(); ++r) {
-    for (int k = pattern.row_start[static_cast<std::size_t>(r)];
-         k < pattern.row_start[static_cast<std::size_t>(r) + 1]; ++k) {
+    for (int k = pattern.row_start[static_cast<std::size_t>(r)]; k < pattern.row_start[static_cast<std::size_t>(r) + 1];
+         ++k) {
       const int c = pattern.cols[static_cast<std::size_t>(k)];
       if (is_scalar[static_cast<std::size_t>(k)]) {
         HAPTEX_DEMAND(c != r);
@@ -96,11 +95,11 @@ namespace internal {
 namespace {
 
 // Scalar blocks of row r, then x_r . y_r.
-inline double FinishRow(const SplitRows& split, const double* scalars, const double* x, int r,
-                        double acc[3], double* y) {
+inline double FinishRow(const SplitRows& split, const double* scalars, const double* x, int r, double acc[3],
+                        double* y) {
   const int* s_col = split.scalar_col.data();
-  for (int k = split.scalar_start[static_cast<std::size_t>(r)];
-       k < split.scalar_start[static_cast<std::size_t>(r) + 1]; ++k) {
+  for (int k = split.scalar_start[static_cast<std::size_t>(r)]; k < split.scalar_start[static_cast<std::size_t>(r) + 1];
+       ++k) {
     const double* xc = x + 3 * s_col[k];
     const double v = scalars[k];
     acc[0] += v * xc[0];
@@ -113,8 +112,8 @@ inline double FinishRow(const SplitRows& split, const double* scalars, const dou
   return x[3 * r] * acc[0] + x[3 * r + 1] * acc[1] + x[3 * r + 2] * acc[2];
 }
 
-double RangeGeneric(const SplitRows& split, const Eigen::Matrix3d* blocks, const double* scalars,
-                    const double* x, double* y, int r0, int r1) {
+double RangeGeneric(const SplitRows& split, const Eigen::Matrix3d* blocks, const double* scalars, const double* x,
+                    double* y, int r0, int r1) {
   const int* g_start = split.general_start.data();
   const int* g_first = split.general_first_slot.data();
   const int* g_col = split.general_col.data();
@@ -153,10 +152,8 @@ __attribute__((target("avx"), always_inline)) inline void BlockAvx(const double*
 // The same sums, one 4-wide multiply and add per block column (BlockAvx). The counts of a
 // grid's interior rows (9 general, 4 scalar blocks) get fixed-trip code behind one
 // well-predicted branch each: variable-trip loops mispredict at each row's end.
-__attribute__((target("avx"))) double RangeAvx(const SplitRows& split,
-                                               const Eigen::Matrix3d* blocks,
-                                               const double* scalars, const double* x, double* y,
-                                               int r0, int r1) {
+__attribute__((target("avx"))) double RangeAvx(const SplitRows& split, const Eigen::Matrix3d* blocks,
+                                               const double* scalars, const double* x, double* y, int r0, int r1) {
   const int* g_start = split.general_start.data();
   const int* g_first = split.general_first_slot.data();
   const int* g_col = split.general_col.data();
@@ -223,13 +220,13 @@ __attribute__((target("avx"))) double RangeAvx(const SplitRows& split,
 
 }  // namespace
 
-double MultiplySplitRowRange(const SplitRows& split, const Eigen::Matrix3d* blocks,
-                             const double* scalars, const double* x, double* y, int r0, int r1) {
+double MultiplySplitRowRange(const SplitRows& split, const Eigen::Matrix3d* blocks, const double* scalars,
+                             const double* x, double* y, int r0, int r1) {
   return MultiplySplitRowRange(split, blocks, scalars, x, y, r0, r1, base::CpuHasAvx());
 }
 
-double MultiplySplitRowRange(const SplitRows& split, const Eigen::Matrix3d* blocks,
-                             const double* scalars, const double* x, double* y, int r0, int r1, bool avx) {
+double MultiplySplitRowRange(const SplitRows& split, const Eigen::Matrix3d* blocks, const double* scalars,
+                             const double* x, double* y, int r0, int r1, bool avx) {
 #ifdef HAPTEX_X86_KERNELS
   if (avx) return RangeAvx(split, blocks, scalars, x, y, r0, r1);
 #endif

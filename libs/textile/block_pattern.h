@@ -29,8 +29,8 @@ struct BlockPattern {
 
 /// acc += sum over k in [k0, k1) of blocks[k] x_{cols[k]} (3x3 column-major blocks, written
 /// out: Eigen's segment products compile to slower code here).
-inline void AccumulateBlockRow(const Eigen::Matrix3d* blocks, const int* cols, int k0, int k1,
-                               const double* x, double acc[3]) {
+inline void AccumulateBlockRow(const Eigen::Matrix3d* blocks, const int* cols, int k0, int k1, const double* x,
+                               double acc[3]) {
   double a0 = acc[0], a1 = acc[1], a2 = acc[2];
   for (int k = k0; k < k1; ++k) {
     const double* m = blocks[k].data();
@@ -49,8 +49,8 @@ inline void AccumulateBlockRow(const Eigen::Matrix3d* blocks, const int* cols, i
 /// blocks in `pattern`'s slot order. The product of the multigrid cycle (and of CG on
 /// patterns without a split). Never allocates.
 template <typename RowActive>
-void MultiplyBlockRows(const BlockPattern& pattern, const std::vector<Eigen::Matrix3d>& blocks,
-                       RowActive row_active, const Eigen::VectorXd& x, Eigen::VectorXd* y) {
+void MultiplyBlockRows(const BlockPattern& pattern, const std::vector<Eigen::Matrix3d>& blocks, RowActive row_active,
+                       const Eigen::VectorXd& x, Eigen::VectorXd* y) {
   const int* row_start = pattern.row_start.data();
   const int* cols = pattern.cols.data();
   const int rows = pattern.rows();
@@ -72,8 +72,8 @@ void MultiplyBlockRows(const BlockPattern& pattern, const std::vector<Eigen::Mat
 /// apart on a grid line; constant per model and step). The scalar blocks cost one multiply-add
 /// per component instead of three, and their 72 bytes are read as 8.
 struct SplitRows {
-  std::vector<int> general_start, general_col;  ///< rows + 1; per general block
-  std::vector<int> general_first_slot;          ///< per row: slot of its first general block
+  std::vector<int> general_start, general_col;             ///< rows + 1; per general block
+  std::vector<int> general_first_slot;                     ///< per row: slot of its first general block
   std::vector<int> scalar_start, scalar_slot, scalar_col;  ///< rows + 1; per scalar block
 
   /// `is_scalar[slot]` marks the scalar blocks (never a diagonal one). A row's general blocks
@@ -88,12 +88,12 @@ namespace internal {
 /// even and odd blocks apart: six independent chains of adds, combined at the end of the row.
 /// On CPUs with AVX (checked at run time) each block column is one 4-wide multiply and add;
 /// elsewhere the same sums in the same order, so both give identical results. Never allocates.
-double MultiplySplitRowRange(const SplitRows& split, const Eigen::Matrix3d* blocks,
-                             const double* scalars, const double* x, double* y, int r0, int r1);
+double MultiplySplitRowRange(const SplitRows& split, const Eigen::Matrix3d* blocks, const double* scalars,
+                             const double* x, double* y, int r0, int r1);
 /// The same with the kernel picked: the AVX one if `avx` (only where base::CpuHasAvx()),
 /// else the portable one (tests compare their bits).
-double MultiplySplitRowRange(const SplitRows& split, const Eigen::Matrix3d* blocks,
-                             const double* scalars, const double* x, double* y, int r0, int r1, bool avx);
+double MultiplySplitRowRange(const SplitRows& split, const Eigen::Matrix3d* blocks, const double* scalars,
+                             const double* x, double* y, int r0, int r1, bool avx);
 }  // namespace internal
 
 /// y = A x for the rows r with row_active(r), zero in the other rows, with A's general blocks
@@ -102,8 +102,8 @@ double MultiplySplitRowRange(const SplitRows& split, const Eigen::Matrix3d* bloc
 /// x . y (CG's c'Ac, in the same pass). Never allocates.
 template <typename RowActive>
 double MultiplySplitRows(const SplitRows& split, const std::vector<Eigen::Matrix3d>& blocks,
-                         const std::vector<double>& scalars, RowActive row_active,
-                         const Eigen::VectorXd& x, Eigen::VectorXd* y) {
+                         const std::vector<double>& scalars, RowActive row_active, const Eigen::VectorXd& x,
+                         Eigen::VectorXd* y) {
   const double* xp = x.data();
   double* yp = y->data();
   const int rows = static_cast<int>(split.general_start.size()) - 1;

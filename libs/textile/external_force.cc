@@ -11,8 +11,8 @@ void AddExternalForces(const FabricModel& model, const FabricState& state, Force
   }
 }
 
-void AddEdgeLoad(const FabricModel& model, const std::vector<int>& chain,
-                 const Eigen::Vector3d& total_W_N, FabricState* state) {
+void AddEdgeLoad(const FabricModel& model, const std::vector<int>& chain, const Eigen::Vector3d& total_W_N,
+                 FabricState* state) {
   if (chain.empty()) throw std::invalid_argument("AddEdgeLoad: empty particle chain");
   for (int p : chain) {
     if (p < 0 || p >= model.num_particles) {

@@ -17,8 +17,8 @@ void AddExternalForces(const FabricModel& model, const FabricState& state, Force
 /// Spreads `total_W_N` over a chain of particles (e.g. one edge, in order along it) in proportion
 /// to the rest length each represents, and adds it to state->external_force_W_N.
 /// @throws std::invalid_argument for fewer than 1 particle or an out-of-range index.
-void AddEdgeLoad(const FabricModel& model, const std::vector<int>& chain,
-                 const Eigen::Vector3d& total_W_N, FabricState* state);
+void AddEdgeLoad(const FabricModel& model, const std::vector<int>& chain, const Eigen::Vector3d& total_W_N,
+                 FabricState* state);
 
 /// Sets the load of particle p (point load), replacing any previous value.
 void SetPointLoad(int p, const Eigen::Vector3d& force_W_N, FabricState* state);

@@ -52,8 +52,7 @@ HAPTEX_LANES_INLINE V4 Gather(const double* base, const int index[kLanes]) {
 }
 // base[index[j]] and base[index[j] + 1] in lane j of *first and *second: four 2-wide loads and
 // one transpose instead of two gathers.
-HAPTEX_LANES_INLINE void GatherPairs(const double* base, const int index[kLanes], V4* first,
-                                     V4* second) {
+HAPTEX_LANES_INLINE void GatherPairs(const double* base, const int index[kLanes], V4* first, V4* second) {
   V2 pair[kLanes];
   HAPTEX_UNROLL
   for (int j = 0; j < kLanes; ++j) std::memcpy(&pair[j], base + index[j], sizeof pair[j]);
@@ -81,8 +80,7 @@ HAPTEX_LANES_INLINE void AddTo(V4 a, const double* from, double* p) {
 // triangles of a group share particles). corner[k][j] is the offset of that particle's
 // coordinates. Each corner is one 2-wide (x, y) and one scalar (z) add; the (x, y) pairs of
 // lanes 0, 2 and 1, 3 are the halves of two unpacks (fewer shuffles than a full transpose).
-HAPTEX_LANES_INLINE void ScatterToCorners(const V4 v[3][3], const int corner[3][kLanes],
-                                          int lanes, double* out) {
+HAPTEX_LANES_INLINE void ScatterToCorners(const V4 v[3][3], const int corner[3][kLanes], int lanes, double* out) {
   V2 xy[3][kLanes];
   HAPTEX_UNROLL
   for (int k = 0; k < 3; ++k) {
@@ -153,9 +151,8 @@ HAPTEX_LANES_INLINE void AddBlockPair(const V4 m[9], const BlockTarget& t, int l
   V4 lo[kLanes], hi[kLanes];
   Transpose(m, lo);
   Transpose(m + 4, hi);
-  const auto add = [&](int j, int slot_index, V4 first, V4 second) HAPTEX_LANES_LAMBDA {
-    AddBlock(t, j, slot_index, first, second, m[8][j]);
-  };
+  const auto add = [&](int j, int slot_index, V4 first, V4 second)
+                       HAPTEX_LANES_LAMBDA { AddBlock(t, j, slot_index, first, second, m[8][j]); };
   HAPTEX_UNROLL
   for (int j = 0; j < kLanes; ++j) {  // unrolled as in ScatterToCorners
     if (j == lanes) break;
@@ -166,8 +163,7 @@ HAPTEX_LANES_INLINE void AddBlockPair(const V4 m[9], const BlockTarget& t, int l
     if (j == lanes) break;
     const V4 plo = __builtin_shufflevector(lo[j], lo[j], 0, 3, 2, 1);
     const V4 phi = __builtin_shufflevector(hi[j], hi[j], 0, 3, 2, 1);
-    add(j, lk, __builtin_shufflevector(plo, phi, 0, 1, 6, 3),
-        __builtin_shufflevector(phi, plo, 0, 1, 6, 3));
+    add(j, lk, __builtin_shufflevector(plo, phi, 0, 1, 6, 3), __builtin_shufflevector(phi, plo, 0, 1, 6, 3));
   }
 }
 
@@ -193,8 +189,13 @@ CurveLanes LanesOf(const StrainCurve& curve) {
     top_step = top_step == 0 ? 1 : 2 * top_step;
     reach = 2 * top_step - 1;
   }
-  return {s.knots_x().data(), s.knots_y().data(), s.tangents().data(), last,
-          curve.compression_N_per_m(), curve.odd(), top_step};
+  return {s.knots_x().data(),
+          s.knots_y().data(),
+          s.tangents().data(),
+          last,
+          curve.compression_N_per_m(),
+          curve.odd(),
+          top_step};
 }
 
 HAPTEX_LANES_INLINE void Evaluate(const CurveLanes* c, V4 strain, V4* f, V4* df) {
@@ -229,8 +230,7 @@ HAPTEX_LANES_INLINE void Evaluate(const CurveLanes* c, V4 strain, V4* f, V4* df)
   const V4 t = (arg - xk) / h;
   const V4 t2 = t * t;
   const V4 t3 = t2 * t;
-  const V4 h00 = 2.0 * t3 - 3.0 * t2 + 1.0, h10 = t3 - 2.0 * t2 + t, h01 = -2.0 * t3 + 3.0 * t2,
-           h11 = t3 - t2;
+  const V4 h00 = 2.0 * t3 - 3.0 * t2 + 1.0, h10 = t3 - 2.0 * t2 + t, h01 = -2.0 * t3 + 3.0 * t2, h11 = t3 - t2;
   V4 y = h00 * yk + h10 * h * mk + h01 * yk1 + h11 * h * mk1;
   const V4 d00 = 6.0 * t2 - 6.0 * t, d10 = 3.0 * t2 - 4.0 * t + 1.0, d01 = -6.0 * t2 + 6.0 * t,
            d11 = 3.0 * t2 - 2.0 * t;
@@ -263,9 +263,8 @@ struct DirectionLanes {
   V4 kx_ddot[3];
 };
 
-HAPTEX_LANES_INLINE void TensileDirection(V4 area, const CurveLanes* curve,
-                                          double damping_s, const V4 d[3], const V4 d_dot[3],
-                                          bool jacobians, double dx_scale, double dv_scale,
+HAPTEX_LANES_INLINE void TensileDirection(V4 area, const CurveLanes* curve, double damping_s, const V4 d[3],
+                                          const V4 d_dot[3], bool jacobians, double dx_scale, double dv_scale,
                                           DirectionLanes* out) {
   const V4 len = Sqrt(Dot3(d, d));
   const M4 live = len > 1e-12;  // else collapsed: no defined direction
@@ -303,8 +302,7 @@ constexpr std::array<int, 9> kTriangleBlockOrder = {0, 1, 3, 4, 2, 6, 5, 7, 8};
 
 // Tensile (warp, weft), shear and quadratic drag of every triangle; each of its 9 system blocks
 // is one sum of rank-one terms, written once.
-HAPTEX_LANES_INLINE void TriangleKernel(const FabricModel& model, const double* xp,
-                                        const double* vp, ForceSink* sink) {
+HAPTEX_LANES_INLINE void TriangleKernel(const FabricModel& model, const double* xp, const double* vp, ForceSink* sink) {
   const bool jac = sink->wants_jacobians();
   const double dxs = sink->dx_scale, dvs = sink->dv_scale;
   const double stretch_s = model.options.damping.stretch_s;
@@ -401,8 +399,7 @@ HAPTEX_LANES_INLINE void TriangleKernel(const FabricModel& model, const double* 
         e1[i] = xk[1][i] - xk[0][i];
         e2[i] = xk[2][i] - xk[0][i];
       }
-      const V4 cross[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                           e1[0] * e2[1] - e1[1] * e2[0]};
+      const V4 cross[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
       const V4 twice_area = Sqrt(Dot3(cross, cross));
       const M4 live = twice_area > 1e-14;
       if (Any(live)) {
@@ -468,9 +465,7 @@ HAPTEX_LANES_INLINE void TriangleKernel(const FabricModel& model, const double* 
     // M_12 = -S_1 and M_22 = S_0^T + S_1^T.
     // Symmetric matrices (the K, the drag term, the diagonal blocks) are formed on and above
     // the diagonal and mirrored: exactly symmetric, in fewer operations.
-    const auto mirror = [](V4 m[9]) HAPTEX_LANES_LAMBDA {
-      m[1] = m[3], m[2] = m[6], m[5] = m[7];
-    };
+    const auto mirror = [](V4 m[9]) HAPTEX_LANES_LAMBDA { m[1] = m[3], m[2] = m[6], m[5] = m[7]; };
     constexpr bool kUpper[9] = {true, false, false, true, true, false, true, true, true};
     V4 k_warp[9], k_weft[9], k_drag[9], shear_p[2][3];
     HAPTEX_UNROLL
@@ -551,30 +546,30 @@ HAPTEX_LANES_INLINE void TriangleKernel(const FabricModel& model, const double* 
   if (t0 < num_triangles) group(t0, static_cast<int>(num_triangles - t0));
 }
 
-void AddTriangleForcesGeneric(const FabricModel& model, const double* x, const double* v,
-                              ForceSink* sink) {
+void AddTriangleForcesGeneric(const FabricModel& model, const double* x, const double* v, ForceSink* sink) {
   TriangleKernel(model, x, v, sink);
 }
 
 #ifdef HAPTEX_X86_KERNELS
 // The same kernel on 256-bit registers. No FMA: the products round as in the generic build.
-__attribute__((target("avx2"))) void AddTriangleForcesAvx2(const FabricModel& model,
-                                                           const double* x, const double* v,
+__attribute__((target("avx2"))) void AddTriangleForcesAvx2(const FabricModel& model, const double* x, const double* v,
                                                            ForceSink* sink) {
   TriangleKernel(model, x, v, sink);
 }
 // The same 256-bit kernel on AVX-512VL's 32 vector registers: the ~40 vectors the Jacobian
 // blocks need spill far less (this kernel is instruction-bound). Same width and operations, no
 // FMA: the same bits.
-__attribute__((target("avx2,avx512f,avx512vl"))) void AddTriangleForcesAvx2On32Registers(
-    const FabricModel& model, const double* x, const double* v, ForceSink* sink) {
+__attribute__((target("avx2,avx512f,avx512vl"))) void AddTriangleForcesAvx2On32Registers(const FabricModel& model,
+                                                                                         const double* x,
+                                                                                         const double* v,
+                                                                                         ForceSink* sink) {
   TriangleKernel(model, x, v, sink);
 }
 
 #endif
 
-void AddTriangleForces(const FabricModel& model, const Eigen::VectorXd& x,
-                       const Eigen::VectorXd& v, internal::ForceKernels kernels, ForceSink* sink) {
+void AddTriangleForces(const FabricModel& model, const Eigen::VectorXd& x, const Eigen::VectorXd& v,
+                       internal::ForceKernels kernels, ForceSink* sink) {
   using internal::ForceKernels;
 #ifdef HAPTEX_X86_KERNELS
   // Else SIGILL.
@@ -651,8 +646,8 @@ HAPTEX_LANES_INLINE void Store3(V4 a, double* p) {
 // instead of three. Every particle's sum is still added to in bend order: the bits of one bend
 // at a time.
 template <bool kAvx2, bool kDfv>
-HAPTEX_LANES_INLINE void BendingKernel(const FabricModel& model, const double* xp,
-                                       const double* vp, double* fp, double* dfv) {
+HAPTEX_LANES_INLINE void BendingKernel(const FabricModel& model, const double* xp, const double* vp, double* fp,
+                                       double* dfv) {
   const double damping_s = model.options.damping.bend_s;
   // Model data in locals: the force stores could alias it, so it would be reloaded.
   const BendElement* bends = model.bends.data();
@@ -721,15 +716,13 @@ HAPTEX_LANES_INLINE void BendingKernel(const FabricModel& model, const double* x
   }
 }
 
-void AddBendingGeneric(const FabricModel& model, const double* x, const double* v, double* f,
-                       double* dfv) {
+void AddBendingGeneric(const FabricModel& model, const double* x, const double* v, double* f, double* dfv) {
   if (dfv != nullptr) return BendingKernel<false, true>(model, x, v, f, dfv);
   BendingKernel<false, false>(model, x, v, f, dfv);
 }
 
 #ifdef HAPTEX_X86_KERNELS
-__attribute__((target("avx2"), flatten)) void AddBendingAvx2(const FabricModel& model,
-                                                             const double* x, const double* v,
+__attribute__((target("avx2"), flatten)) void AddBendingAvx2(const FabricModel& model, const double* x, const double* v,
                                                              double* f, double* dfv) {
   if (dfv != nullptr) return BendingKernel<true, true>(model, x, v, f, dfv);
   BendingKernel<true, false>(model, x, v, f, dfv);
@@ -737,8 +730,8 @@ __attribute__((target("avx2"), flatten)) void AddBendingAvx2(const FabricModel& 
 #endif
 
 // Bending forces; the constant Jacobian blocks only when asked for.
-void AddBending(const FabricModel& model, const Eigen::VectorXd& x, const Eigen::VectorXd& v,
-                bool avx2, ForceSink* sink) {
+void AddBending(const FabricModel& model, const Eigen::VectorXd& x, const Eigen::VectorXd& v, bool avx2,
+                ForceSink* sink) {
   double* fp = sink->force_N->data();
   double* dfv = sink->wants_jacobians() ? sink->dfdx_v->data() : nullptr;
 #ifdef HAPTEX_X86_KERNELS
@@ -759,8 +752,8 @@ void AddLinearDragBlocks(const FabricModel& model, ForceSink* sink) {
   if (!(c0 > 0.0)) return;
   std::vector<Eigen::Matrix3d>& system = *sink->system;
   for (int p = 0; p < model.num_particles; ++p) {
-    system[static_cast<std::size_t>(model.pattern.diag_slot[static_cast<std::size_t>(p)])]
-        .diagonal().array() -= sink->dv_scale * c0 * model.area_m2[p];
+    system[static_cast<std::size_t>(model.pattern.diag_slot[static_cast<std::size_t>(p)])].diagonal().array() -=
+        sink->dv_scale * c0 * model.area_m2[p];
   }
 }
 

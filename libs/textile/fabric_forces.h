@@ -28,13 +28,12 @@ enum class ForceKernels { kPortable, kAvx2, kAvx2On32Registers };
 /// The fastest build this CPU runs.
 ForceKernels BestForceKernels();
 /// AccumulateForces with the given build (only one the CPU has): tests compare their bits.
-void AccumulateForces(const FabricModel& model, const FabricState& state, ForceKernels kernels,
-                      ForceSink* sink);
+void AccumulateForces(const FabricModel& model, const FabricState& state, ForceKernels kernels, ForceSink* sink);
 /// FabricModel::triangle_first_blocks for triangles with these block slots (num_blocks slots):
 /// per triangle, 1 at the blocks k*3+l whose addition is the first to their slot in the
 /// triangle kernel's order, else 0.
 std::vector<std::array<std::uint8_t, 9>> TriangleFirstBlocks(const std::vector<std::array<int, 9>>& triangle_slots,
-                                               int num_blocks);
+                                                             int num_blocks);
 }  // namespace internal
 
 }  // namespace haptex::textile

@@ -34,12 +34,11 @@ void ValidateInputs(const FabricMaterial& m, const ModelOptions& o) {
   if (!(std::isfinite(m.density_kg_per_m2) && m.density_kg_per_m2 > 0.0)) {
     throw std::invalid_argument("FabricMaterial.density_kg_per_m2 must be finite and > 0");
   }
-  if (!(std::isfinite(m.bending_warp_Nm) && m.bending_warp_Nm >= 0.0 &&
-        std::isfinite(m.bending_weft_Nm) && m.bending_weft_Nm >= 0.0)) {
+  if (!(std::isfinite(m.bending_warp_Nm) && m.bending_warp_Nm >= 0.0 && std::isfinite(m.bending_weft_Nm) &&
+        m.bending_weft_Nm >= 0.0)) {
     throw std::invalid_argument("FabricMaterial.bending_*_Nm must be finite and >= 0");
   }
-  if (m.tensile_warp.loading().empty() || m.tensile_weft.loading().empty() ||
-      m.shear.loading().empty()) {
+  if (m.tensile_warp.loading().empty() || m.tensile_weft.loading().empty() || m.shear.loading().empty()) {
     throw std::invalid_argument("FabricMaterial: tensile and shear curves must be set");
   }
 }
@@ -57,8 +56,7 @@ std::array<int, 9> Slots(const BlockPattern& pattern, const std::array<int, 3>& 
 
 }  // namespace
 
-FabricModel BuildFabricModel(const FabricMaterial& material, const GridSpec& grid,
-                             const ModelOptions& options) {
+FabricModel BuildFabricModel(const FabricMaterial& material, const GridSpec& grid, const ModelOptions& options) {
   ValidateInputs(material, options);
   FabricModel model{GridMesh(grid), material, options, 0, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}};
   const GridMesh& mesh = model.mesh;
@@ -98,15 +96,13 @@ FabricModel BuildFabricModel(const FabricMaterial& material, const GridSpec& gri
   for (int j = 0; j < nv; ++j) {
     const double w = (j == 0 || j == nv - 1) ? 0.5 * dv : dv;
     for (int i = 1; i + 1 < nu; ++i) {
-      add_line(mesh.Index(i - 1, j), mesh.Index(i, j), mesh.Index(i + 1, j), du, du, w,
-               material.bending_warp_Nm);
+      add_line(mesh.Index(i - 1, j), mesh.Index(i, j), mesh.Index(i + 1, j), du, du, w, material.bending_warp_Nm);
     }
   }
   for (int i = 0; i < nu; ++i) {
     const double w = (i == 0 || i == nu - 1) ? 0.5 * du : du;
     for (int j = 1; j + 1 < nv; ++j) {
-      add_line(mesh.Index(i, j - 1), mesh.Index(i, j), mesh.Index(i, j + 1), dv, dv, w,
-               material.bending_weft_Nm);
+      add_line(mesh.Index(i, j - 1), mesh.Index(i, j), mesh.Index(i, j + 1), dv, dv, w, material.bending_weft_Nm);
     }
   }
 

@@ -24,8 +24,8 @@ struct DampingOptions {
 
 /// Air drag (air at rest).
 struct DragOptions {
-  double linear_N_s_per_m3 = 0.02;      ///< viscous drag per area: F = -c A v
-  double quadratic_coefficient = 1.5;   ///< C_d for the normal velocity component
+  double linear_N_s_per_m3 = 0.02;     ///< viscous drag per area: F = -c A v
+  double quadratic_coefficient = 1.5;  ///< C_d for the normal velocity component
   double air_density_kg_per_m3 = 1.2;
 };
 
@@ -79,7 +79,6 @@ struct FabricModel {
 
 /// Builds a model. @throws std::invalid_argument for bad options (negative damping, NaN gravity,
 /// non-positive density, ...), naming the option.
-FabricModel BuildFabricModel(const FabricMaterial& material, const GridSpec& grid,
-                             const ModelOptions& options = {});
+FabricModel BuildFabricModel(const FabricMaterial& material, const GridSpec& grid, const ModelOptions& options = {});
 
 }  // namespace haptex::textile

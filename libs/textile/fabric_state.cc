@@ -23,8 +23,7 @@ void FabricState::ClearAnchors() {
 
 FabricState MakeRestState(const FabricModel& model, const Placement& placement) {
   const double tol = 1e-9;
-  if (std::abs(placement.axis_u_W.norm() - 1.0) > tol ||
-      std::abs(placement.axis_v_W.norm() - 1.0) > tol ||
+  if (std::abs(placement.axis_u_W.norm() - 1.0) > tol || std::abs(placement.axis_v_W.norm() - 1.0) > tol ||
       std::abs(placement.axis_u_W.dot(placement.axis_v_W)) > tol || !placement.origin_W.allFinite()) {
     throw std::invalid_argument("Placement: axis_u_W and axis_v_W must be orthonormal, origin finite");
   }
@@ -33,8 +32,7 @@ FabricState MakeRestState(const FabricModel& model, const Placement& placement) 
   s.x_W_m.resize(3 * n);
   for (int p = 0; p < n; ++p) {
     const Eigen::Vector2d& uv = model.mesh.rest_uv_m(p);
-    s.x_W_m.segment<3>(3 * p) =
-        placement.origin_W + uv.x() * placement.axis_u_W + uv.y() * placement.axis_v_W;
+    s.x_W_m.segment<3>(3 * p) = placement.origin_W + uv.x() * placement.axis_u_W + uv.y() * placement.axis_v_W;
   }
   s.v_W_m_per_s = Eigen::VectorXd::Zero(3 * n);
   s.external_force_W_N = Eigen::VectorXd::Zero(3 * n);

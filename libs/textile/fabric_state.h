@@ -20,9 +20,9 @@ enum class ParticleMode : std::uint8_t {
 /// Counters of numerical trouble; they only grow (reset by the owner).
 struct FabricDiagnostics {
   std::int64_t steps = 0;
-  std::int64_t nan_events = 0;          ///< steps rolled back because of NaN/Inf
-  std::int64_t cg_not_converged = 0;    ///< steps whose CG hit max iterations
-  std::int64_t speed_capped = 0;        ///< particle speeds clamped to the cap
+  std::int64_t nan_events = 0;                ///< steps rolled back because of NaN/Inf
+  std::int64_t cg_not_converged = 0;          ///< steps whose CG hit max iterations
+  std::int64_t speed_capped = 0;              ///< particle speeds clamped to the cap
   std::int64_t preconditioner_fallbacks = 0;  ///< multilevel PCG broke down, block Jacobi used
   /// Symplectic steps whose stability estimate at the state wanted more than max_substeps (the
   /// step used max_substeps).
@@ -40,11 +40,11 @@ struct Placement {
 
 struct FabricState {
   double time_s = 0.0;
-  Eigen::VectorXd x_W_m;                  ///< 3n positions, world frame
-  Eigen::VectorXd v_W_m_per_s;            ///< 3n velocities
-  Eigen::VectorXd external_force_W_N;     ///< 3n applied loads (point/edge), kept until changed
-  std::vector<ParticleMode> mode;         ///< n
-  Eigen::VectorXd prescribed_v_W_m_per_s; ///< 3n, used where mode == kPrescribed
+  Eigen::VectorXd x_W_m;                   ///< 3n positions, world frame
+  Eigen::VectorXd v_W_m_per_s;             ///< 3n velocities
+  Eigen::VectorXd external_force_W_N;      ///< 3n applied loads (point/edge), kept until changed
+  std::vector<ParticleMode> mode;          ///< n
+  Eigen::VectorXd prescribed_v_W_m_per_s;  ///< 3n, used where mode == kPrescribed
   /// Springs from particles to moving anchors (finger contact): f_p = k_p (anchor_p - x_p),
   /// integrated implicitly by both integrators so stiff contact stays stable. k_p = 0: none.
   Eigen::VectorXd anchor_stiffness_N_per_m;  ///< n

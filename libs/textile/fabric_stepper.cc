@@ -10,10 +10,14 @@ namespace haptex::textile {
 
 const char* ToString(StepStatus status) {
   switch (status) {
-    case StepStatus::kOk: return "ok";
-    case StepStatus::kCgNotConverged: return "cg_not_converged";
-    case StepStatus::kSpeedCapped: return "speed_capped";
-    case StepStatus::kNanRecovered: return "nan_recovered";
+    case StepStatus::kOk:
+      return "ok";
+    case StepStatus::kCgNotConverged:
+      return "cg_not_converged";
+    case StepStatus::kSpeedCapped:
+      return "speed_capped";
+    case StepStatus::kNanRecovered:
+      return "nan_recovered";
   }
   return "unknown";
 }
@@ -45,8 +49,8 @@ StepResult FabricStepper::Step(FabricState* state) {
     }
   } else {
     // Substeps for the tension at this state (never fewer than configured).
-    const double stable = std::min(
-        config_stable_step_s_, EstimateExplicitStableStep(model_, *state, &ws_.stiffness_row));
+    const double stable =
+        std::min(config_stable_step_s_, EstimateExplicitStableStep(model_, *state, &ws_.stiffness_row));
     const double needed = std::ceil(options_.dt_s / stable);
     int substeps = substeps_;
     if (needed > substeps) {
@@ -64,8 +68,8 @@ StepResult FabricStepper::Step(FabricState* state) {
 
   // NaN/Inf: roll back to the last good positions, at rest. A finite implicit step checked
   // the state it wrote.
-  const bool state_finite = implicit ? ws_.stepped_state_finite
-                                     : state->x_W_m.allFinite() && state->v_W_m_per_s.allFinite();
+  const bool state_finite =
+      implicit ? ws_.stepped_state_finite : state->x_W_m.allFinite() && state->v_W_m_per_s.allFinite();
   if (!result.cg.finite || !state_finite) {
     state->x_W_m = ws_.x_backup;
     state->v_W_m_per_s.setZero();

@@ -22,7 +22,7 @@ const char* ToString(StepStatus status);
 
 struct StepResult {
   StepStatus status = StepStatus::kOk;
-  CgReport cg;              ///< implicit Euler only
+  CgReport cg;  ///< implicit Euler only
   int capped_particles = 0;
 };
 

@@ -5,7 +5,7 @@ namespace haptex::textile {
 FabricWorkspace::FabricWorkspace(const FabricModel& model, Preconditioner preconditioner)
     : multilevel(model),
       gauss_seidel(preconditioner == Preconditioner::kGaussSeidel ? GaussSeidelPreconditioner(model.product_rows)
-                                                                 : GaussSeidelPreconditioner()) {
+                                                                  : GaussSeidelPreconditioner()) {
   const int n3 = 3 * model.num_particles;
   for (Eigen::VectorXd* v : {&force_N, &dfdx_v, &rhs, &dv, &dv0, &r, &c, &q, &s, &x_backup}) {
     *v = Eigen::VectorXd::Zero(n3);

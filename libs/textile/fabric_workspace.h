@@ -17,8 +17,8 @@ struct FabricWorkspace {
   /// Allocates every buffer for `model` (Gauss-Seidel's only for that preconditioner).
   FabricWorkspace(const FabricModel& model, Preconditioner preconditioner);
 
-  Eigen::VectorXd force_N;        ///< 3n total force
-  Eigen::VectorXd dfdx_v;         ///< 3n (df/dx) v, for the implicit right-hand side
+  Eigen::VectorXd force_N;               ///< 3n total force
+  Eigen::VectorXd dfdx_v;                ///< 3n (df/dx) v, for the implicit right-hand side
   std::vector<Eigen::Matrix3d> system;   ///< blocks of M - h df/dv - h^2 df/dx (model.pattern)
   std::vector<Eigen::Matrix3d> precond;  ///< inverted diagonal blocks
   /// Constant part of `system` (mass, bending, linear drag) for step system_base_dt_s of
@@ -33,13 +33,13 @@ struct FabricWorkspace {
   /// 3n CG vectors. dv0: the initial guess, copied only for block Jacobi and multilevel
   /// (Gauss-Seidel's PCG leaves dv at the guess on a breakdown), so stale on its steps.
   Eigen::VectorXd rhs, dv, dv0, r, c, q, s;
-  Eigen::VectorXd x_backup;              ///< roll-back copy of the positions
+  Eigen::VectorXd x_backup;  ///< roll-back copy of the positions
   /// Set by ImplicitEulerStep when it updates the state, for FabricStepper's checks (no second
   /// scan): whether the new x and v are all finite, and the largest squared particle speed.
   bool stepped_state_finite = true;
   double stepped_max_speed2_m2_per_s2 = 0.0;
-  Eigen::VectorXd stiffness_row;         ///< n, symplectic stability estimate at the state
-  MultilevelPreconditioner multilevel;   ///< used when StepOptions::preconditioner says so
+  Eigen::VectorXd stiffness_row;           ///< n, symplectic stability estimate at the state
+  MultilevelPreconditioner multilevel;     ///< used when StepOptions::preconditioner says so
   GaussSeidelPreconditioner gauss_seidel;  ///< likewise (empty unless built for it)
   /// Gauss-Seidel's CG vectors on its split system, padded (0 rows unless built for it): the
   /// residual, direction, product, preconditioned residual, the sweeps' scratch t and z, and

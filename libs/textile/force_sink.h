@@ -9,12 +9,12 @@
 namespace haptex::textile {
 
 struct ForceSink {
-  Eigen::VectorXd* force_N = nullptr;                 ///< 3n, accumulated
-  std::vector<Eigen::Matrix3d>* system = nullptr;     ///< null: forces only
-  double dx_scale = 0.0;                              ///< -h^2 for implicit Euler
-  double dv_scale = 0.0;                              ///< -h
-  Eigen::VectorXd* dfdx_v = nullptr;                  ///< 3n, accumulated (df/dx) v
-  const Eigen::VectorXd* v = nullptr;                 ///< 3n velocities
+  Eigen::VectorXd* force_N = nullptr;              ///< 3n, accumulated
+  std::vector<Eigen::Matrix3d>* system = nullptr;  ///< null: forces only
+  double dx_scale = 0.0;                           ///< -h^2 for implicit Euler
+  double dv_scale = 0.0;                           ///< -h
+  Eigen::VectorXd* dfdx_v = nullptr;               ///< 3n, accumulated (df/dx) v
+  const Eigen::VectorXd* v = nullptr;              ///< 3n velocities
   /// AccumulateForces only: the constant Jacobian blocks (bending, linear drag) are already in
   /// `system` (AddConstantJacobians), so it adds only the state-dependent ones.
   bool constant_jacobians_added = false;
@@ -32,9 +32,7 @@ struct ForceSink {
     dfdx_v->segment<3>(3 * i) += jac * v->segment<3>(3 * j);
   }
   /// Block d f_i / d v_j at `slot`.
-  void AddDv(int slot, const Eigen::Matrix3d& jac) {
-    (*system)[static_cast<std::size_t>(slot)] += dv_scale * jac;
-  }
+  void AddDv(int slot, const Eigen::Matrix3d& jac) { (*system)[static_cast<std::size_t>(slot)] += dv_scale * jac; }
 };
 
 }  // namespace haptex::textile

@@ -18,10 +18,10 @@ using internal::GaussSeidelSweepArgs;
 using internal::PaddedBlock;
 
 enum class SweepKind {
-  kForward,    // y = (D_w + L)^-1 x
+  kForward,  // y = (D_w + L)^-1 x
   // kForward, then z = D_w y row by row and the sum of y . z (as MultiplyDiagonal).
   kForwardDiagonal,
-  kBackward,   // y = (D_w + U)^-1 x
+  kBackward,  // y = (D_w + U)^-1 x
   // Eisenstat's backward half: t = (D_w + U)^-1 x, and z = x - (2 - omega) D_w t in the same
   // pass (0 in rows that are not free, where x and D_w are 0).
   kEisenstatBackward,
@@ -45,8 +45,8 @@ struct SweepVectors {
   double* y;
   double* t;
   double* z;
-  const double* s;  // kEisenstatBackwardUpdate's
-  double beta;      // likewise
+  const double* s;             // kEisenstatBackwardUpdate's
+  double beta;                 // likewise
   double* x_update = nullptr;  // likewise: x itself, updated in place to s + beta x
 };
 
@@ -77,8 +77,7 @@ inline void ZeroSkipped(const SweepVectors& v, int r0, int r1) {
 // Runs `row(r)` for the free rows in the sweep's order (forward: ascending), with
 // `skipped(r0, r1)` for each range of other rows in between.
 template <bool kForward, typename Row, typename Skipped>
-inline __attribute__((always_inline)) void ForEachFreeRow(const GaussSeidelSweepArgs& a, Row row,
-                                                           Skipped skipped) {
+inline __attribute__((always_inline)) void ForEachFreeRow(const GaussSeidelSweepArgs& a, Row row, Skipped skipped) {
   if constexpr (kForward) {
     int done = 0;
     for (int i = 0; i < a.num_runs; ++i) {
@@ -196,15 +195,15 @@ __attribute__((target("avx2"), always_inline)) inline Broadcasts BroadcastAvx2(_
 
 // (b(:, 0) x_0 + b(:, 1) x_1) + b(:, 2) x_2, x as its broadcasts.
 __attribute__((target("avx2"), always_inline)) inline __m256d ProductAvx2(const PaddedBlock& b, const Broadcasts& x) {
-  return _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(_mm256_load_pd(b.col[0]), x.b0),
-                                     _mm256_mul_pd(_mm256_load_pd(b.col[1]), x.b1)),
-                       _mm256_mul_pd(_mm256_load_pd(b.col[2]), x.b2));
+  return _mm256_add_pd(
+      _mm256_add_pd(_mm256_mul_pd(_mm256_load_pd(b.col[0]), x.b0), _mm256_mul_pd(_mm256_load_pd(b.col[1]), x.b1)),
+      _mm256_mul_pd(_mm256_load_pd(b.col[2]), x.b2));
 }
 
 // y = D x for one row (lane 3 too: 0 for a finite x), returning x . y as (x_0 y_0 + x_1 y_1) + x_2 y_2;
 // xb: x's broadcasts.
 __attribute__((target("avx2"), always_inline)) inline double DiagonalRowAvx2(const PaddedBlock& d, __m256d x,
-                                                                         const Broadcasts& xb, double* y) {
+                                                                             const Broadcasts& xb, double* y) {
   const __m256d yr = ProductAvx2(d, xb);
   _mm256_store_pd(y, yr);
   const __m256d p = _mm256_mul_pd(x, yr);
@@ -214,7 +213,7 @@ __attribute__((target("avx2"), always_inline)) inline double DiagonalRowAvx2(con
 }
 
 __attribute__((target("avx2"), always_inline)) inline double DiagonalRowAvx2(const PaddedBlock& d, __m256d x,
-                                                                         double* y) {
+                                                                             double* y) {
   return DiagonalRowAvx2(d, x, BroadcastAvx2(x), y);
 }
 
@@ -292,8 +291,7 @@ __attribute__((target("avx2"), always_inline)) inline void RowAvx2(const GaussSe
   // them held all of a common row's loaded columns in registers, spilling).
   __m256d in;
   if constexpr (kKind == SweepKind::kEisenstatBackwardUpdate) {
-    in = _mm256_add_pd(_mm256_load_pd(v.s + i),
-                       _mm256_mul_pd(_mm256_set1_pd(v.beta), _mm256_load_pd(v.x_update + i)));
+    in = _mm256_add_pd(_mm256_load_pd(v.s + i), _mm256_mul_pd(_mm256_set1_pd(v.beta), _mm256_load_pd(v.x_update + i)));
     _mm256_store_pd(v.x_update + i, in);
   } else {
     in = _mm256_load_pd((kKind == SweepKind::kEisenstatForward ? v.z : v.x) + i);
@@ -406,7 +404,7 @@ __attribute__((target("avx2"), always_inline)) inline void PairRowAvx2(const Gau
 
 // Two kForwardDiagonal sweeps in one pass (PairRowAvx2), in ForEachFreeRow's order written out.
 __attribute__((target("avx2"))) void SweepForwardDiagonalPairAvx2(GaussSeidelSweepArgs a, SweepVectors v0,
-                                                                   SweepVectors v1, double* xy) {
+                                                                  SweepVectors v1, double* xy) {
   double xy0 = 0.0, xy1 = 0.0;
   int done = 0;
   const __m256d zero = _mm256_setzero_pd();
@@ -534,8 +532,7 @@ inline __attribute__((always_inline)) void Premultiply(const PaddedBlock& d_inv,
 inline __attribute__((always_inline)) bool RowBlocksKernel(const Eigen::Matrix3d& a, double omega, double inv_omega,
                                                            const Eigen::Matrix3d* lower_block,
                                                            const Eigen::Matrix3d* upper_block, PaddedBlock* d,
-                                                           PaddedBlock* d_inv, PaddedBlock* lower,
-                                                           PaddedBlock* upper) {
+                                                           PaddedBlock* d_inv, PaddedBlock* lower, PaddedBlock* upper) {
   // D_w = a / omega (inv_omega = 1 / omega) and D_w^-1 = omega adj(a) / det(a): the adjugate's
   // columns are cross products of a's rows.
   const V4 r0 = {a(0, 0), a(0, 1), a(0, 2), 0.0}, r1 = {a(1, 0), a(1, 1), a(1, 2), 0.0},
@@ -615,8 +612,8 @@ __attribute__((target("avx2"))) bool RowUpdatesAvx2(const RowUpdate& u) { return
 #endif
 
 bool RowBlocksGeneric(const Eigen::Matrix3d& a, double omega, const Eigen::Matrix3d* lower_block,
-                      const Eigen::Matrix3d* upper_block, PaddedBlock* d, PaddedBlock* d_inv,
-                      PaddedBlock* lower, PaddedBlock* upper) {
+                      const Eigen::Matrix3d* upper_block, PaddedBlock* d, PaddedBlock* d_inv, PaddedBlock* lower,
+                      PaddedBlock* upper) {
   return RowBlocksKernel(a, omega, 1.0 / omega, lower_block, upper_block, d, d_inv, lower, upper);
 }
 
@@ -633,8 +630,8 @@ __attribute__((target("avx2"))) bool RowBlocksAvx2(const Eigen::Matrix3d& a, dou
 
 namespace internal {
 bool SetRowBlocks(const Eigen::Matrix3d& a, double omega, const Eigen::Matrix3d* lower_block,
-                  const Eigen::Matrix3d* upper_block, bool avx2, PaddedBlock* d, PaddedBlock* d_inv,
-                  PaddedBlock* lower, PaddedBlock* upper) {
+                  const Eigen::Matrix3d* upper_block, bool avx2, PaddedBlock* d, PaddedBlock* d_inv, PaddedBlock* lower,
+                  PaddedBlock* upper) {
 #ifdef HAPTEX_X86_KERNELS
   if (avx2) return RowBlocksAvx2(a, omega, lower_block, upper_block, d, d_inv, lower, upper);
 #endif
@@ -651,8 +648,8 @@ GaussSeidelPreconditioner::GaussSeidelPreconditioner(const SplitRows& split) {
   int num_slots = 0;  // the blocks' (those of the split: every slot)
   for (int r = 0; r < rows; ++r) {
     const auto row = static_cast<std::size_t>(r);
-    num_slots = std::max(num_slots, split.general_first_slot[row] + split.general_start[row + 1] -
-                                        split.general_start[row]);
+    num_slots =
+        std::max(num_slots, split.general_first_slot[row] + split.general_start[row + 1] - split.general_start[row]);
   }
   for (int slot : split.scalar_slot) num_slots = std::max(num_slots, slot + 1);
   for (int r = 0; r < rows; ++r) {
@@ -693,8 +690,8 @@ GaussSeidelPreconditioner::GaussSeidelPreconditioner(const SplitRows& split) {
       q.scalars = static_cast<unsigned char>(s1 - s0);
       q.adjacent = static_cast<unsigned char>(adjacent);
       // The common shapes' last block is read 4-wide: another block must follow it in memory.
-      const bool common = (q.general == 1 || q.general == 3) && q.scalars == 2 && adjacent != 0 &&
-                          slot_offset + g1 < num_slots;
+      const bool common =
+          (q.general == 1 || q.general == 3) && q.scalars == 2 && adjacent != 0 && slot_offset + g1 < num_slots;
       q.common = common ? q.general : 0;
       std::vector<int> columns;
       for (int k = g0; k < g1; ++k) columns.push_back(4 * split.general_col[static_cast<std::size_t>(k)]);
@@ -713,14 +710,14 @@ GaussSeidelPreconditioner::GaussSeidelPreconditioner(const SplitRows& split) {
                                     split.scalar_start[row + 1], upper_adjacent);
   }
   row_free_.assign(static_cast<std::size_t>(rows), 0);
-  row_zero_.assign(static_cast<std::size_t>(rows), 1);  // row_data_ starts all 0
+  row_zero_.assign(static_cast<std::size_t>(rows), 1);          // row_data_ starts all 0
   runs_.assign(2 * static_cast<std::size_t>(rows / 2 + 1), 0);  // at most every other row starts a run
 }
 
 bool GaussSeidelPreconditioner::UpdateRows(const std::vector<Eigen::Matrix3d>& blocks, double omega) {
   diag_excess_ = 2.0 - omega;
-  const RowUpdate u{diag_slot_.data(), row_free_.data(), blocks.data(), omega, 1.0 / omega, rows(),
-                    row_data_.data(), row_zero_.data()};
+  const RowUpdate u{diag_slot_.data(), row_free_.data(), blocks.data(),    omega,
+                    1.0 / omega,       rows(),           row_data_.data(), row_zero_.data()};
 #ifdef HAPTEX_X86_KERNELS
   if (avx2_) return RowUpdatesAvx2(u);
 #endif
@@ -729,15 +726,8 @@ bool GaussSeidelPreconditioner::UpdateRows(const std::vector<Eigen::Matrix3d>& b
 
 internal::GaussSeidelSweepArgs GaussSeidelPreconditioner::Args(const std::vector<Eigen::Matrix3d>& blocks,
                                                                const std::vector<double>& scalars) const {
-  return {row_data_.data(),
-          column_offset_.data(),
-          blocks.data(),
-          scalars.data(),
-          rows(),
-          runs_.data(),
-          num_runs_,
-          diag_excess_,
-          avx2_};
+  return {row_data_.data(), column_offset_.data(), blocks.data(), scalars.data(), rows(), runs_.data(),
+          num_runs_,        diag_excess_,          avx2_};
 }
 
 namespace {
@@ -749,8 +739,7 @@ void GaussSeidelPreconditioner::ForwardSolve(const std::vector<Eigen::Matrix3d>&
                                              PaddedVector* y) const {
   DemandRows(x, rows());
   DemandRows(*y, rows());
-  Sweep<SweepKind::kForward>(Args(blocks, scalars),
-                             {x.data(), y->data(), nullptr, nullptr, nullptr, 0.0});
+  Sweep<SweepKind::kForward>(Args(blocks, scalars), {x.data(), y->data(), nullptr, nullptr, nullptr, 0.0});
 }
 
 double GaussSeidelPreconditioner::ForwardSolveDiagonal(const std::vector<Eigen::Matrix3d>& blocks,
@@ -759,17 +748,16 @@ double GaussSeidelPreconditioner::ForwardSolveDiagonal(const std::vector<Eigen::
   DemandRows(x, rows());
   DemandRows(*y, rows());
   DemandRows(*w, rows());
-  return Sweep<SweepKind::kForwardDiagonal>(
-      Args(blocks, scalars), {x.data(), y->data(), nullptr, w->data(), nullptr, 0.0});
+  return Sweep<SweepKind::kForwardDiagonal>(Args(blocks, scalars),
+                                            {x.data(), y->data(), nullptr, w->data(), nullptr, 0.0});
 }
 
 void GaussSeidelPreconditioner::ForwardSolveDiagonalPair(const std::vector<Eigen::Matrix3d>& blocks,
-                                                         const std::vector<double>& scalars,
-                                                         const PaddedVector& x0, PaddedVector* y0, PaddedVector* w0,
-                                                         const PaddedVector& x1, PaddedVector* y1, PaddedVector* w1,
-                                                         double* yw) const {
-  for (const PaddedVector* v : {&x0, static_cast<const PaddedVector*>(y0), static_cast<const PaddedVector*>(w0),
-                                &x1, static_cast<const PaddedVector*>(y1), static_cast<const PaddedVector*>(w1)}) {
+                                                         const std::vector<double>& scalars, const PaddedVector& x0,
+                                                         PaddedVector* y0, PaddedVector* w0, const PaddedVector& x1,
+                                                         PaddedVector* y1, PaddedVector* w1, double* yw) const {
+  for (const PaddedVector* v : {&x0, static_cast<const PaddedVector*>(y0), static_cast<const PaddedVector*>(w0), &x1,
+                                static_cast<const PaddedVector*>(y1), static_cast<const PaddedVector*>(w1)}) {
     DemandRows(*v, rows());
   }
   SweepForwardDiagonalPair(Args(blocks, scalars), {x0.data(), y0->data(), nullptr, w0->data(), nullptr, 0.0},
@@ -781,8 +769,7 @@ void GaussSeidelPreconditioner::BackwardSolve(const std::vector<Eigen::Matrix3d>
                                               PaddedVector* y) const {
   DemandRows(x, rows());
   DemandRows(*y, rows());
-  Sweep<SweepKind::kBackward>(Args(blocks, scalars),
-                              {x.data(), y->data(), nullptr, nullptr, nullptr, 0.0});
+  Sweep<SweepKind::kBackward>(Args(blocks, scalars), {x.data(), y->data(), nullptr, nullptr, nullptr, 0.0});
 }
 
 double GaussSeidelPreconditioner::MultiplySplit(const std::vector<Eigen::Matrix3d>& blocks,
@@ -799,8 +786,8 @@ double GaussSeidelPreconditioner::MultiplySplit(const std::vector<Eigen::Matrix3
 
 double GaussSeidelPreconditioner::UpdateMultiplySplit(const std::vector<Eigen::Matrix3d>& blocks,
                                                       const std::vector<double>& scalars, const PaddedVector& s,
-                                                      double beta, PaddedVector* x, PaddedVector* t,
-                                                      PaddedVector* z, PaddedVector* y) const {
+                                                      double beta, PaddedVector* x, PaddedVector* t, PaddedVector* z,
+                                                      PaddedVector* y) const {
   for (const PaddedVector* v : {&s, static_cast<const PaddedVector*>(x), static_cast<const PaddedVector*>(t),
                                 static_cast<const PaddedVector*>(z), static_cast<const PaddedVector*>(y)}) {
     DemandRows(*v, rows());
@@ -826,9 +813,8 @@ double GaussSeidelPreconditioner::MultiplyDiagonal(const PaddedVector& x, Padded
   return xy;
 }
 
-double GaussSeidelPreconditioner::StepResidual(double alpha, const PaddedVector& t, const PaddedVector& q,
-                                               bool y_zero, PaddedVector* y, PaddedVector* r,
-                                               PaddedVector* s) const {
+double GaussSeidelPreconditioner::StepResidual(double alpha, const PaddedVector& t, const PaddedVector& q, bool y_zero,
+                                               PaddedVector* y, PaddedVector* r, PaddedVector* s) const {
   for (const PaddedVector* v : {&t, &q, static_cast<const PaddedVector*>(y), static_cast<const PaddedVector*>(r),
                                 static_cast<const PaddedVector*>(s)}) {
     DemandRows(*v, rows());

@@ -63,8 +63,8 @@ struct SweepRowData {
 
 /// What one triangular sweep reads (gauss_seidel_preconditioner.cc).
 struct GaussSeidelSweepArgs {
-  const SweepRowData* row;    ///< per row
-  const int* column_offset;   ///< SweepRow::column's array for the uncommon rows
+  const SweepRowData* row;   ///< per row
+  const int* column_offset;  ///< SweepRow::column's array for the uncommon rows
   const Eigen::Matrix3d* blocks;
   const double* scalars;
   int rows;
@@ -119,8 +119,8 @@ class GaussSeidelPreconditioner {
   /// x = s + beta x (CG's new direction) over the free rows (x stays 0 elsewhere), then
   /// MultiplySplit(x, t, z, y). Never allocates.
   double UpdateMultiplySplit(const std::vector<Eigen::Matrix3d>& blocks, const std::vector<double>& scalars,
-                             const PaddedVector& s, double beta, PaddedVector* x, PaddedVector* t,
-                             PaddedVector* z, PaddedVector* y) const;
+                             const PaddedVector& s, double beta, PaddedVector* x, PaddedVector* t, PaddedVector* z,
+                             PaddedVector* y) const;
   /// CG's step over the free rows: y += alpha t, r -= alpha q (pads too), then s = D_w r as
   /// MultiplyDiagonal; returns r . s. With y_zero, y is taken as 0 (not read: y = 0 + alpha t).
   /// The other rows are skipped (y = +0 there with y_zero): CG keeps t, q, r, s and y +0 there
@@ -145,7 +145,7 @@ class GaussSeidelPreconditioner {
 
   std::vector<internal::SweepRowData> row_data_;  ///< per row
   bool avx2_ = false;
-  double diag_excess_ = 0.0;               ///< (2 D_w - D) = diag_excess_ D_w: 2 - omega
+  double diag_excess_ = 0.0;  ///< (2 D_w - D) = diag_excess_ D_w: 2 - omega
 
   std::vector<unsigned char> row_free_;  ///< Update's: which rows are free
   std::vector<unsigned char> row_zero_;  ///< per row: its row_data_ blocks are all 0 (UpdateRows skips them)
@@ -156,8 +156,7 @@ class GaussSeidelPreconditioner {
 };
 
 template <typename RowFree>
-bool GaussSeidelPreconditioner::Update(const std::vector<Eigen::Matrix3d>& blocks, double omega,
-                                       RowFree row_free) {
+bool GaussSeidelPreconditioner::Update(const std::vector<Eigen::Matrix3d>& blocks, double omega, RowFree row_free) {
   // Which rows are free, and their runs (a run starts where a free row follows one that is not).
   num_runs_ = 0;
   bool in_run = false;
@@ -180,8 +179,8 @@ namespace internal {
 /// (into lower, upper; left as they are for null b). Returns false if a is singular or the
 /// results are not finite. `avx2` picks the 4-wide build: identical results.
 bool SetRowBlocks(const Eigen::Matrix3d& a, double omega, const Eigen::Matrix3d* lower_block,
-                  const Eigen::Matrix3d* upper_block, bool avx2, PaddedBlock* d, PaddedBlock* d_inv,
-                  PaddedBlock* lower, PaddedBlock* upper);
+                  const Eigen::Matrix3d* upper_block, bool avx2, PaddedBlock* d, PaddedBlock* d_inv, PaddedBlock* lower,
+                  PaddedBlock* upper);
 }  // namespace internal
 
 }  // namespace haptex::textile

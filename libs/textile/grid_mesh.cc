@@ -24,8 +24,7 @@ GridMesh::GridMesh(const GridSpec& spec) : nu_(spec.particles_warp), nv_(spec.pa
   // Alternate the diagonal cell by cell so the triangulation has no preferred bias direction.
   for (int j = 0; j + 1 < nv_; ++j) {
     for (int i = 0; i + 1 < nu_; ++i) {
-      const int p00 = Index(i, j), p10 = Index(i + 1, j), p01 = Index(i, j + 1),
-                p11 = Index(i + 1, j + 1);
+      const int p00 = Index(i, j), p10 = Index(i + 1, j), p01 = Index(i, j + 1), p11 = Index(i + 1, j + 1);
       if ((i + j) % 2 == 0) {
         triangles_.push_back({p00, p10, p11});
         triangles_.push_back({p00, p11, p01});

@@ -13,9 +13,7 @@
 namespace haptex::textile {
 namespace {
 
-bool IsFree(const FabricState& s, int p) {
-  return s.mode[static_cast<std::size_t>(p)] == ParticleMode::kFree;
-}
+bool IsFree(const FabricState& s, int p) { return s.mode[static_cast<std::size_t>(p)] == ParticleMode::kFree; }
 
 // Components 0 and 1 of a particle as a pair (SSE2 in any x86-64 build), component 2 apart:
 // the per-particle passes below do per component the operations Eigen did, in half the code.
@@ -29,16 +27,16 @@ inline void Store2(double* p, V2 v) { std::memcpy(p, &v, sizeof v); }
 
 // y = filter(A x), with A = ws->system (its bend-only blocks read as ws->system_scalars);
 // returns x . y.
-double FilteredMultiply(const FabricModel& model, const FabricState& state,
-                        const FabricWorkspace& ws, const Eigen::VectorXd& x, Eigen::VectorXd* y) {
+double FilteredMultiply(const FabricModel& model, const FabricState& state, const FabricWorkspace& ws,
+                        const Eigen::VectorXd& x, Eigen::VectorXd* y) {
   const ParticleMode* mode = state.mode.data();
-  return MultiplySplitRows(model.product_rows, ws.system, ws.system_scalars,
-                    [mode](int r) { return mode[r] == ParticleMode::kFree; }, x, y);
+  return MultiplySplitRows(
+      model.product_rows, ws.system, ws.system_scalars, [mode](int r) { return mode[r] == ParticleMode::kFree; }, x, y);
 }
 
 // y = P^-1 x for free particles, 0 for constrained ones.
-void Precondition(const FabricModel& model, const FabricState& state, const StepOptions& options,
-                  FabricWorkspace* ws, const Eigen::VectorXd& x, Eigen::VectorXd* y) {
+void Precondition(const FabricModel& model, const FabricState& state, const StepOptions& options, FabricWorkspace* ws,
+                  const Eigen::VectorXd& x, Eigen::VectorXd* y) {
   if (options.preconditioner == Preconditioner::kMultilevel) {
     ws->multilevel.Apply(x, y);
     return;
@@ -94,8 +92,7 @@ void BuildSystemBase(const FabricModel& model, double h, ForceSink* sink, Fabric
 void UpdateBlockJacobi(const FabricModel& model, FabricWorkspace* ws) {
   for (int p = 0; p < model.num_particles; ++p) {
     ws->precond[static_cast<std::size_t>(p)] =
-        ws->system[static_cast<std::size_t>(model.pattern.diag_slot[static_cast<std::size_t>(p)])]
-            .inverse();
+        ws->system[static_cast<std::size_t>(model.pattern.diag_slot[static_cast<std::size_t>(p)])].inverse();
   }
 }
 
@@ -103,8 +100,8 @@ void UpdateBlockJacobi(const FabricModel& model, FabricWorkspace* ws) {
 // solve (report->finite false), a zero right-hand side gives the exact dv = 0 on the free
 // particles, a non-positive reference is a breakdown.
 enum class PcgStart { kIterate, kDone, kBreakdown };
-PcgStart StartPcg(const FabricModel& model, const FabricState& state, double delta0,
-                  double rhs_norm2, bool finite, FabricWorkspace* ws, CgReport* report) {
+PcgStart StartPcg(const FabricModel& model, const FabricState& state, double delta0, double rhs_norm2, bool finite,
+                  FabricWorkspace* ws, CgReport* report) {
   report->iterations = 0;
   report->relative_residual = 0.0;
   report->converged = true;
@@ -172,8 +169,8 @@ bool Iterate(ProductFn product, PreconditionFn precondition, AdvanceFn advance, 
 
 // Filtered PCG from the guess in ws->dv (Baraff-Witkin's modified PCG). Returns true on a
 // breakdown (an indefinite preconditioner or matrix), leaving the best iterate in ws->dv.
-bool RunPcg(const FabricModel& model, const FabricState& state, const StepOptions& options,
-            Preconditioner pc, FabricWorkspace* ws, CgReport* report) {
+bool RunPcg(const FabricModel& model, const FabricState& state, const StepOptions& options, Preconditioner pc,
+            FabricWorkspace* ws, CgReport* report) {
   const int n = model.num_particles;
   StepOptions o = options;
   o.preconditioner = pc;
@@ -201,8 +198,8 @@ bool RunPcg(const FabricModel& model, const FabricState& state, const StepOption
         Precondition(model, state, o, ws, r, z);
         return r.dot(*z);
       },
-      [&](double alpha) { ws->dv += alpha * ws->c; }, delta0, options,
-      CgVectors{&ws->r, &ws->c, &ws->q, &ws->s}, report);
+      [&](double alpha) { ws->dv += alpha * ws->c; }, delta0, options, CgVectors{&ws->r, &ws->c, &ws->q, &ws->s},
+      report);
 }
 
 // rhs = h (f + h df/dx v), all rows.
@@ -278,10 +275,10 @@ bool RunGaussSeidelPcg(const FabricModel& model, const FabricState& state, const
   const PcgStart start = StartPcg(model, state, delta0, rhs_norm2, q_finite, ws, report);
   if (start != PcgStart::kIterate) return start == PcgStart::kBreakdown;
   double delta = sizes[1];
-  // CG runs on y~ = (D_w + U) y from 0 (y = 0 until the first step), but y itself is kept: y = sum alpha_k (D_w + U)^-1 c_k,
-  // and the product leaves (D_w + U)^-1 c_k in t. That saves the backward sweep y~ -> y.
-  // Iterate's loop with its passes fused: the direction update c = s + beta c is done by the
-  // next product, the unknown's and residual's updates with the preconditioner.
+  // CG runs on y~ = (D_w + U) y from 0 (y = 0 until the first step), but y itself is kept: y = sum alpha_k (D_w + U)^-1
+  // c_k, and the product leaves (D_w + U)^-1 c_k in t. That saves the backward sweep y~ -> y. Iterate's loop with its
+  // passes fused: the direction update c = s + beta c is done by the next product, the unknown's and residual's updates
+  // with the preconditioner.
   const double eps2 = options.cg_tolerance * options.cg_tolerance;
   bool breakdown = !(delta >= 0.0);
   double beta = 0.0;
@@ -311,8 +308,8 @@ bool RunGaussSeidelPcg(const FabricModel& model, const FabricState& state, const
 
 }  // namespace
 
-CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options,
-                           FabricState* state, FabricWorkspace* ws) {
+CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options, FabricState* state,
+                           FabricWorkspace* ws) {
   const double h = options.dt_s;
   const int n = model.num_particles;
   ws->stepped_state_finite = false;  // until a step has written the state
@@ -412,8 +409,8 @@ CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options,
       dv_zero2 += 0.0 * d2;
     }
   }
-  report.finite = report.finite && std::isfinite(dv_zero01[0]) && std::isfinite(dv_zero01[1]) &&
-                  std::isfinite(dv_zero2);
+  report.finite =
+      report.finite && std::isfinite(dv_zero01[0]) && std::isfinite(dv_zero01[1]) && std::isfinite(dv_zero2);
   if (!report.finite) {
     ws->dv.setZero();  // never warm-start from garbage
     return report;

@@ -13,14 +13,14 @@ struct CgReport {
   int iterations = 0;
   double relative_residual = 0.0;  ///< sqrt(r'P^-1 r / b'P^-1 b) at exit
   bool converged = true;
-  bool finite = true;  ///< false: NaN/Inf in the system; the state was left untouched
+  bool finite = true;                    ///< false: NaN/Inf in the system; the state was left untouched
   bool preconditioner_fallback = false;  ///< multilevel broke down; solved with block Jacobi
 };
 
 /// Solves (M - h df/dv - h^2 df/dx) dv = h (f + h df/dx v) for free particles; prescribed
 /// particles get exactly their prescribed velocity (filtered CG). Then v += dv, x += h v.
 /// Does not validate options (FabricStepper does) and never allocates.
-CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options,
-                           FabricState* state, FabricWorkspace* ws);
+CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options, FabricState* state,
+                           FabricWorkspace* ws);
 
 }  // namespace haptex::textile

@@ -31,11 +31,11 @@ struct CurvePoint {
 
 /// KES-FB1 tensile block for one direction.
 struct KesTensile {
-  double emt_percent = 0.0;      ///< EMT: strain at Fm [%]
-  double lt = 0.0;               ///< LT: linearity [-]
-  double wt_gfcm_per_cm2 = 0.0;  ///< WT: tensile energy [gf cm / cm^2]
-  double rt_percent = 0.0;       ///< RT: resilience [%]
-  double fm_gf_per_cm = 0.0;     ///< maximum load of the test [gf/cm]; 0 means 500
+  double emt_percent = 0.0;               ///< EMT: strain at Fm [%]
+  double lt = 0.0;                        ///< LT: linearity [-]
+  double wt_gfcm_per_cm2 = 0.0;           ///< WT: tensile energy [gf cm / cm^2]
+  double rt_percent = 0.0;                ///< RT: resilience [%]
+  double fm_gf_per_cm = 0.0;              ///< maximum load of the test [gf/cm]; 0 means 500
   std::vector<CurvePoint> loading_curve;  ///< digitized loading curve, if the source gives one
 };
 

@@ -8,8 +8,7 @@
 namespace haptex::textile {
 namespace {
 
-[[noreturn]] void Fail(const std::string& fabric, const std::string& field, const std::string& why,
-                       double value) {
+[[noreturn]] void Fail(const std::string& fabric, const std::string& field, const std::string& why, double value) {
   std::ostringstream msg;
   if (!fabric.empty()) msg << "fabric '" << fabric << "': ";
   msg << field << " " << why << " (got " << value << ")";
@@ -18,8 +17,7 @@ namespace {
 
 void RequirePositive(const std::string& fabric, const std::string& field, double value) {
   if (!std::isfinite(value) || !(value > 0.0)) {
-    Fail(fabric, field, value == 0.0 ? "is missing (must be > 0)" : "must be finite and > 0",
-         value);
+    Fail(fabric, field, value == 0.0 ? "is missing (must be > 0)" : "must be finite and > 0", value);
   }
 }
 
@@ -27,8 +25,7 @@ void RequireNonNegative(const std::string& fabric, const std::string& field, dou
   if (!std::isfinite(value) || value < 0.0) Fail(fabric, field, "must be finite and >= 0", value);
 }
 
-StrainCurve CurveFromPoints(const kes::KesTensile& t, const std::string& field,
-                            const KesConversionOptions& options) {
+StrainCurve CurveFromPoints(const kes::KesTensile& t, const std::string& field, const KesConversionOptions& options) {
   std::vector<double> x, y;
   x.reserve(t.loading_curve.size() + 1);
   y.reserve(t.loading_curve.size() + 1);
@@ -53,8 +50,7 @@ StrainCurve CurveFromPoints(const kes::KesTensile& t, const std::string& field,
     throw std::invalid_argument(field + ".loading_curve: needs a point with positive force");
   }
   const double secant = y.back() / x.back();
-  return StrainCurve::Tensile(MonotoneSpline(std::move(x), std::move(y)),
-                              options.compression_fraction * secant);
+  return StrainCurve::Tensile(MonotoneSpline(std::move(x), std::move(y)), options.compression_fraction * secant);
 }
 
 }  // namespace
@@ -78,8 +74,7 @@ StrainCurve TensileCurveFromKes(const kes::KesTensile& t, const std::string& fie
   RequireNonNegative("", field + ".fm_gf_per_cm", t.fm_gf_per_cm);
   if (!(t.lt < 2.0)) Fail("", field + ".lt", "must be < 2 for a power-law reconstruction", t.lt);
   const double em = t.emt_percent / 100.0;
-  const double fm_N_per_m =
-      (t.fm_gf_per_cm > 0.0 ? t.fm_gf_per_cm : kStandardFmGfPerCm) * kGfPerCmToNPerM;
+  const double fm_N_per_m = (t.fm_gf_per_cm > 0.0 ? t.fm_gf_per_cm : kStandardFmGfPerCm) * kGfPerCmToNPerM;
   const double n = 2.0 / t.lt - 1.0;
   const double secant = fm_N_per_m / em;
   const double floor = options.tensile_floor_fraction * secant;
@@ -92,8 +87,7 @@ StrainCurve TensileCurveFromKes(const kes::KesTensile& t, const std::string& fie
     x[static_cast<std::size_t>(k)] = e;
     y[static_cast<std::size_t>(k)] = std::max(fm_N_per_m * std::pow(s, n), floor * e);
   }
-  return StrainCurve::Tensile(MonotoneSpline(std::move(x), std::move(y)),
-                              options.compression_fraction * secant);
+  return StrainCurve::Tensile(MonotoneSpline(std::move(x), std::move(y)), options.compression_fraction * secant);
 }
 
 FabricMaterial MaterialFromKes(const kes::Fabric& f, const KesConversionOptions& options) {

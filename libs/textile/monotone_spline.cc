@@ -10,8 +10,7 @@
 
 namespace haptex::textile {
 
-MonotoneSpline::MonotoneSpline(std::vector<double> x, std::vector<double> y)
-    : x_(std::move(x)), y_(std::move(y)) {
+MonotoneSpline::MonotoneSpline(std::vector<double> x, std::vector<double> y) : x_(std::move(x)), y_(std::move(y)) {
   const std::size_t n = x_.size();
   if (n < 2 || y_.size() != n) {
     throw std::invalid_argument("MonotoneSpline: needs at least 2 knots and as many y as x values");
@@ -21,12 +20,10 @@ MonotoneSpline::MonotoneSpline(std::vector<double> x, std::vector<double> y)
       throw std::invalid_argument("MonotoneSpline: knot " + std::to_string(k) + " is not finite");
     }
     if (k > 0 && !(x_[k] > x_[k - 1])) {
-      throw std::invalid_argument("MonotoneSpline: x must be strictly increasing (knot " +
-                                  std::to_string(k) + ")");
+      throw std::invalid_argument("MonotoneSpline: x must be strictly increasing (knot " + std::to_string(k) + ")");
     }
     if (k > 0 && y_[k] < y_[k - 1]) {
-      throw std::invalid_argument("MonotoneSpline: y must be non-decreasing (knot " +
-                                  std::to_string(k) + ")");
+      throw std::invalid_argument("MonotoneSpline: y must be non-decreasing (knot " + std::to_string(k) + ")");
     }
   }
   // Secant slopes, then three-point tangents.
@@ -85,8 +82,7 @@ void MonotoneSpline::Evaluate(double x, double* y, double* dy_dx) const {
   // (which also absorbs any rounding in the cell index).
   const double cell = (x - x_[0]) * cells_per_x_;
   const std::size_t last_cell = cell_segment_.size() - 1;
-  const std::size_t c =
-      cell < static_cast<double>(last_cell) ? static_cast<std::size_t>(cell) : last_cell;
+  const std::size_t c = cell < static_cast<double>(last_cell) ? static_cast<std::size_t>(cell) : last_cell;
   std::size_t k = static_cast<std::size_t>(cell_segment_[c]);
   while (x_[k + 1] <= x) ++k;
   while (x < x_[k]) --k;
@@ -94,11 +90,9 @@ void MonotoneSpline::Evaluate(double x, double* y, double* dy_dx) const {
   const double t = (x - x_[k]) / h;
   const double t2 = t * t;
   const double t3 = t2 * t;
-  const double h00 = 2 * t3 - 3 * t2 + 1, h10 = t3 - 2 * t2 + t, h01 = -2 * t3 + 3 * t2,
-               h11 = t3 - t2;
+  const double h00 = 2 * t3 - 3 * t2 + 1, h10 = t3 - 2 * t2 + t, h01 = -2 * t3 + 3 * t2, h11 = t3 - t2;
   *y = h00 * y_[k] + h10 * h * m_[k] + h01 * y_[k + 1] + h11 * h * m_[k + 1];
-  const double d00 = 6 * t2 - 6 * t, d10 = 3 * t2 - 4 * t + 1, d01 = -6 * t2 + 6 * t,
-               d11 = 3 * t2 - 2 * t;
+  const double d00 = 6 * t2 - 6 * t, d10 = 3 * t2 - 4 * t + 1, d01 = -6 * t2 + 6 * t, d11 = 3 * t2 - 2 * t;
   *dy_dx = (d00 * y_[k] + d01 * y_[k + 1]) / h + d10 * m_[k] + d11 * m_[k + 1];
 }
 

@@ -11,7 +11,7 @@
 namespace haptex::textile {
 namespace {
 
-constexpr int kCoarsestNodes = 32; // stop coarsening at or below this many nodes
+constexpr int kCoarsestNodes = 32;  // stop coarsening at or below this many nodes
 
 // Fine node i of a line of n takes these next-level nodes (every second fine node) and weights:
 // itself if even, else the mean of its two even neighbours (the last one alone at an end).
@@ -63,10 +63,13 @@ MultilevelPreconditioner::MultilevelPreconditioner(const FabricModel& model) {
     const BlockPattern& fp = Pattern(levels_.size() - 1);
     auto each_coarse_pair = [&](auto&& visit) {
       for (int r = 0; r < fine.n; ++r) {
-        for (int k = fp.row_start[static_cast<std::size_t>(r)]; k < fp.row_start[static_cast<std::size_t>(r) + 1]; ++k) {
+        for (int k = fp.row_start[static_cast<std::size_t>(r)]; k < fp.row_start[static_cast<std::size_t>(r) + 1];
+             ++k) {
           const int c = fp.cols[static_cast<std::size_t>(k)];
-          for (int ea = fine.p_start[static_cast<std::size_t>(r)]; ea < fine.p_start[static_cast<std::size_t>(r) + 1]; ++ea) {
-            for (int eb = fine.p_start[static_cast<std::size_t>(c)]; eb < fine.p_start[static_cast<std::size_t>(c) + 1]; ++eb) {
+          for (int ea = fine.p_start[static_cast<std::size_t>(r)]; ea < fine.p_start[static_cast<std::size_t>(r) + 1];
+               ++ea) {
+            for (int eb = fine.p_start[static_cast<std::size_t>(c)]; eb < fine.p_start[static_cast<std::size_t>(c) + 1];
+                 ++eb) {
               visit(k, fine.p_coarse[static_cast<std::size_t>(ea)], fine.p_coarse[static_cast<std::size_t>(eb)],
                     fine.p_weight[static_cast<std::size_t>(ea)] * fine.p_weight[static_cast<std::size_t>(eb)]);
             }
@@ -143,8 +146,7 @@ void MultilevelPreconditioner::Update(const FabricModel& model, const FabricStat
   Level& top = levels_[0];
   fine_blocks_ = &a;
   for (int p = 0; p < model.num_particles; ++p) {
-    top.active[static_cast<std::size_t>(p)] =
-        state.mode[static_cast<std::size_t>(p)] == ParticleMode::kFree ? 1 : 0;
+    top.active[static_cast<std::size_t>(p)] = state.mode[static_cast<std::size_t>(p)] == ParticleMode::kFree ? 1 : 0;
   }
   for (std::size_t l = 0; l < levels_.size(); ++l) {
     Level& lev = levels_[l];
@@ -168,7 +170,8 @@ void MultilevelPreconditioner::Update(const FabricModel& model, const FabricStat
     for (auto& b : next.a) b.setZero();
     for (int r = 0; r < lev.n; ++r) {
       if (!lev.active[static_cast<std::size_t>(r)]) continue;
-      for (int k = pat.row_start[static_cast<std::size_t>(r)]; k < pat.row_start[static_cast<std::size_t>(r) + 1]; ++k) {
+      for (int k = pat.row_start[static_cast<std::size_t>(r)]; k < pat.row_start[static_cast<std::size_t>(r) + 1];
+           ++k) {
         if (!lev.active[static_cast<std::size_t>(pat.cols[static_cast<std::size_t>(k)])]) continue;
         const Eigen::Matrix3d& block = blocks[static_cast<std::size_t>(k)];
         for (int e = lev.g_start[static_cast<std::size_t>(k)]; e < lev.g_start[static_cast<std::size_t>(k) + 1]; ++e) {
@@ -199,7 +202,8 @@ void MultilevelPreconditioner::Update(const FabricModel& model, const FabricStat
       dense_.block<3, 3>(3 * r, 3 * r).setIdentity();
       continue;
     }
-    for (int k = last_pattern.row_start[static_cast<std::size_t>(r)]; k < last_pattern.row_start[static_cast<std::size_t>(r) + 1]; ++k) {
+    for (int k = last_pattern.row_start[static_cast<std::size_t>(r)];
+         k < last_pattern.row_start[static_cast<std::size_t>(r) + 1]; ++k) {
       const int c = last_pattern.cols[static_cast<std::size_t>(k)];
       if (last.active[static_cast<std::size_t>(c)]) {
         dense_.block<3, 3>(3 * r, 3 * c) = last_blocks[static_cast<std::size_t>(k)];
@@ -224,8 +228,8 @@ void MultilevelPreconditioner::Update(const FabricModel& model, const FabricStat
 namespace {
 
 // Row p of the residual r - A z of the finest level (a single-level hierarchy only).
-Eigen::Vector3d RowResidual(const Eigen::Matrix3d* blocks, const int* row_start, const int* cols,
-                            const double* z, const double* r, int p) {
+Eigen::Vector3d RowResidual(const Eigen::Matrix3d* blocks, const int* row_start, const int* cols, const double* z,
+                            const double* r, int p) {
   double acc[3] = {0.0, 0.0, 0.0};
   AccumulateBlockRow(blocks, cols, row_start[p], row_start[p + 1], z, acc);
   return {r[3 * p] - acc[0], r[3 * p + 1] - acc[1], r[3 * p + 2] - acc[2]};
@@ -246,7 +250,8 @@ void MultilevelPreconditioner::MultiplyCoarse(std::size_t level) {
   Level& l = levels_[level];
   if (level == 0) return;
   const unsigned char* active = l.active.data();
-  MultiplySplitRows(l.split, l.a, l.scalars, [active](int row) { return active[row] != 0; }, l.z, &l.az);
+  MultiplySplitRows(
+      l.split, l.a, l.scalars, [active](int row) { return active[row] != 0; }, l.z, &l.az);
 }
 
 // z += D^-1 (r - A z) (the new z goes to t, then z and t swap).
@@ -325,8 +330,8 @@ void MultilevelPreconditioner::Prolong(std::size_t k, Eigen::VectorXd* z) const 
     const std::size_t ps = static_cast<std::size_t>(p);
     if (!l.active[ps]) continue;
     for (int e = l.p_start[ps]; e < l.p_start[ps + 1]; ++e) {
-      z->segment<3>(3 * p) += l.p_weight[static_cast<std::size_t>(e)] *
-                              c.z.segment<3>(3 * l.p_coarse[static_cast<std::size_t>(e)]);
+      z->segment<3>(3 * p) +=
+          l.p_weight[static_cast<std::size_t>(e)] * c.z.segment<3>(3 * l.p_coarse[static_cast<std::size_t>(e)]);
     }
   }
 }

@@ -32,10 +32,10 @@ class MultilevelPreconditioner {
 
  private:
   struct Level {
-    int n = 0;                          // nodes
-    BlockPattern own_pattern;           // coarse levels (level 0 uses the model's)
-    std::vector<Eigen::Matrix3d> a;     // coarse levels (level 0 uses the system passed to Update)
-    std::vector<Eigen::Matrix3d> d_inv; // damped inverse diagonal (0 where filtered)
+    int n = 0;                           // nodes
+    BlockPattern own_pattern;            // coarse levels (level 0 uses the model's)
+    std::vector<Eigen::Matrix3d> a;      // coarse levels (level 0 uses the system passed to Update)
+    std::vector<Eigen::Matrix3d> d_inv;  // damped inverse diagonal (0 where filtered)
     // Prolongation to this level from the next (empty on the coarsest): node p takes weight
     // p_weight[e] of next-level node p_coarse[e], e in [p_start[p], p_start[p + 1]).
     std::vector<int> p_start, p_coarse;
@@ -51,18 +51,14 @@ class MultilevelPreconditioner {
     std::vector<unsigned char> scalar;
     SplitRows split;
     std::vector<double> scalars;
-    Eigen::VectorXd az;  // A z of a coarse level
-    std::vector<int> mirror_slot;  // coarse levels: slot of block (c, r) for block (r, c), r > c; else -1
+    Eigen::VectorXd az;                 // A z of a coarse level
+    std::vector<int> mirror_slot;       // coarse levels: slot of block (c, r) for block (r, c), r > c; else -1
     std::vector<unsigned char> active;  // level 0: free particle
     Eigen::VectorXd r, z, t;
   };
 
-  const BlockPattern& Pattern(std::size_t k) const {
-    return k == 0 ? *fine_pattern_ : levels_[k].own_pattern;
-  }
-  const std::vector<Eigen::Matrix3d>& Blocks(std::size_t k) const {
-    return k == 0 ? *fine_blocks_ : levels_[k].a;
-  }
+  const BlockPattern& Pattern(std::size_t k) const { return k == 0 ? *fine_pattern_ : levels_[k].own_pattern; }
+  const std::vector<Eigen::Matrix3d>& Blocks(std::size_t k) const { return k == 0 ? *fine_blocks_ : levels_[k].a; }
   Eigen::Vector3d Residual(std::size_t k, int p) const;
   void MultiplyCoarse(std::size_t k);
   void Smooth(std::size_t k);
@@ -70,12 +66,12 @@ class MultilevelPreconditioner {
   void Prolong(std::size_t k, Eigen::VectorXd* z) const;
   void Cycle(std::size_t k);
 
-  const BlockPattern* fine_pattern_ = nullptr;                // the model's (outlives this)
+  const BlockPattern* fine_pattern_ = nullptr;                 // the model's (outlives this)
   const std::vector<Eigen::Matrix3d>* fine_blocks_ = nullptr;  // set by Update
   std::vector<Level> levels_;
   Eigen::MatrixXd dense_;  // coarsest matrix, then its Cholesky factor
   Eigen::VectorXd dense_rhs_;
-  double omega_ = 0.6;     // Jacobi damping, lowered per level when a bound requires it
+  double omega_ = 0.6;  // Jacobi damping, lowered per level when a bound requires it
 };
 
 }  // namespace haptex::textile

@@ -1,8 +1,8 @@
 #pragma once
 // A vector of 3-component rows stored 4 apart: row r at [4 r, 4 r + 3), with entry 4 r + 3 a
-// pad (0 while the rows are finite), and the storage 32-byte aligned. Each row is one aligned 4-wide load or store, and a row
-// just written can be read back through store forwarding (a 3-wide masked store cannot be):
-// Gauss-Seidel's sweeps run on these.
+// pad (0 while the rows are finite), and the storage 32-byte aligned. Each row is one aligned 4-wide load or store, and
+// a row just written can be read back through store forwarding (a 3-wide masked store cannot be): Gauss-Seidel's sweeps
+// run on these.
 
 #include <vector>
 
@@ -26,9 +26,7 @@ class PaddedVector {
   Eigen::Map<const Eigen::VectorXd, Eigen::Aligned32> vec() const { return {data(), 4 * rows()}; }
 
   Eigen::Map<Eigen::Vector3d> row(int r) { return Eigen::Map<Eigen::Vector3d>(data() + 4 * r); }
-  Eigen::Map<const Eigen::Vector3d> row(int r) const {
-    return Eigen::Map<const Eigen::Vector3d>(data() + 4 * r);
-  }
+  Eigen::Map<const Eigen::Vector3d> row(int r) const { return Eigen::Map<const Eigen::Vector3d>(data() + 4 * r); }
 
   /// Row r and its pad (0): a pad left non-finite by an earlier non-finite step is cleared.
   void SetRow(int r, const Eigen::Vector3d& x) {

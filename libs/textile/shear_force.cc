@@ -2,8 +2,7 @@
 
 namespace haptex::textile {
 
-void AddShearForces(const FabricModel& model, const Eigen::VectorXd& x, const Eigen::VectorXd& v,
-                    ForceSink* sink) {
+void AddShearForces(const FabricModel& model, const Eigen::VectorXd& x, const Eigen::VectorXd& v, ForceSink* sink) {
   const double damping_s = model.options.damping.shear_s;
   const StrainCurve& curve = model.material.shear;
   for (std::size_t t = 0; t < model.triangles.size(); ++t) {

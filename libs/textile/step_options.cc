@@ -7,9 +7,7 @@
 namespace haptex::textile {
 
 void ValidateStepOptions(const StepOptions& o) {
-  auto fail = [](const std::string& what) {
-    throw std::invalid_argument("StepOptions." + what);
-  };
+  auto fail = [](const std::string& what) { throw std::invalid_argument("StepOptions." + what); };
   if (!(std::isfinite(o.dt_s) && o.dt_s > 0.0)) fail("dt_s must be finite and > 0");
   if (!(o.cg_tolerance > 0.0 && o.cg_tolerance < 1.0)) fail("cg_tolerance must be in (0, 1)");
   if (o.cg_max_iterations < 1) fail("cg_max_iterations must be >= 1");
@@ -20,8 +18,7 @@ void ValidateStepOptions(const StepOptions& o) {
   if (o.method != Integrator::kImplicitEuler && o.method != Integrator::kSymplecticEuler) {
     fail("method is unknown");
   }
-  if (o.preconditioner != Preconditioner::kBlockJacobi &&
-      o.preconditioner != Preconditioner::kMultilevel &&
+  if (o.preconditioner != Preconditioner::kBlockJacobi && o.preconditioner != Preconditioner::kMultilevel &&
       o.preconditioner != Preconditioner::kGaussSeidel) {
     fail("preconditioner is unknown");
   }

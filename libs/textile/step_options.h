@@ -19,9 +19,9 @@ enum class Preconditioner {
 
 struct StepOptions {
   Integrator method = Integrator::kImplicitEuler;
-  double dt_s = 0.01;             ///< step [s], > 0
-  double cg_tolerance = 1e-2;     ///< relative preconditioned residual, in (0, 1)
-  int cg_max_iterations = 200;    ///< >= 1
+  double dt_s = 0.01;           ///< step [s], > 0
+  double cg_tolerance = 1e-2;   ///< relative preconditioned residual, in (0, 1)
+  int cg_max_iterations = 200;  ///< >= 1
   /// Start CG from the previous step's velocity change (else from zero). Results then depend on
   /// the workspace's history within the CG tolerance.
   bool cg_warm_start = true;
@@ -30,7 +30,7 @@ struct StepOptions {
   double ssor_omega = 1.0;
   /// Symplectic substeps per step; 0 = the fewest that the stability estimate allows.
   int substeps = 0;
-  int max_substeps = 2000;        ///< refuse configurations needing more
+  int max_substeps = 2000;           ///< refuse configurations needing more
   double max_speed_m_per_s = 100.0;  ///< particle speeds above are clamped and counted
 };
 

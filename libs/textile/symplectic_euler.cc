@@ -62,8 +62,8 @@ namespace {
 
 // Adds one tensile direction's block-Gershgorin row sums: |A w_k w_l| ||kx||, with
 // kx = slope d d^T + t (I - d d^T) (eigenvalues slope and t, t = |sigma| / |d|).
-void AddTensileRows(const TriangleElement& e, const std::array<double, 3>& w,
-                    const StrainCurve& curve, const Eigen::Vector3d& d, Eigen::VectorXd* row) {
+void AddTensileRows(const TriangleElement& e, const std::array<double, 3>& w, const StrainCurve& curve,
+                    const Eigen::Vector3d& d, Eigen::VectorXd* row) {
   const double len = d.norm();
   if (!(len > 1e-12)) return;
   double sigma = 0.0, slope = 0.0;
@@ -75,8 +75,7 @@ void AddTensileRows(const TriangleElement& e, const std::array<double, 3>& w,
 
 }  // namespace
 
-double EstimateExplicitStableStep(const FabricModel& model, const FabricState& state,
-                                  Eigen::VectorXd* row) {
+double EstimateExplicitStableStep(const FabricModel& model, const FabricState& state, Eigen::VectorXd* row) {
   if (row->size() != model.num_particles) row->resize(model.num_particles);
   row->setZero();
   const Eigen::VectorXd& x = state.x_W_m;
@@ -133,15 +132,15 @@ int SymplecticSubsteps(const FabricModel& model, const StepOptions& options) {
   if (options.substeps == 0) return needed;
   if (options.substeps < needed) {
     std::ostringstream msg;
-    msg << "StepOptions.substeps=" << options.substeps << " is unstable for this fabric and dt_s="
-        << options.dt_s << "; needs >= " << needed << " (stable substep " << stable << " s)";
+    msg << "StepOptions.substeps=" << options.substeps << " is unstable for this fabric and dt_s=" << options.dt_s
+        << "; needs >= " << needed << " (stable substep " << stable << " s)";
     throw std::invalid_argument(msg.str());
   }
   return options.substeps;
 }
 
-void SymplecticEulerStep(const FabricModel& model, const StepOptions& options, int substeps,
-                         FabricState* state, FabricWorkspace* ws) {
+void SymplecticEulerStep(const FabricModel& model, const StepOptions& options, int substeps, FabricState* state,
+                         FabricWorkspace* ws) {
   const double h = options.dt_s / substeps;
   ForceSink sink;
   sink.force_N = &ws->force_N;
@@ -159,8 +158,7 @@ void SymplecticEulerStep(const FabricModel& model, const StepOptions& options, i
           // The anchor spring is implicit per particle (stable for any k):
           // m (v' - v) = h (f + k (a - x - h v')).
           const double c = h * h * k / model.mass_kg[p];
-          const Eigen::Vector3d spring =
-              k * (state->anchor_W_m.segment<3>(3 * p) - state->x_W_m.segment<3>(3 * p));
+          const Eigen::Vector3d spring = k * (state->anchor_W_m.segment<3>(3 * p) - state->x_W_m.segment<3>(3 * p));
           v = (v + (h / model.mass_kg[p]) * (ws->force_N.segment<3>(3 * p) + spring)) / (1.0 + c);
         }
       } else {

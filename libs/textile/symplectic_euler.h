@@ -21,8 +21,7 @@ double EstimateExplicitStableStep(const FabricModel& model);
 /// estimate (a stretched fabric's shear stiffness grows with |U| |V|), so the stepper takes the
 /// smaller of the two each step. `row` is scratch (resized to n if needed; no allocation when
 /// already sized).
-double EstimateExplicitStableStep(const FabricModel& model, const FabricState& state,
-                                  Eigen::VectorXd* row);
+double EstimateExplicitStableStep(const FabricModel& model, const FabricState& state, Eigen::VectorXd* row);
 
 /// Substeps to use for `options`: `options.substeps`, or the fewest allowed by the estimate when
 /// it is 0. @throws std::invalid_argument if the given substeps are too few for stability or the
@@ -31,7 +30,7 @@ int SymplecticSubsteps(const FabricModel& model, const StepOptions& options);
 
 /// One step of dt = options.dt_s as `substeps` symplectic Euler substeps: v += h M^-1 f(x, v),
 /// x += h v; prescribed particles move with their prescribed velocity. Never allocates.
-void SymplecticEulerStep(const FabricModel& model, const StepOptions& options, int substeps,
-                         FabricState* state, FabricWorkspace* ws);
+void SymplecticEulerStep(const FabricModel& model, const StepOptions& options, int substeps, FabricState* state,
+                         FabricWorkspace* ws);
 
 }  // namespace haptex::textile

@@ -12,7 +12,7 @@ namespace haptex::textile {
 /// curves, force -A0 sigma a_k U/|U| (and b_k for weft); damping sigma_d = stretch_s * slope *
 /// strain rate. Jacobian: the exact tangent, with the transverse (geometric) term dropped under
 /// compression so the system stays positive definite; damping's position derivative is dropped.
-void AddTensileForces(const FabricModel& model, const Eigen::VectorXd& x_W_m,
-                      const Eigen::VectorXd& v_W_m_per_s, ForceSink* sink);
+void AddTensileForces(const FabricModel& model, const Eigen::VectorXd& x_W_m, const Eigen::VectorXd& v_W_m_per_s,
+                      ForceSink* sink);
 
 }  // namespace haptex::textile

@@ -58,8 +58,8 @@ int RunToRest(FabricStepper* stepper, FabricState* state, int max_steps, double 
   return max_steps;
 }
 
-double AnalyticHangingElongation(const StrainCurve& curve, double length_m, double width_m,
-                                 double rho, double load_N, double g) {
+double AnalyticHangingElongation(const StrainCurve& curve, double length_m, double width_m, double rho, double load_N,
+                                 double g) {
   // Strain at tension f (N/m): invert the monotone curve by bisection.
   auto strain_at = [&](double f) {
     double lo = 0.0, hi = 1.0;

@@ -33,8 +33,8 @@ int RunToRest(FabricStepper* stepper, FabricState* state, int max_steps, double 
 
 /// Elongation under a hanging load: exact integral of the inverse tensile curve along the strip.
 /// L rest length, b width, rho areal density, load P at the bottom, gravity g.
-double AnalyticHangingElongation(const StrainCurve& curve, double length_m, double width_m,
-                                 double rho_kg_per_m2, double load_N, double g_m_per_s2);
+double AnalyticHangingElongation(const StrainCurve& curve, double length_m, double width_m, double rho_kg_per_m2,
+                                 double load_N, double g_m_per_s2);
 
 /// Random deformation of the rest state (seeded: the same every run), with random velocities:
 /// each coordinate moves by up to dx_m, each velocity is up to dv_m_per_s.

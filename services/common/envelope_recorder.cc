@@ -42,8 +42,8 @@ std::uint32_t GetLength(const std::uint8_t* at) {
 
 }  // namespace
 
-EnvelopeRecorder::EnvelopeRecorder(const std::string& path, std::string_view sender,
-                                   std::uint64_t sender_epoch, std::uint64_t session_id)
+EnvelopeRecorder::EnvelopeRecorder(const std::string& path, std::string_view sender, std::uint64_t sender_epoch,
+                                   std::uint64_t session_id)
     : sender_epoch_(sender_epoch), session_id_(session_id), ring_(new std::uint8_t[kRingBytes]) {
   if (sender.size() > sender_.size()) throw std::invalid_argument("recorder: sender name too long");
   std::memcpy(sender_.data(), sender.data(), sender.size());

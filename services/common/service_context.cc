@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <cstdlib>
-#include <limits>
 #include <iostream>
+#include <limits>
 
 #include "libs/base/clock.h"
 #include "libs/net/udp_address.h"
@@ -20,9 +20,8 @@ ServiceContext::ServiceContext(std::string name, const ServiceOptions& options)
       logger_(runtime::SetupLogging(name_, options.log_level, options.log_file)),
       health_(name_),
       start_ns_(base::SteadyNowNs()),
-      stop_at_ns_(options.duration_s > 0
-                      ? start_ns_ + static_cast<std::int64_t>(options.duration_s * 1e9)
-                      : std::numeric_limits<std::int64_t>::max()) {
+      stop_at_ns_(options.duration_s > 0 ? start_ns_ + static_cast<std::int64_t>(options.duration_s * 1e9)
+                                         : std::numeric_limits<std::int64_t>::max()) {
   runtime::InstallShutdownHandlers();
   flusher_ = std::make_unique<runtime::LogFlusher>(&rt_log_, logger_);
   if (!options.scene_path.empty()) {
@@ -45,8 +44,8 @@ ServiceContext::ServiceContext(std::string name, const ServiceOptions& options)
     record_dropped_counter_ = health_.AddCounter("record_dropped");
   }
   if (const auto launcher = FindPeer("launcher")) {
-    health_publisher_ = std::make_unique<runtime::HealthPublisher>(&health_, messenger_.get(),
-                                                                   *launcher, options.health_hz, start_ns_);
+    health_publisher_ =
+        std::make_unique<runtime::HealthPublisher>(&health_, messenger_.get(), *launcher, options.health_hz, start_ns_);
   }
   const int refused = runtime::ApplyRtOptions(options.rt, *logger_);
   (void)refused;  // each refusal is logged as a warning; the service runs on
@@ -96,8 +95,7 @@ bool ServiceContext::StopRequested(std::int64_t now_ns) const {
 }
 
 int RunService(int argc, char** argv, const std::string& name, const std::string& description,
-               const std::function<void(CLI::App&)>& add_own_options,
-               const std::function<int(ServiceContext&)>& run) {
+               const std::function<void(CLI::App&)>& add_own_options, const std::function<int(ServiceContext&)>& run) {
   std::string binary = "haptex-" + name;
   std::replace(binary.begin(), binary.end(), '_', '-');
   CLI::App app{description, binary};

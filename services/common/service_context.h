@@ -93,7 +93,6 @@ class ServiceContext final : public Outbox {
 /// Parses the command line (shared options plus the service's own), builds the context and runs
 /// `run`. Exit codes: run's result; 2 for bad options, scene or key; 1 for other failures.
 int RunService(int argc, char** argv, const std::string& name, const std::string& description,
-               const std::function<void(CLI::App&)>& add_own_options,
-               const std::function<int(ServiceContext&)>& run);
+               const std::function<void(CLI::App&)>& add_own_options, const std::function<int(ServiceContext&)>& run);
 
 }  // namespace haptex::services

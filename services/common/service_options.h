@@ -12,17 +12,17 @@
 namespace haptex::services {
 
 struct ServiceOptions {
-  std::string scene_path;              // --scene: the scene file (optional for stand-ins)
-  std::string bind = "127.0.0.1:0";    // --bind HOST:PORT
-  std::vector<std::string> peers;      // --peer NAME=HOST:PORT (repeatable)
-  std::string key_file;                // --key-file, else $HAPTEX_SESSION_KEY
-  std::uint64_t session_id = 0;        // --session-id; 0: derived from the key
-  std::string log_level = "info";      // --log-level
-  std::string log_file;                // --log-file
-  runtime::RtOptions rt;               // --rt-priority, --cpu, --lock-memory
-  double health_hz = 5.0;              // --health-hz (Health to the "launcher" peer)
-  double duration_s = 0.0;             // --duration: stop after this long (0: until told)
-  std::string record_path;             // --record FILE: the messages this service sends (off the loop)
+  std::string scene_path;            // --scene: the scene file (optional for stand-ins)
+  std::string bind = "127.0.0.1:0";  // --bind HOST:PORT
+  std::vector<std::string> peers;    // --peer NAME=HOST:PORT (repeatable)
+  std::string key_file;              // --key-file, else $HAPTEX_SESSION_KEY
+  std::uint64_t session_id = 0;      // --session-id; 0: derived from the key
+  std::string log_level = "info";    // --log-level
+  std::string log_file;              // --log-file
+  runtime::RtOptions rt;             // --rt-priority, --cpu, --lock-memory
+  double health_hz = 5.0;            // --health-hz (Health to the "launcher" peer)
+  double duration_s = 0.0;           // --duration: stop after this long (0: until told)
+  std::string record_path;           // --record FILE: the messages this service sends (off the loop)
 };
 
 /// Adds the shared options to a service's CLI11 app.

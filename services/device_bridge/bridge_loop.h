@@ -68,7 +68,7 @@ class BridgeLoop final {
   BridgePeers peers_;
   runtime::HealthReporter* health_;
   std::unique_ptr<device::DeviceBridge> bridge_;  // ~80 kB of histograms: on the heap, made once
-  std::int64_t local_every_, global_every_;      // ticks between FingerStates
+  std::int64_t local_every_, global_every_;       // ticks between FingerStates
   std::uint64_t horizon_update_every_;
   std::uint64_t tick_ = 0;
   std::array<std::byte, device::kCommandFrameSize> command_{};

@@ -35,7 +35,8 @@ int Run(services::ServiceContext& context, const Options& options) {
   const v1::Scene scene = context.scene() != nullptr ? context.scene()->scene : v1::Scene{};
   BridgeLoopConfig config{scene::BridgeConfigFromScene(scene), options.rate_hz, scene::FingerStatesToLocalHz(scene),
                           scene::FingerStatesToGlobalHz(scene), options.prediction_horizon_ms < 0};
-  if (!config.measured_prediction_horizon) config.bridge.estimator.prediction_horizon_s = options.prediction_horizon_ms * 1e-3;
+  if (!config.measured_prediction_horizon)
+    config.bridge.estimator.prediction_horizon_s = options.prediction_horizon_ms * 1e-3;
   BridgeLoop work(config, {context.FindPeer(net::peer::kLocalContact), context.FindPeer(net::peer::kGlobalSim)},
                   &context.health());
   services::DeviceLink controller(options.controller_bind, options.controller);
@@ -86,7 +87,8 @@ int main(int argc, char** argv) {
                        "measurement to its force reaching the finger)")
             ->check(CLI::Range(0.0, 50.0));
         app.add_option("--rate", options->rate_hz, "bridge rate [Hz] (the controller's)")
-            ->check(CLI::Range(100.0, 20000.0))->capture_default_str();
+            ->check(CLI::Range(100.0, 20000.0))
+            ->capture_default_str();
       },
       [options](haptex::services::ServiceContext& context) { return haptex::device_bridge::Run(context, *options); });
 }

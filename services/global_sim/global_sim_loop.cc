@@ -79,8 +79,8 @@ void GlobalSimLoop::Update(double t_s, double /*dt_s*/) {
   if (!peers_.local_contact) return;
   const dual_layer::PatchRect rect = dual_layer::FindPatchRect(cloth_.model, cloth_.state, spheres_);
   if (rect.empty()) return;
-  dual_layer::CutPatch(cloth_.model, cloth_.state, cut_v, rect, ++patch_id_, counters_.steps,
-                       setup_.step_options.dt_s, refined_, &patch_);
+  dual_layer::CutPatch(cloth_.model, cloth_.state, cut_v, rect, ++patch_id_, counters_.steps, setup_.step_options.dt_s,
+                       refined_, &patch_);
   patch_ready_ = true;
 }
 

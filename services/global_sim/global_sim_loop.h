@@ -63,7 +63,7 @@ class GlobalSimLoop final {
   runtime::HealthReporter* health_;
   double finger_reach_m_, margin_m_, frame_period_s_;
   dual_layer::RefinedGrid refined_;
-  std::vector<int> merged_;              ///< patch interior held through the next step
+  std::vector<int> merged_;  ///< patch interior held through the next step
   dual_layer::TwoStepVelocity cut_velocity_;
   std::array<dual_layer::FingerSphere, 2> spheres_{};
   net::NewestWins newest_states_;

@@ -13,9 +13,9 @@ LocalContactLoop::LocalContactLoop(const LocalContactConfig& config, const Local
   ids_.rejected = health_->AddCounter("patches_rejected");
   ids_.handoffs = health_->AddCounter("patch_handoffs");
   ids_.results = health_->AddCounter("patch_results_sent");
-  static constexpr std::array<const char*, 9> kStateNames = {
-      "state_I_ticks", "state_II_ticks", "state_III_ticks", "state_IV_ticks", "state_V_ticks",
-      "state_VI_ticks", "state_VII_ticks", "state_VIII_ticks", "state_IX_ticks"};
+  static constexpr std::array<const char*, 9> kStateNames = {"state_I_ticks",   "state_II_ticks",   "state_III_ticks",
+                                                             "state_IV_ticks",  "state_V_ticks",    "state_VI_ticks",
+                                                             "state_VII_ticks", "state_VIII_ticks", "state_IX_ticks"};
   for (std::size_t i = 0; i < kStateNames.size(); ++i) ids_.states[i] = health_->AddCounter(kStateNames[i]);
   // the messages' repeated fields sized once, before the loop
   FillForceModel(nullptr, fingers_, 0, config_.force_model_ttl_s, &force_model_);
@@ -95,7 +95,8 @@ void LocalContactLoop::PublishCounters() {
   health_->SetCounter(ids_.rejected, counters_.patches_rejected + builder_->build_failures());
   health_->SetCounter(ids_.handoffs, counters_.patch_handoffs);
   health_->SetCounter(ids_.results, counters_.patch_results_sent);
-  for (std::size_t i = 0; i < counters_.state_ticks.size(); ++i) health_->SetCounter(ids_.states[i], counters_.state_ticks[i]);
+  for (std::size_t i = 0; i < counters_.state_ticks.size(); ++i)
+    health_->SetCounter(ids_.states[i], counters_.state_ticks[i]);
 }
 
 }  // namespace haptex::local_contact

@@ -69,7 +69,7 @@ class LocalContactLoop final {
   net::NewestWins newest_states_;
   std::array<contact::FingerInput, 2> fingers_{};
   std::uint64_t controller_sequence_ = 0;
-  std::uint64_t global_step_ = 0;  ///< of the newest patch received
+  std::uint64_t global_step_ = 0;                    ///< of the newest patch received
   const contact::ContactOutput* contact_ = nullptr;  ///< this tick's, null without a patch
   bool result_due_ = false;
   v1::ForceModel force_model_;

@@ -15,8 +15,8 @@
 #include "libs/net/peer_names.h"
 #include "libs/scene/cloth_setup.h"
 #include "libs/scene/scene_contact.h"
-#include "libs/scene/scene_device.h"
 #include "libs/scene/scene_defaults.h"
+#include "libs/scene/scene_device.h"
 #include "services/common/run_loop.h"
 #include "services/local_contact/local_contact_loop.h"
 
@@ -36,10 +36,16 @@ int Run(services::ServiceContext& context, const Options& options) {
   config.scene_fingers = scene::SceneFingers(loaded.scene);
   config.force_model_ttl_s = scene::ForceModelStaleS(loaded.scene);
   const scene::ClothSetup setup = scene::MakeClothSetup(loaded);
-  PatchBuildSpec spec{setup.material, setup.model_options, scene::LocalStepOptions(loaded.scene, config.rate_hz),
-                      scene::ContactOptionsFromScene(loaded), 0, options.max_patch_particles};
-  spec.particle_id_space = static_cast<int>(dual_layer::MakeRefinedGrid(setup.grid.particles_warp,
-      setup.grid.particles_weft, static_cast<int>(loaded.scene.model().patch_refinement())).id_space());
+  PatchBuildSpec spec{setup.material,
+                      setup.model_options,
+                      scene::LocalStepOptions(loaded.scene, config.rate_hz),
+                      scene::ContactOptionsFromScene(loaded),
+                      0,
+                      options.max_patch_particles};
+  spec.particle_id_space =
+      static_cast<int>(dual_layer::MakeRefinedGrid(setup.grid.particles_warp, setup.grid.particles_weft,
+                                                   static_cast<int>(loaded.scene.model().patch_refinement()))
+                           .id_space());
   PatchBuilder builder(spec, PatchBuilder::Threading::kOwnThread);
   const LocalContactPeers peers{context.RequirePeer(net::peer::kBridge), context.FindPeer(net::peer::kGlobalSim),
                                 context.FindPeer(net::peer::kTactile)};
@@ -54,11 +60,12 @@ int Run(services::ServiceContext& context, const Options& options) {
   work.WriteZeroForce(context);
 
   const auto& c = work.counters();
-  context.log().info("local_contact: {} force models, {} patches ({} handed off, {} busy, {} rejected), "
-                     "{} results, overruns {}, tick compute p50 {:.1f} us p99 {:.1f} us",
-                     c.force_models_sent, c.patches_received, c.patch_handoffs, c.patches_dropped_busy,
-                     c.patches_rejected + builder.build_failures(), c.patch_results_sent, loop.stats().overruns,
-                     compute.Percentile(0.5) * 1e-3, compute.Percentile(0.99) * 1e-3);
+  context.log().info(
+      "local_contact: {} force models, {} patches ({} handed off, {} busy, {} rejected), "
+      "{} results, overruns {}, tick compute p50 {:.1f} us p99 {:.1f} us",
+      c.force_models_sent, c.patches_received, c.patch_handoffs, c.patches_dropped_busy,
+      c.patches_rejected + builder.build_failures(), c.patch_results_sent, loop.stats().overruns,
+      compute.Percentile(0.5) * 1e-3, compute.Percentile(0.99) * 1e-3);
   return 0;
 }
 
@@ -73,7 +80,8 @@ int main(int argc, char** argv) {
         app.add_option("--rate", options->rate_hz, "local rate [Hz] (default: the scene's)")
             ->check(CLI::Range(100.0, 10000.0));
         app.add_option("--max-patch-particles", options->max_patch_particles, "largest patch accepted from global_sim")
-            ->check(CLI::Range(16, 65536))->capture_default_str();
+            ->check(CLI::Range(16, 65536))
+            ->capture_default_str();
       },
       [options](haptex::services::ServiceContext& context) { return haptex::local_contact::Run(context, *options); });
 }

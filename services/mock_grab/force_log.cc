@@ -31,7 +31,8 @@ void ForceLog::Push(const device::ForceLogRow& row) {
 void ForceLog::WriteWaiting() {
   device::ForceLogRow row;
   std::array<char, device::kForceLogLineBytes> line{};
-  while (ring_.TryPop(&row)) out_.write(line.data(), static_cast<std::streamsize>(device::FormatForceLogRow(row, line)));
+  while (ring_.TryPop(&row))
+    out_.write(line.data(), static_cast<std::streamsize>(device::FormatForceLogRow(row, line)));
 }
 
 }  // namespace haptex::mock_grab

@@ -77,10 +77,13 @@ int main(int argc, char** argv) {
         app.add_option("--controller-bind", options->controller_bind, "GRAB protocol socket, HOST:PORT")
             ->capture_default_str();
         app.add_option("--bridge", options->bridge, "where StatusFrames go: the bridge's GRAB socket")->required();
-        app.add_option("--script", options->script, "idle, approach, grasp, pinch, rub, lift, playback or demo (default: the scene's)");
+        app.add_option("--script", options->script,
+                       "idle, approach, grasp, pinch, rub, lift, playback or demo (default: the scene's)");
         app.add_option("--playback-csv", options->playback_csv, "trajectory for the playback script");
         app.add_option("--force-log", options->force_log, "write what the fingers felt to this CSV");
-        app.add_option("--rate", options->rate_hz, "controller rate [Hz]")->check(CLI::Range(100.0, 20000.0))->capture_default_str();
+        app.add_option("--rate", options->rate_hz, "controller rate [Hz]")
+            ->check(CLI::Range(100.0, 20000.0))
+            ->capture_default_str();
         app.add_option("--seed", options->seed, "sensor-noise seed");
       },
       [options](haptex::services::ServiceContext& context) { return haptex::mock_grab::Run(context, *options); });

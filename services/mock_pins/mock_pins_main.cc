@@ -62,7 +62,8 @@ int Run(services::ServiceContext& context, const Options& options) {
     context.Tick(now);
     if (options.heat_map && have_latest && now >= next_heat_map_ns) {
       next_heat_map_ns = now + heat_map_period_ns;
-      std::cout << "\x1b[H\x1b[2J" << "frame " << latest.frame_index() << "\n"
+      std::cout << "\x1b[H\x1b[2J"
+                << "frame " << latest.frame_index() << "\n"
                 << RenderPinHeatMap(latest) << std::flush;
     }
   }
@@ -82,10 +83,7 @@ int main(int argc, char** argv) {
       [options](CLI::App& app) {
         app.add_option("--log-csv", options->log_csv, "record every frame played to this CSV");
         app.add_flag("--heat-map", options->heat_map, "print a live 6 x 4 heat map per finger");
-        app.add_option("--heat-map-hz", options->heat_map_hz, "heat map refresh rate")
-            ->check(CLI::Range(0.5, 60.0));
+        app.add_option("--heat-map-hz", options->heat_map_hz, "heat map refresh rate")->check(CLI::Range(0.5, 60.0));
       },
-      [options](haptex::services::ServiceContext& context) {
-        return haptex::mock_pins::Run(context, *options);
-      });
+      [options](haptex::services::ServiceContext& context) { return haptex::mock_pins::Run(context, *options); });
 }

@@ -28,12 +28,18 @@ PinFrameProblem CheckPinFrame(const v1::PinFrame& frame) {
 
 std::string_view PinFrameProblemName(PinFrameProblem problem) {
   switch (problem) {
-    case PinFrameProblem::kNone: return "none";
-    case PinFrameProblem::kNoFingers: return "no_fingers";
-    case PinFrameProblem::kTooManyFingers: return "too_many_fingers";
-    case PinFrameProblem::kBadFinger: return "bad_finger";
-    case PinFrameProblem::kWrongPinCount: return "wrong_pin_count";
-    case PinFrameProblem::kOutOfRange: return "amplitude_out_of_range";
+    case PinFrameProblem::kNone:
+      return "none";
+    case PinFrameProblem::kNoFingers:
+      return "no_fingers";
+    case PinFrameProblem::kTooManyFingers:
+      return "too_many_fingers";
+    case PinFrameProblem::kBadFinger:
+      return "bad_finger";
+    case PinFrameProblem::kWrongPinCount:
+      return "wrong_pin_count";
+    case PinFrameProblem::kOutOfRange:
+      return "amplitude_out_of_range";
   }
   return "invalid";
 }

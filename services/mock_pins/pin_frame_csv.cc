@@ -15,8 +15,8 @@ void PinFrameCsv::Append(double time_s, const v1::PinFrame& frame) {
   for (const v1::FingerPins& finger : frame.fingers()) {
     const char* name = finger.finger() == v1::FINGER_THUMB ? "thumb" : "index";
     for (int pin = 0; pin < kPinsPerFinger; ++pin) {
-      out_ << time_s << ',' << frame.frame_index() << ',' << name << ',' << pin << ','
-           << finger.amplitude_40hz(pin) << ',' << finger.amplitude_320hz(pin) << '\n';
+      out_ << time_s << ',' << frame.frame_index() << ',' << name << ',' << pin << ',' << finger.amplitude_40hz(pin)
+           << ',' << finger.amplitude_320hz(pin) << '\n';
     }
   }
 }

@@ -25,7 +25,8 @@ class TactileLoop final {
   /// With `display`, Write sends frames there; with `health` (outliving the loop), the loop's
   /// counters are published.
   explicit TactileLoop(std::unique_ptr<tactile::RendererModel> model, double stale_after_s = kDefaultStaleAfterS,
-                       std::optional<services::PeerId> display = std::nullopt, runtime::HealthReporter* health = nullptr);
+                       std::optional<services::PeerId> display = std::nullopt,
+                       runtime::HealthReporter* health = nullptr);
 
   void Read(const v1::Envelope& envelope, double t_s);
   /// Takes the fingers of a TouchTrace received at `now_s` (newest wins per finger).
@@ -40,7 +41,9 @@ class TactileLoop final {
   bool Tick(double now_s, double dt_s, v1::PinFrame* out);
 
   std::uint64_t bad_fingers() const { return bad_fingers_; }
-  const tactile::RenderCounters& counters(int finger) const { return states_[static_cast<std::size_t>(finger)].counters; }
+  const tactile::RenderCounters& counters(int finger) const {
+    return states_[static_cast<std::size_t>(finger)].counters;
+  }
   std::uint64_t frames_sent() const { return frames_sent_; }
   std::uint64_t touch_traces() const { return touch_traces_; }
 

@@ -40,7 +40,8 @@ tactile::PeriodicTile LoadOrBuildTile(services::ServiceContext& context, const O
 }
 
 int Run(services::ServiceContext& context, const Options& options) {
-  tactile::RendererConfig config = scene::RendererConfigFromScene(context.scene() ? context.scene()->scene : v1::Scene{});
+  tactile::RendererConfig config =
+      scene::RendererConfigFromScene(context.scene() ? context.scene()->scene : v1::Scene{});
   if (options.rate_hz > 0) config.display_rate_hz = options.rate_hz;
   const double rate_hz = config.display_rate_hz;
   TactileLoop work(std::make_unique<tactile::RendererModel>(LoadOrBuildTile(context, options), config),
@@ -67,7 +68,8 @@ int main(int argc, char** argv) {
         app.add_option("--tile", options->tile, "periodic tile file from `haptex tactile build`");
         app.add_option("--rate", options->rate_hz, "display rate [Hz] (default: the scene's)")
             ->check(CLI::Range(10.0, 5000.0));
-        app.add_option("--pattern", options->surface.pattern, "weave pattern if the fabric has none: plain, twill, satin");
+        app.add_option("--pattern", options->surface.pattern,
+                       "weave pattern if the fabric has none: plain, twill, satin");
         app.add_option("--warp-pitch-mm", options->surface.warp_pitch_mm, "warp thread pitch [mm]");
         app.add_option("--weft-pitch-mm", options->surface.weft_pitch_mm, "weft thread pitch [mm]");
         app.add_option("--yarn-mm", options->surface.yarn_diameter_mm, "yarn diameter [mm]");

@@ -72,8 +72,7 @@ class NetcheckTest : public ::testing::Test {
 
 TEST_F(NetcheckTest, ProbeMeasuresALoopbackLinkWithoutLoss) {
   StartServer(key_);
-  Subprocess probe({Haptex(), "netcheck", "probe", "--to", Address(), "--rate", "500",
-                    "--seconds", "1", "--json"},
+  Subprocess probe({Haptex(), "netcheck", "probe", "--to", Address(), "--rate", "500", "--seconds", "1", "--json"},
                    {KeyEnv(key_)});
   ASSERT_EQ(probe.WaitFor(30s), 0) << probe.Stdout() << probe.Stderr();
   const std::string json = probe.Stdout();
@@ -93,8 +92,8 @@ TEST_F(NetcheckTest, ProbeMeasuresALoopbackLinkWithoutLoss) {
 
 TEST_F(NetcheckTest, WrongKeyIsRejectedByTheServerAndReportedAsUnreachable) {
   StartServer(key_);
-  Subprocess probe({Haptex(), "netcheck", "probe", "--to", Address(), "--rate", "200",
-                    "--seconds", "0.2", "--json", "--grace-ms", "200"},
+  Subprocess probe({Haptex(), "netcheck", "probe", "--to", Address(), "--rate", "200", "--seconds", "0.2", "--json",
+                    "--grace-ms", "200"},
                    {KeyEnv(net::SessionKey::Generate())});
   EXPECT_EQ(probe.WaitFor(30s), 3);
   EXPECT_NE(probe.Stdout().find("\"verdict\":\"unreachable\""), std::string::npos) << probe.Stdout();
@@ -105,8 +104,8 @@ TEST_F(NetcheckTest, WrongKeyIsRejectedByTheServerAndReportedAsUnreachable) {
 TEST_F(NetcheckTest, ServerSurvivesAFloodOfGarbageAndStillAnswers) {
   StartServer(key_);
   net::UdpEndpoint attacker("127.0.0.1:0");
-  const auto target = net::UdpEndpoint::Endpoint(asio::ip::make_address("127.0.0.1"),
-                                                 static_cast<unsigned short>(port_));
+  const auto target =
+      net::UdpEndpoint::Endpoint(asio::ip::make_address("127.0.0.1"), static_cast<unsigned short>(port_));
   std::mt19937 rng(99);
   std::vector<std::uint8_t> junk;
   for (int i = 0; i < 5000; ++i) {
@@ -116,8 +115,7 @@ TEST_F(NetcheckTest, ServerSurvivesAFloodOfGarbageAndStillAnswers) {
     attacker.SendTo(junk, target);
     if (i % 500 == 0) std::this_thread::sleep_for(1ms);  // let the socket buffer drain
   }
-  Subprocess probe({Haptex(), "netcheck", "probe", "--to", Address(), "--rate", "200",
-                    "--seconds", "0.5", "--json"},
+  Subprocess probe({Haptex(), "netcheck", "probe", "--to", Address(), "--rate", "200", "--seconds", "0.5", "--json"},
                    {KeyEnv(key_)});
   ASSERT_EQ(probe.WaitFor(30s), 0) << probe.Stdout();
   EXPECT_EQ(JsonNumber(probe.Stdout(), "lost"), 0);
@@ -156,14 +154,13 @@ TEST(HaptexCliTest, SceneCheckReportsFileLineColumn) {
   }
   Subprocess check({Haptex(), "scene", "check", path}, {data_env});
   EXPECT_EQ(check.WaitFor(10s), 2);
-  EXPECT_NE(check.Stderr().find(path + ":3:9: particles_v must be in [2, 401]"), std::string::npos)
-      << check.Stderr();
+  EXPECT_NE(check.Stderr().find(path + ":3:9: particles_v must be in [2, 401]"), std::string::npos) << check.Stderr();
 }
 
 TEST(HaptexCliTest, SimWritesParticlesMeshAndSummary) {
   const std::string out = ::testing::TempDir() + "/haptex_sim_" + std::to_string(getpid());
-  Subprocess sim({Haptex(), "sim", testing::SourceDir() + "/launch/scenes/hanging.textproto",
-                  "--duration", "0.2", "--out", out, "--quiet"});
+  Subprocess sim({Haptex(), "sim", testing::SourceDir() + "/launch/scenes/hanging.textproto", "--duration", "0.2",
+                  "--out", out, "--quiet"});
   ASSERT_EQ(sim.WaitFor(120s), 0) << sim.Stderr();
   const std::string summary = testing::ReadFileOrEmpty(out + "/summary.json");
   EXPECT_EQ(JsonNumber(summary, "steps"), 20);
@@ -205,9 +202,9 @@ TEST(HaptexCliTest, FabricListAndShowPrintTheDatabase) {
 
 TEST(HaptexCliTest, TactileBuildWritesATileAndPictures) {
   const std::string dir = ::testing::TempDir() + "/tactile_" + std::to_string(getpid());
-  Subprocess build({Haptex(), "tactile", "build", "wang2011_black_denim_11oz", "--out", dir + "/denim.tile",
-                    "--png", dir + "/denim", "--warp-pitch-mm", "0.6", "--weft-pitch-mm", "0.6",
-                    "--yarn-mm", "0.4", "--smd-um", "3.6"});
+  Subprocess build({Haptex(), "tactile", "build", "wang2011_black_denim_11oz", "--out", dir + "/denim.tile", "--png",
+                    dir + "/denim", "--warp-pitch-mm", "0.6", "--weft-pitch-mm", "0.6", "--yarn-mm", "0.4", "--smd-um",
+                    "3.6"});
   ASSERT_EQ(build.WaitFor(60s), 0) << build.Stderr();
   EXPECT_NE(build.Stdout().find("periodic tile"), std::string::npos);
   EXPECT_GT(testing::ReadFileOrEmpty(dir + "/denim.tile").size(), 100u);
@@ -238,8 +235,8 @@ TEST(HaptexCliTest, MalformedKeyIsBadInput) {
 
 TEST_F(NetcheckTest, TwoProbesAtOnceDoNotDisturbEachOther) {
   StartServer(key_);
-  std::vector<std::string> argv = {Haptex(), "netcheck", "probe", "--to", Address(), "--rate", "300",
-                                   "--seconds", "1", "--json"};
+  std::vector<std::string> argv = {Haptex(), "netcheck", "probe",     "--to", Address(),
+                                   "--rate", "300",      "--seconds", "1",    "--json"};
   Subprocess first(argv, {KeyEnv(key_)});
   Subprocess second(argv, {KeyEnv(key_)});
   ASSERT_EQ(first.WaitFor(30s), 0) << first.Stdout();

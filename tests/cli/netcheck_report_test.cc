@@ -56,8 +56,8 @@ TEST(ReportToJsonTest, HasEveryFigure) {
   r.target = "127.0.0.1:1";
   r.verdict = "good";
   const std::string json = ReportToJson(r);
-  for (const char* key : {"\"sent\":", "\"lost\":", "\"reordered\":", "\"p99\":", "\"p99_9\":",
-                          "\"max\":", "\"jitter_us\":", "\"verdict\":\"good\""}) {
+  for (const char* key : {"\"sent\":", "\"lost\":", "\"reordered\":", "\"p99\":", "\"p99_9\":", "\"max\":",
+                          "\"jitter_us\":", "\"verdict\":\"good\""}) {
     EXPECT_NE(json.find(key), std::string::npos) << key;
   }
 }

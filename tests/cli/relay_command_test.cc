@@ -33,18 +33,13 @@ using Endpoint = net::UdpEndpoint::Endpoint;
 std::string Haptex() { return testing::BuildDir() + "/cli/haptex"; }
 
 std::int64_t NowNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::steady_clock::now().time_since_epoch())
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
       .count();
 }
 
-Endpoint Loopback(int port) {
-  return Endpoint(asio::ip::make_address("127.0.0.1"), static_cast<unsigned short>(port));
-}
+Endpoint Loopback(int port) { return Endpoint(asio::ip::make_address("127.0.0.1"), static_cast<unsigned short>(port)); }
 
-std::string Address(const net::UdpEndpoint& socket) {
-  return "127.0.0.1:" + std::to_string(socket.local_port());
-}
+std::string Address(const net::UdpEndpoint& socket) { return "127.0.0.1:" + std::to_string(socket.local_port()); }
 
 // Test datagrams: a marker (garbage never starts with it), an index, the send time.
 constexpr std::uint64_t kMarker = 0x52454c4159544553ull;  // "RELAYTES"
@@ -177,8 +172,8 @@ TEST(RelayCommandTest, DelaysDropsAndReportsExactCountsBothWays) {
   net::UdpEndpoint client("127.0.0.1:0");
   net::UdpEndpoint server("127.0.0.1:0");
   const std::string json_path = JsonPath("counts");
-  RelayProcess relay({"--listen", "127.0.0.1:0", "--to", Address(server), "--delay-ms", "20,10",
-                      "--loss", "0.2,0", "--seed", "7", "--json", json_path});
+  RelayProcess relay({"--listen", "127.0.0.1:0", "--to", Address(server), "--delay-ms", "20,10", "--loss", "0.2,0",
+                      "--seed", "7", "--json", json_path});
   constexpr int kSent = 2000;
   std::vector<Arrival> at_server, at_client;
   const auto pump = [&] {
@@ -234,9 +229,8 @@ TEST(RelayCommandTest, AServerSendingToTheFixedUpstreamPortReachesBackTo) {
   net::UdpEndpoint client("127.0.0.1:0");
   net::UdpEndpoint server("127.0.0.1:0");
   const std::string json_path = JsonPath("back_to");
-  RelayProcess relay({"--listen", "127.0.0.1:0", "--to", Address(server), "--upstream-bind",
-                      "127.0.0.1:0", "--back-to", Address(client), "--delay-ms", "0,15", "--json",
-                      json_path});
+  RelayProcess relay({"--listen", "127.0.0.1:0", "--to", Address(server), "--upstream-bind", "127.0.0.1:0", "--back-to",
+                      Address(client), "--delay-ms", "0,15", "--json", json_path});
   EXPECT_EQ(relay.upstream_host(), "127.0.0.1");  // bound where asked
   // the server has heard nothing: it sends to the relay as the peer on its command line
   constexpr int kSent = 100;
@@ -312,9 +306,8 @@ TEST(RelayCommandTest, SurvivesAFloodOfOversizeAndGarbageDatagrams) {
   net::UdpEndpoint server("127.0.0.1:0");
   net::UdpEndpoint attacker("127.0.0.1:0");
   const std::string json_path = JsonPath("flood");
-  RelayProcess relay({"--listen", "127.0.0.1:0", "--to", Address(server), "--max-datagram-bytes",
-                      "1000", "--delay-ms", "5", "--jitter-ms", "2", "--duplicate", "0.1",
-                      "--reorder", "0.1", "--json", json_path});
+  RelayProcess relay({"--listen", "127.0.0.1:0", "--to", Address(server), "--max-datagram-bytes", "1000", "--delay-ms",
+                      "5", "--jitter-ms", "2", "--duplicate", "0.1", "--reorder", "0.1", "--json", json_path});
   std::mt19937 rng(1234);
   std::vector<std::uint8_t> junk;
   std::size_t server_junk = 0;

@@ -27,8 +27,14 @@ TEST(ContactOptionsTest, EachBadDialIsNamed) {
       {"thumb.radius_m", [](ContactOptions* o) { o->thumb.radius_m = 0.0; }},
       {"index.length_m", [](ContactOptions* o) { o->index.length_m = -0.001; }},
       {"fabric_half_thickness_m", [nan](ContactOptions* o) { o->fabric_half_thickness_m = nan; }},
-      {"finger_fabric.mu_dynamic", [](ContactOptions* o) { o->finger_fabric = {0.2, 0.4}; }},
-      {"finger_finger.mu_static", [](ContactOptions* o) { o->finger_finger = {-0.1, 0.0}; }},
+      {"finger_fabric.mu_dynamic",
+       [](ContactOptions* o) {
+         o->finger_fabric = {0.2, 0.4};
+       }},
+      {"finger_finger.mu_static",
+       [](ContactOptions* o) {
+         o->finger_finger = {-0.1, 0.0};
+       }},
       {"pad_stiffness_N_per_m3", [](ContactOptions* o) { o->pad_stiffness_N_per_m3 = 0.0; }},
       {"pinch_samples_per_edge", [](ContactOptions* o) { o->pinch_samples_per_edge = 0; }},
       {"dynamic_leave_fraction", [](ContactOptions* o) { o->dynamic_leave_fraction = 0.7; }},
@@ -37,7 +43,8 @@ TEST(ContactOptionsTest, EachBadDialIsNamed) {
       {"state_filter_s", [](ContactOptions* o) { o->state_filter_s = -0.001; }},
       {"state_filter_s", [nan](ContactOptions* o) { o->state_filter_s = nan; }},
       {"state_filter_s", [](ContactOptions* o) { o->state_filter_s = 5.0; }},
-      {"max_finger_force_N", [](ContactOptions* o) { o->max_finger_force_N = std::numeric_limits<double>::infinity(); }},
+      {"max_finger_force_N",
+       [](ContactOptions* o) { o->max_finger_force_N = std::numeric_limits<double>::infinity(); }},
       {"stiffness_filter_s", [](ContactOptions* o) { o->stiffness_filter_s = 0.0; }},
   };
   for (const BadOption& c : cases) {

@@ -7,9 +7,7 @@
 namespace haptex::contact {
 namespace {
 
-ContactState C(bool thumb, bool index, bool touch, bool dynamic) {
-  return Classify({thumb, index, touch, dynamic});
-}
+ContactState C(bool thumb, bool index, bool touch, bool dynamic) { return Classify({thumb, index, touch, dynamic}); }
 
 TEST(ContactStateTest, Table1) {
   EXPECT_EQ(C(false, false, false, false), ContactState::kI);
@@ -35,7 +33,7 @@ TEST(ContactStateTest, HysteresisDoesNotChatter) {
   Hysteresis h(0.6, 0.4);
   EXPECT_FALSE(h.Update(0.5));
   EXPECT_TRUE(h.Update(0.61));
-  EXPECT_TRUE(h.Update(0.5));   // inside the band: stays on
+  EXPECT_TRUE(h.Update(0.5));  // inside the band: stays on
   EXPECT_TRUE(h.Update(0.41));
   EXPECT_FALSE(h.Update(0.39));
   EXPECT_FALSE(h.Update(0.59));  // inside the band: stays off

@@ -12,9 +12,8 @@ textile::FabricMaterial DatabaseMaterial(const std::string& name) {
   return textile::MaterialFromKes(textile::testing::LoadDatabaseFabric(name));
 }
 
-std::unique_ptr<PatchSimulation> MakeFlatPatch(const textile::FabricMaterial& material,
-                                               double size_m, int n, const ContactOptions& options,
-                                               const textile::StepOptions& step,
+std::unique_ptr<PatchSimulation> MakeFlatPatch(const textile::FabricMaterial& material, double size_m, int n,
+                                               const ContactOptions& options, const textile::StepOptions& step,
                                                double pretension_strain) {
   textile::FabricModel model = textile::BuildFabricModel(material, {size_m, size_m, n, n});
   textile::Placement placement;
@@ -25,8 +24,7 @@ std::unique_ptr<PatchSimulation> MakeFlatPatch(const textile::FabricMaterial& ma
   return std::make_unique<PatchSimulation>(std::move(model), std::move(state), step, options);
 }
 
-Eigen::Vector3d Ramp(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double t, double t0,
-                     double t1) {
+Eigen::Vector3d Ramp(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double t, double t0, double t1) {
   const double s = std::clamp((t - t0) / (t1 - t0), 0.0, 1.0);
   return a + s * (b - a);
 }

@@ -34,7 +34,6 @@ struct Extreme {
 
 void PrintTo(const Extreme& e, std::ostream* os) { *os << e.label; }
 
-
 // The tests' tight solve (block Jacobi to 1e-3) and the haptic tick's (local_contact's).
 enum class Solver { kTight, kHaptic };
 
@@ -81,9 +80,8 @@ TEST_P(ContactExtremesTest, FiniteBoundedNoTunnelling) {
         break;
       }
     }
-    const ContactOutput& out = sim->Tick(
-        {true, testing::PoseFacing(thumb, down, Eigen::Vector3d::UnitX())},
-        {with_index, testing::PoseFacing(index, -down, Eigen::Vector3d::UnitX())});
+    const ContactOutput& out = sim->Tick({true, testing::PoseFacing(thumb, down, Eigen::Vector3d::UnitX())},
+                                         {with_index, testing::PoseFacing(index, -down, Eigen::Vector3d::UnitX())});
     ASSERT_TRUE(sim->state().x_W_m.allFinite()) << "t " << t;
     ASSERT_TRUE(sim->state().v_W_m_per_s.allFinite()) << "t " << t;
     for (const auto& f : out.finger) {
@@ -106,14 +104,14 @@ TEST_P(ContactExtremesTest, FiniteBoundedNoTunnelling) {
   }
   if (e.motion == Motion::kSqueeze) {
     // The fingers end with coincident centres (the deepest overlap there is): 1.25 N/mm x 16.6 mm.
-    EXPECT_NEAR(sim->solver().output().pinch.grip_N,
-                options.finger_finger_normal_N_per_m * 2 * r, 1e-6);
+    EXPECT_NEAR(sim->solver().output().pinch.grip_N, options.finger_finger_normal_N_per_m * 2 * r, 1e-6);
     EXPECT_GE(sim->solver().output().pinch.grip_N, 20.0);
   }
-  std::printf("[extremes] %s (%s solve): max finger force %.3f N, deepest particle %.2f mm, tunnelled %d, "
-              "step status %s, clamps %lld\n",
-              e.label, haptic ? "haptic" : "tight", max_force, 1e3 * deepest, tunnelled, textile::ToString(sim->last_step().status),
-              static_cast<long long>(sim->solver().diagnostics().force_clamps));
+  std::printf(
+      "[extremes] %s (%s solve): max finger force %.3f N, deepest particle %.2f mm, tunnelled %d, "
+      "step status %s, clamps %lld\n",
+      e.label, haptic ? "haptic" : "tight", max_force, 1e3 * deepest, tunnelled,
+      textile::ToString(sim->last_step().status), static_cast<long long>(sim->solver().diagnostics().force_clamps));
   EXPECT_EQ(tunnelled, 0);
   if (e.check_tunnelling) {
     EXPECT_LT(deepest, 0.5 * r);
@@ -122,16 +120,17 @@ TEST_P(ContactExtremesTest, FiniteBoundedNoTunnelling) {
 
 INSTANTIATE_TEST_SUITE_P(
     Matrix, ContactExtremesTest,
-    ::testing::Combine(::testing::Values(
-        Extreme{"squeeze_20N", "wang2011_black_denim_11oz", 1, 0.4, 0.2, 0.1, Motion::kSqueeze, false},
-        Extreme{"mu_0", "wang2011_black_denim_11oz", 1, 0.0, 0.0, 0.05, Motion::kPressAndRub, true},
-        Extreme{"mu_2", "wang2011_black_denim_11oz", 1, 2.0, 1.5, 0.05, Motion::kPressAndRub, true},
-        Extreme{"speed_0p5", "wang2011_black_denim_11oz", 1, 0.4, 0.2, 0.5, Motion::kPressAndRub, true},
-        Extreme{"speed_1", "wang2011_black_denim_11oz", 1, 0.4, 0.2, 1.0, Motion::kPressAndRub, false},
-        Extreme{"teleport_5cm", "wang2011_black_denim_11oz", 1, 0.4, 0.2, 0.0, Motion::kTeleport, false},
-        Extreme{"lightest", "wang2011_gray_interlock", 1, 0.4, 0.2, 0.5, Motion::kPressAndRub, true},
-        Extreme{"stiffest", "wang2011_royal_target", 1, 0.4, 0.2, 0.5, Motion::kPressAndRub, true},
-        Extreme{"stiffest_x10", "wang2011_royal_target", 10, 0.4, 0.2, 0.5, Motion::kPressAndRub, true}),
+    ::testing::Combine(
+        ::testing::Values(
+            Extreme{"squeeze_20N", "wang2011_black_denim_11oz", 1, 0.4, 0.2, 0.1, Motion::kSqueeze, false},
+            Extreme{"mu_0", "wang2011_black_denim_11oz", 1, 0.0, 0.0, 0.05, Motion::kPressAndRub, true},
+            Extreme{"mu_2", "wang2011_black_denim_11oz", 1, 2.0, 1.5, 0.05, Motion::kPressAndRub, true},
+            Extreme{"speed_0p5", "wang2011_black_denim_11oz", 1, 0.4, 0.2, 0.5, Motion::kPressAndRub, true},
+            Extreme{"speed_1", "wang2011_black_denim_11oz", 1, 0.4, 0.2, 1.0, Motion::kPressAndRub, false},
+            Extreme{"teleport_5cm", "wang2011_black_denim_11oz", 1, 0.4, 0.2, 0.0, Motion::kTeleport, false},
+            Extreme{"lightest", "wang2011_gray_interlock", 1, 0.4, 0.2, 0.5, Motion::kPressAndRub, true},
+            Extreme{"stiffest", "wang2011_royal_target", 1, 0.4, 0.2, 0.5, Motion::kPressAndRub, true},
+            Extreme{"stiffest_x10", "wang2011_royal_target", 10, 0.4, 0.2, 0.5, Motion::kPressAndRub, true}),
         ::testing::Values(Solver::kTight, Solver::kHaptic)),
     [](const ::testing::TestParamInfo<std::tuple<Extreme, Solver>>& param_info) {
       return std::string(std::get<0>(param_info.param).label) +

@@ -50,8 +50,7 @@ TEST(FingerFingerContactTest, CapsulesUseTheirClosestPoints) {
 TEST(FingerFingerContactTest, NoForceWhenApart) {
   const ContactOptions o = Spheres();
   FingerFingerContact contact(o);
-  const FingerFingerResult r =
-      contact.Update(At({0, 0, 0}), At({0, 0.0161, 0}), 0.0, o.finger_finger, true);
+  const FingerFingerResult r = contact.Update(At({0, 0, 0}), At({0, 0.0161, 0}), 0.0, o.finger_finger, true);
   EXPECT_FALSE(r.touching);
   EXPECT_EQ(r.force_on_index_W_N, Eigen::Vector3d::Zero());
 }
@@ -86,8 +85,7 @@ TEST(FingerFingerContactTest, SticksUntilMuStaticThenSlidesAtMuDynamicThenSticks
   EXPECT_NEAR(first_slip_x, d * std::sin(0.0004 / o.thumb.radius_m), 2e-6);
   // Stopping: the contact sticks again at the force it had.
   const double x_end = 0.002;
-  r = contact.Update(At({0, 0, 0}), At({x_end, std::sqrt(d * d - x_end * x_end), 0}), 0.0,
-                     o.finger_finger, true);
+  r = contact.Update(At({0, 0, 0}), At({x_end, std::sqrt(d * d - x_end * x_end), 0}), 0.0, o.finger_finger, true);
   EXPECT_FALSE(r.sliding);
   EXPECT_NEAR(r.tangential_N / r.normal_N, 0.2, 0.02);
 }

@@ -20,9 +20,9 @@ namespace {
 struct Phase {
   const char* what;
   double duration_s;
-  Eigen::Vector3d thumb, index;  // targets, reached at 70 % of the phase, then held
+  Eigen::Vector3d thumb, index;              // targets, reached at 70 % of the phase, then held
   std::optional<ContactState> while_moving;  // checked at 40 % of the phase
-  ContactState at_rest;          // checked at its end
+  ContactState at_rest;                      // checked at its end
 };
 
 TEST(GraspStatesTest, ScriptedGraspVisitsAllNineStates) {
@@ -48,17 +48,23 @@ TEST(GraspStatesTest, ScriptedGraspVisitsAllNineStates) {
   const V beside(0.045, 0.0, 0.0);  // beyond the patch's edge: the fingers meet in free air
   const std::vector<Phase> phases = {
       {"apart", 0.2, thumb_away, index_away, ContactState::kI, ContactState::kI},
-      {"to the side", 0.4, beside + V(0, R + 0.002, 0), beside - V(0, R + 0.002, 0), ContactState::kI, ContactState::kI},
-      {"fingers touch", 0.3, beside + V(0, R - 0.0004, 0), beside - V(0, R - 0.0004, 0), ContactState::kI, ContactState::kII},
-      {"fingers rub", 0.4, beside + V(0, R - 0.0004, 0.004), beside - V(0, R - 0.0004, 0), ContactState::kIII, ContactState::kII},
+      {"to the side", 0.4, beside + V(0, R + 0.002, 0), beside - V(0, R + 0.002, 0), ContactState::kI,
+       ContactState::kI},
+      {"fingers touch", 0.3, beside + V(0, R - 0.0004, 0), beside - V(0, R - 0.0004, 0), ContactState::kI,
+       ContactState::kII},
+      {"fingers rub", 0.4, beside + V(0, R - 0.0004, 0.004), beside - V(0, R - 0.0004, 0), ContactState::kIII,
+       ContactState::kII},
       {"fingers part", 0.3, thumb_away, index_away, ContactState::kI, ContactState::kI},
       {"thumb presses", 0.4, V(0, r - 0.002, 0.004), index_away, std::nullopt, ContactState::kIV},
       {"thumb rubs", 0.6, V(0.006, r - 0.002, 0.004), index_away, ContactState::kV, ContactState::kIV},
       {"index presses", 0.4, V(0.006, r - 0.002, 0.004), V(0.0, -(r - 0.002), -0.007), std::nullopt, ContactState::kVI},
-      {"both rub", 0.6, V(0.0, r - 0.002, 0.004), V(0.006, -(r - 0.002), -0.007), ContactState::kVII, ContactState::kVI},
+      {"both rub", 0.6, V(0.0, r - 0.002, 0.004), V(0.006, -(r - 0.002), -0.007), ContactState::kVII,
+       ContactState::kVI},
       {"index to thumb", 0.6, V(0.0, r - 0.002, 0.004), V(0.0, -(r - 0.002), 0.004), std::nullopt, ContactState::kVIII},
-      {"squeeze", 0.3, V(0.0, r - 0.0035, 0.004), V(0.0, -(r - 0.0035), 0.004), ContactState::kVIII, ContactState::kVIII},
-      {"pinch slides", 0.8, V(0.0, r - 0.0035, -0.006), V(0.0, -(r - 0.0035), -0.006), ContactState::kIX, ContactState::kVIII},
+      {"squeeze", 0.3, V(0.0, r - 0.0035, 0.004), V(0.0, -(r - 0.0035), 0.004), ContactState::kVIII,
+       ContactState::kVIII},
+      {"pinch slides", 0.8, V(0.0, r - 0.0035, -0.006), V(0.0, -(r - 0.0035), -0.006), ContactState::kIX,
+       ContactState::kVIII},
       {"release", 0.4, thumb_away, index_away, ContactState::kI, ContactState::kI},
   };
 
@@ -72,9 +78,8 @@ TEST(GraspStatesTest, ScriptedGraspVisitsAllNineStates) {
       const double s = std::min(1.0, k / (0.7 * ticks));
       thumb = thumb0 + s * (ph.thumb - thumb0);
       index = index0 + s * (ph.index - index0);
-      const ContactOutput& out = sim.Tick(
-          {true, testing::PoseFacing(thumb, V(0, -1, 0), V::UnitX())},
-          {true, testing::PoseFacing(index, V(0, 1, 0), V::UnitX())});
+      const ContactOutput& out = sim.Tick({true, testing::PoseFacing(thumb, V(0, -1, 0), V::UnitX())},
+                                          {true, testing::PoseFacing(index, V(0, 1, 0), V::UnitX())});
       if (visited.empty() || visited.back() != out.state) visited.push_back(out.state);
       ASSERT_TRUE(out.finger[kThumb].force_W_N.allFinite());
       if (k == static_cast<int>(0.4 * ticks) && ph.while_moving) {
@@ -82,9 +87,9 @@ TEST(GraspStatesTest, ScriptedGraspVisitsAllNineStates) {
       }
       if (k == ticks) {
         EXPECT_EQ(ToString(out.state), std::string(ToString(ph.at_rest))) << ph.what << " (at rest)";
-        std::printf("[grasp] %-15s state %-4s thumb %.3f N index %.3f N grip %.3f N samples %d\n",
-                    ph.what, ToString(out.state), out.finger[kThumb].force_W_N.norm(),
-                    out.finger[kIndex].force_W_N.norm(), out.pinch.grip_N, out.pinch.samples);
+        std::printf("[grasp] %-15s state %-4s thumb %.3f N index %.3f N grip %.3f N samples %d\n", ph.what,
+                    ToString(out.state), out.finger[kThumb].force_W_N.norm(), out.finger[kIndex].force_W_N.norm(),
+                    out.pinch.grip_N, out.pinch.samples);
       }
     }
   }

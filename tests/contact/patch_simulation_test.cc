@@ -17,14 +17,10 @@ using V = Eigen::Vector3d;
 class PatchSimulationTest : public ::testing::Test {
  protected:
   PatchSimulationTest()
-      : sim_(testing::MakeFlatPatch(testing::DatabaseMaterial("wang2011_black_denim_11oz"), 0.02,
-                                    21, options_, testing::LocalStep())) {}
-  FingerInput Thumb(double z) const {
-    return {true, testing::PoseFacing(V(0, 0, z), V(0, 0, -1), V::UnitX())};
-  }
-  FingerInput Index(double z) const {
-    return {true, testing::PoseFacing(V(0, 0, z), V(0, 0, 1), V::UnitX())};
-  }
+      : sim_(testing::MakeFlatPatch(testing::DatabaseMaterial("wang2011_black_denim_11oz"), 0.02, 21, options_,
+                                    testing::LocalStep())) {}
+  FingerInput Thumb(double z) const { return {true, testing::PoseFacing(V(0, 0, z), V(0, 0, -1), V::UnitX())}; }
+  FingerInput Index(double z) const { return {true, testing::PoseFacing(V(0, 0, z), V(0, 0, 1), V::UnitX())}; }
   // Warmed up through one-finger contact into a pinch (the path with the most work), ticks
   // allocate nothing.
   void ExpectWarmedUpTickDoesNotAllocate() {
@@ -32,9 +28,9 @@ class PatchSimulationTest : public ::testing::Test {
     const double r = options_.thumb.radius_m + options_.fabric_half_thickness_m;
     for (int k = 0; k < 50; ++k) sim_->Tick(Thumb(r - 0.001), {});
     for (int k = 0; k < 50; ++k) sim_->Tick(Thumb(r - 0.002), Index(-(r - 0.002)));
-    ASSERT_EQ(sim_->solver().output().state == ContactState::kVIII ||
-                  sim_->solver().output().state == ContactState::kIX,
-              true)
+    ASSERT_EQ(
+        sim_->solver().output().state == ContactState::kVIII || sim_->solver().output().state == ContactState::kIX,
+        true)
         << ToString(sim_->solver().output().state);
     haptex::testing::AllocationCounter counter;
     for (int k = 0; k < 50; ++k) {
@@ -82,8 +78,8 @@ TEST_F(PatchSimulationTest, WarmedUpTickDoesNotAllocate) { ExpectWarmedUpTickDoe
 
 // The same with local_contact's haptic step (Gauss-Seidel PCG).
 TEST_F(PatchSimulationTest, WarmedUpHapticTickDoesNotAllocate) {
-  sim_ = testing::MakeFlatPatch(testing::DatabaseMaterial("wang2011_black_denim_11oz"), 0.02, 21,
-                                options_, HapticPatchStepOptions(0.001));
+  sim_ = testing::MakeFlatPatch(testing::DatabaseMaterial("wang2011_black_denim_11oz"), 0.02, 21, options_,
+                                HapticPatchStepOptions(0.001));
   ExpectWarmedUpTickDoesNotAllocate();
 }
 

@@ -23,8 +23,7 @@ struct Squeeze {
   FingerPose thumb, index;
 
   Squeeze()
-      : model(textile::BuildFabricModel(testing::DatabaseMaterial("wang2011_black_denim_11oz"),
-                                        {0.02, 0.02, 20, 20})) {
+      : model(textile::BuildFabricModel(testing::DatabaseMaterial("wang2011_black_denim_11oz"), {0.02, 0.02, 20, 20})) {
     textile::Placement placement;
     placement.origin_W = V(-0.01, -0.01, 0.0);
     state = textile::MakeRestState(model, placement);
@@ -79,8 +78,7 @@ TEST(PinchContactTest, SamplesCarryOverToAFreshContactAndResetDropsThem) {
   }
   PinchContact fresh(s.model, s.options);
   ASSERT_EQ(fresh.num_samples(), pinch.num_samples());
-  ASSERT_EQ(fresh.samples_per_triangle(),
-            s.options.pinch_samples_per_edge * s.options.pinch_samples_per_edge);
+  ASSERT_EQ(fresh.samples_per_triangle(), s.options.pinch_samples_per_edge * s.options.pinch_samples_per_edge);
   int active = 0, sliding = 0;
   for (int i = 0; i < pinch.num_samples(); ++i) {
     const PinchContact::SampleState a = pinch.sample(i);

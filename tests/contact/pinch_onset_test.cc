@@ -27,8 +27,8 @@ using V = Eigen::Vector3d;
 // The mock controller's fingertip (libs/device/mock_grab_controller.h defaults).
 struct Fingertip {
   V p_W_m, v_W_m_per_s{V::Zero()};
-  static constexpr double kMass_kg = 0.1, kUserStiffness_N_per_m = 300.0,
-                          kUserDamping_N_s_per_m = 4.0, kDeviceDamping_N_s_per_m = 0.5;
+  static constexpr double kMass_kg = 0.1, kUserStiffness_N_per_m = 300.0, kUserDamping_N_s_per_m = 4.0,
+                          kDeviceDamping_N_s_per_m = 0.5;
   void Step(const V& target_W_m, const V& force_W_N, double dt_s) {
     const V a = (kUserStiffness_N_per_m * (target_W_m - p_W_m) - kUserDamping_N_s_per_m * v_W_m_per_s -
                  kDeviceDamping_N_s_per_m * v_W_m_per_s + force_W_N) /
@@ -41,8 +41,8 @@ struct Fingertip {
 bool Pinched(ContactState s) { return s == ContactState::kVIII || s == ContactState::kIX; }
 
 struct Closing {
-  double press_m;          // how far past the fabric plane each finger's target goes
-  double index_close_s;    // how long the index takes from 10 mm off its skin to there
+  double press_m;        // how far past the fabric plane each finger's target goes
+  double index_close_s;  // how long the index takes from 10 mm off its skin to there
 };
 
 class PinchOnsetTest : public ::testing::TestWithParam<Closing> {};
@@ -66,9 +66,7 @@ TEST_P(PinchOnsetTest, ClosingAPinchOnHangingFabricDoesNotChatter) {
 
   const double r = options.thumb.radius_m + options.fabric_half_thickness_m;
   const double z = -0.025, start = 0.010;
-  auto pose = [&](const V& p, bool thumb) {
-    return testing::PoseFacing(p, V(0, thumb ? 1 : -1, 0), V::UnitX());
-  };
+  auto pose = [&](const V& p, bool thumb) { return testing::PoseFacing(p, V(0, thumb ? 1 : -1, 0), V::UnitX()); };
   // targets: the thumb presses `press` past the fabric plane by t = 0.3 s, the index from 0.5 s
   // on, then both hold for 0.2 s
   auto target = [&](double t, bool thumb) {
@@ -114,11 +112,11 @@ TEST_P(PinchOnsetTest, ClosingAPinchOnHangingFabricDoesNotChatter) {
     peak = std::max(peak, thumb_force[k]);
     worst_drop = std::max(worst_drop, peak - thumb_force[k]);
   }
-  std::printf("[measured] press %.0f mm, index closing in %.1f s: pinch reached at %.3f s; entries %d, "
-              "exits %d; thumb force at end %.2f N, peak %.2f N, largest fall below the running peak "
-              "%.2f N\n",
-              press * 1e3, index_close_s, (k_pinch + 1) * dt, pinch_entries, pinch_exits,
-              thumb_force.back(), peak, worst_drop);
+  std::printf(
+      "[measured] press %.0f mm, index closing in %.1f s: pinch reached at %.3f s; entries %d, "
+      "exits %d; thumb force at end %.2f N, peak %.2f N, largest fall below the running peak "
+      "%.2f N\n",
+      press * 1e3, index_close_s, (k_pinch + 1) * dt, pinch_entries, pinch_exits, thumb_force.back(), peak, worst_drop);
   EXPECT_EQ(pinch_entries, 1) << "the pinch chattered";
   EXPECT_EQ(pinch_exits, 0);
   EXPECT_TRUE(Pinched(states.back()));
@@ -131,8 +129,8 @@ INSTANTIATE_TEST_SUITE_P(PressAndSpeed, PinchOnsetTest,
                                            Closing{0.002, 1.0}, Closing{0.004, 0.3}, Closing{0.004, 1.0}),
                          [](const ::testing::TestParamInfo<Closing>& param_info) {
                            return "Press" + std::to_string(static_cast<int>(param_info.param.press_m * 1e3 + 0.5)) +
-                                  "mmIndexIn" + std::to_string(static_cast<int>(param_info.param.index_close_s * 10 + 0.5)) +
-                                  "ds";
+                                  "mmIndexIn" +
+                                  std::to_string(static_cast<int>(param_info.param.index_close_s * 10 + 0.5)) + "ds";
                          });
 
 }  // namespace

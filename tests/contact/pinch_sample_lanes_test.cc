@@ -398,10 +398,9 @@ TEST(PinchSampleLanesTest, Avx2AndPortableKernelsGiveTheSameBits) {
       std::vector<double> xc_f(4 * padded, 0.0), dt_f(padded, 0.0), di_f(padded, 0.0);
       std::vector<std::uint8_t> near_f(padded, 0), deep_f(padded, 0), beyond_f(padded, 0);
       std::vector<PinchOwned> owned_f(padded, PinchOwned::kNo);
-      LocatePinchParticles(fewer,
-                           {xc_f.data(), dt_f.data(), di_f.data(), near_f.data(), deep_f.data(), owned_f.data(),
-                            beyond_f.data()},
-                           v == 1 && base::CpuHasAvx2());
+      LocatePinchParticles(
+          fewer, {xc_f.data(), dt_f.data(), di_f.data(), near_f.data(), deep_f.data(), owned_f.data(), beyond_f.data()},
+          v == 1 && base::CpuHasAvx2());
       const std::size_t n = static_cast<std::size_t>(fewer.num_particles);
       EXPECT_EQ(std::memcmp(xc_f.data(), xc[0].data(), 4 * n * sizeof(double)), 0);
       EXPECT_EQ(std::memcmp(dt_f.data(), dt[0].data(), n * sizeof(double)), 0);
@@ -430,10 +429,8 @@ TEST(PinchSampleLanesTest, Avx2AndPortableKernelsGiveTheSameBits) {
     fin.mu_dynamic = 0.3;
     std::vector<PinchParticleSums> sa(static_cast<std::size_t>(a.particles)), sb = sa;
     std::vector<double> wa(static_cast<std::size_t>(a.particles), 0.0), wb = wa;
-    const PinchFrictionTotals fa =
-        ApplyPinchFriction(a.Layout(), fin, a.Arrays(), sa.data(), wa.data(), false);
-    const PinchFrictionTotals fb =
-        ApplyPinchFriction(b.Layout(), fin, b.Arrays(), sb.data(), wb.data(), true);
+    const PinchFrictionTotals fa = ApplyPinchFriction(a.Layout(), fin, a.Arrays(), sa.data(), wa.data(), false);
+    const PinchFrictionTotals fb = ApplyPinchFriction(b.Layout(), fin, b.Arrays(), sb.data(), wb.data(), true);
     EXPECT_EQ(std::memcmp(&fa.k_ideal_x_N, &fb.k_ideal_x_N, 2 * sizeof(double)), 0) << per;
     EXPECT_EQ(fa.sliding, fb.sliding) << per;
     EXPECT_EQ(std::memcmp(sa.data(), sb.data(), sa.size() * sizeof(PinchParticleSums)), 0) << per;

@@ -43,8 +43,8 @@ TEST(PinchStretchTest, TangentialForceFollowsTensileCurve) {
   const double overlap = 0.0032;  // per finger: grip 1.25 N/mm x 6.4 mm = 8 N
   const double pull = 0.0024;     // 4.8 % strain of the part above the pinch
   auto pose = [&](double y, double dz, bool thumb) {
-    return testing::PoseFacing(Eigen::Vector3d(0, y, -pinch_u - dz),
-                               Eigen::Vector3d(0, thumb ? 1 : -1, 0), Eigen::Vector3d::UnitX());
+    return testing::PoseFacing(Eigen::Vector3d(0, y, -pinch_u - dz), Eigen::Vector3d(0, thumb ? 1 : -1, 0),
+                               Eigen::Vector3d::UnitX());
   };
   const double t_grasp = 0.3, t_pull0 = 0.5, t_pull1 = 3.5;
   double worst = 0.0, rows = 0.0;
@@ -67,8 +67,8 @@ TEST(PinchStretchTest, TangentialForceFollowsTensileCurve) {
     const double force_up = out.finger[kThumb].force_W_N.z() + out.finger[kIndex].force_W_N.z();
     const double analytic = width * material.tensile_warp.Value(strain);
     if (k % 250 == 0) {
-      std::printf("[fig10] t %.2f s strain %.3f %% force %.4f N analytic %.4f N state %s samples %d\n",
-                  t, 100 * strain, force_up, analytic, ToString(out.state), out.pinch.samples);
+      std::printf("[fig10] t %.2f s strain %.3f %% force %.4f N analytic %.4f N state %s samples %d\n", t, 100 * strain,
+                  force_up, analytic, ToString(out.state), out.pinch.samples);
     }
     // Compare where the curve is nonlinear (beyond 1 % strain; the toe below is tiny in N).
     if (strain > 0.01 && t > t_pull0 + 0.2) {

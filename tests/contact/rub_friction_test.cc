@@ -38,11 +38,10 @@ constexpr double kPressEnd = 0.2, kRubStart = 0.3, kRubEnd = 1.1, kEnd = 1.4;
 RubTrace RunRub(const RubCase& c, bool verbose) {
   ContactOptions options;
   options.finger_fabric = {c.mu_s, c.mu_d};
-  auto sim = testing::MakeFlatPatch(testing::DatabaseMaterial("wang2011_black_denim_11oz"), 0.03,
-                                    31, options, testing::LocalStep(), 0.01);
+  auto sim = testing::MakeFlatPatch(testing::DatabaseMaterial("wang2011_black_denim_11oz"), 0.03, 31, options,
+                                    testing::LocalStep(), 0.01);
   const double r = options.thumb.radius_m + options.fabric_half_thickness_m;
-  const Eigen::Vector3d above(0, 0.0, r + 0.002), pressed(0, 0.0, r - 0.002),
-      rubbed(0, 0.008, r - 0.002);
+  const Eigen::Vector3d above(0, 0.0, r + 0.002), pressed(0, 0.0, r - 0.002), rubbed(0, 0.008, r - 0.002);
   RubTrace trace;
   const double dt = sim->dt_s();
   for (int k = 1; k * dt <= kEnd + 1e-9; ++k) {
@@ -59,9 +58,9 @@ RubTrace RunRub(const RubCase& c, bool verbose) {
     trace.slip.push_back(out.evidence.slip_fraction);
     trace.friction_ratio.push_back(f.friction_normal_N > 0 ? f.friction_tangential_N / f.friction_normal_N : 0.0);
     if (verbose && k % 100 == 0) {
-      std::printf("[fig9] t %.2f s state %-2s F_N %.3f N F_T/F_N %.3f (contact-level %.3f), %d particles\n",
-                  t, ToString(out.state), f.normal_force_N, trace.ratio.back(),
-                  trace.friction_ratio.back(), f.contact_particles);
+      std::printf("[fig9] t %.2f s state %-2s F_N %.3f N F_T/F_N %.3f (contact-level %.3f), %d particles\n", t,
+                  ToString(out.state), f.normal_force_N, trace.ratio.back(), trace.friction_ratio.back(),
+                  f.contact_particles);
     }
   }
   return trace;
@@ -84,8 +83,7 @@ TEST_P(RubFrictionTest, StickSlideStick) {
     if (slip_t < 0.0 && tr.slip[i] > 0.5) {
       slip_t = t;
       for (std::size_t j = i > 3 ? i - 3 : 0; j < std::min(tr.t.size(), i + 4); ++j) {
-        std::printf("[fig9]   t %.3f s state %-2s F_T/F_N %.4f\n", tr.t[j], ToString(tr.state[j]),
-                    tr.ratio[j]);
+        std::printf("[fig9]   t %.3f s state %-2s F_T/F_N %.4f\n", tr.t[j], ToString(tr.state[j]), tr.ratio[j]);
       }
     }
     if (slip_t < 0.0) stick_max = std::max(stick_max, tr.ratio[i]);
@@ -102,10 +100,11 @@ TEST_P(RubFrictionTest, StickSlideStick) {
       slide_friction_max = std::max(slide_friction_max, tr.friction_ratio[i]);
     }
   }
-  std::printf("[fig9] mu_s %.2f mu_d %.2f: stick max %.3f, peak %.3f at %.3f s, slip at %.3f s (named "
-              "V at %.3f s), sliding %.3f..%.3f (contact-level %.3f..%.3f)\n",
-              c.mu_s, c.mu_d, stick_max, peak, peak_t, slip_t, state_v_t, slide_min, slide_max,
-              slide_friction_min, slide_friction_max);
+  std::printf(
+      "[fig9] mu_s %.2f mu_d %.2f: stick max %.3f, peak %.3f at %.3f s, slip at %.3f s (named "
+      "V at %.3f s), sliding %.3f..%.3f (contact-level %.3f..%.3f)\n",
+      c.mu_s, c.mu_d, stick_max, peak, peak_t, slip_t, state_v_t, slide_min, slide_max, slide_friction_min,
+      slide_friction_max);
   ASSERT_GT(slip_t, kRubStart) << "never slid";
   ASSERT_GE(state_v_t, slip_t) << "named V before it slid";
   EXPECT_LE(state_v_t - slip_t, 0.015) << "named V too late";
@@ -131,12 +130,11 @@ TEST_P(RubFrictionTest, StickSlideStick) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Coefficients, RubFrictionTest,
-                         ::testing::Values(RubCase{0.4, 0.2}, RubCase{0.6, 0.3}, RubCase{0.3, 0.25},
-                                           RubCase{1.0, 0.8}),
+                         ::testing::Values(RubCase{0.4, 0.2}, RubCase{0.6, 0.3}, RubCase{0.3, 0.25}, RubCase{1.0, 0.8}),
                          [](const ::testing::TestParamInfo<RubCase>& param_info) {
                            const RubCase& c = param_info.param;
-                           return "mu_s_" + std::to_string(static_cast<int>(100 * c.mu_s)) +
-                                  "_mu_d_" + std::to_string(static_cast<int>(100 * c.mu_d));
+                           return "mu_s_" + std::to_string(static_cast<int>(100 * c.mu_s)) + "_mu_d_" +
+                                  std::to_string(static_cast<int>(100 * c.mu_d));
                          });
 
 }  // namespace

@@ -21,7 +21,7 @@ using V = Eigen::Vector3d;
 constexpr double kPi = 3.14159265358979323846;
 
 struct StateRuns {
-  int changes = 0;              // after the settling time
+  int changes = 0;  // after the settling time
   std::vector<ContactState> states;
 };
 
@@ -35,16 +35,15 @@ void Count(const ContactOutput& out, bool settled, StateRuns* runs) {
 StateRuns VibratingFinger(double state_filter_s) {
   ContactOptions options;
   options.state_filter_s = state_filter_s;
-  auto sim = testing::MakeFlatPatch(testing::DatabaseMaterial("wang2011_black_denim_11oz"), 0.03, 31,
-                                    options, testing::LocalStep(), 0.01);
+  auto sim = testing::MakeFlatPatch(testing::DatabaseMaterial("wang2011_black_denim_11oz"), 0.03, 31, options,
+                                    testing::LocalStep(), 0.01);
   const double r = options.thumb.radius_m + options.fabric_half_thickness_m;
   StateRuns runs;
   const double dt = sim->dt_s();
   for (int k = 1; k * dt <= 1.0; ++k) {
     const double t = k * dt;
     const double depth = std::min(1.0, t / 0.2) * 0.0006 + (t > 0.2 ? 0.0008 * std::sin(2 * kPi * 50 * t) : 0.0);
-    const ContactOutput& out =
-        sim->Tick({true, testing::PoseFacing(V(0, 0, r - depth), V(0, 0, -1), V::UnitX())}, {});
+    const ContactOutput& out = sim->Tick({true, testing::PoseFacing(V(0, 0, r - depth), V(0, 0, -1), V::UnitX())}, {});
     Count(out, t > 0.3, &runs);
   }
   return runs;
@@ -53,8 +52,8 @@ StateRuns VibratingFinger(double state_filter_s) {
 TEST(StateChatterTest, FabricBouncingOnAFingerIsOneState) {
   const StateRuns unfiltered = VibratingFinger(0.0);
   const StateRuns filtered = VibratingFinger(ContactOptions{}.state_filter_s);
-  std::printf("[chatter] vibrating finger: %d state changes unfiltered, %d filtered (0.7 s)\n",
-              unfiltered.changes, filtered.changes);
+  std::printf("[chatter] vibrating finger: %d state changes unfiltered, %d filtered (0.7 s)\n", unfiltered.changes,
+              filtered.changes);
   EXPECT_GE(unfiltered.changes, 30) << "the scenario no longer crosses the thresholds";
   EXPECT_LE(filtered.changes, 1);
   // On the fabric at the end: IV or V, not I.
@@ -67,8 +66,8 @@ TEST(StateChatterTest, FabricBouncingOnAFingerIsOneState) {
 StateRuns ShakenPinch(double state_filter_s, int* ticks_with_slip) {
   ContactOptions options;
   options.state_filter_s = state_filter_s;
-  auto sim = testing::MakeFlatPatch(testing::DatabaseMaterial("wang2011_black_denim_11oz"), 0.03, 31,
-                                    options, testing::LocalStep(), 0.01);
+  auto sim = testing::MakeFlatPatch(testing::DatabaseMaterial("wang2011_black_denim_11oz"), 0.03, 31, options,
+                                    testing::LocalStep(), 0.01);
   const double r = options.thumb.radius_m + options.fabric_half_thickness_m;
   const double squeeze_m = 0.0005, shake_m = 0.001, shake_start = 0.4, end = 1.1;
   const V above(0, 0, r + 0.003), below(0, 0, -r - 0.003);
@@ -93,8 +92,10 @@ TEST(StateChatterTest, PinchWhoseSamplesStickAndSlipInTurnIsOneState) {
   int slip_unfiltered = 0, slip_filtered = 0;
   const StateRuns unfiltered = ShakenPinch(0.0, &slip_unfiltered);
   const StateRuns filtered = ShakenPinch(ContactOptions{}.state_filter_s, &slip_filtered);
-  std::printf("[chatter] shaken pinch: %d state changes unfiltered, %d filtered (0.7 s; samples "
-              "slid in %d ticks)\n", unfiltered.changes, filtered.changes, slip_filtered);
+  std::printf(
+      "[chatter] shaken pinch: %d state changes unfiltered, %d filtered (0.7 s; samples "
+      "slid in %d ticks)\n",
+      unfiltered.changes, filtered.changes, slip_filtered);
   EXPECT_GE(unfiltered.changes, 30) << "the scenario no longer crosses the thresholds";
   EXPECT_GT(slip_filtered, 100);
   EXPECT_LE(filtered.changes, 1);

@@ -289,8 +289,8 @@ TEST(DeviceBridgeTest, MeasuresMotionToForceLatencyAndRoundTrip) {
     StatusBytes b{};
     EncodeStatusFrame(f, b);
     dut->OnStatusDatagram(b, t);
-    dut->Tick(t + 30e-6, kTick_s, out);  // force leaves 30 us after the packet arrived
-    dut->Tick(t + 130e-6, kTick_s, out); // a second tick from the same packet: not a new sample
+    dut->Tick(t + 30e-6, kTick_s, out);   // force leaves 30 us after the packet arrived
+    dut->Tick(t + 130e-6, kTick_s, out);  // a second tick from the same packet: not a new sample
   }
   const LatencyTracker& m2f = dut->motion_to_force_latency();
   EXPECT_EQ(m2f.count(), 1000u);

@@ -14,9 +14,7 @@ constexpr double kQuantum_m = 0.032e-3;
 constexpr std::uint64_t kTick_ns = 200000;  // 5 kHz
 constexpr double kTick_s = 2e-4;
 
-Eigen::Vector3d Quantise(const Eigen::Vector3d& p) {
-  return (p / kQuantum_m).array().round() * kQuantum_m;
-}
+Eigen::Vector3d Quantise(const Eigen::Vector3d& p) { return (p / kQuantum_m).array().round() * kQuantum_m; }
 
 TEST(FingerStateEstimatorTest, ConstantVelocityThroughQuantisation) {
   FingerStateEstimator dut(FingerStateEstimatorConfig{});

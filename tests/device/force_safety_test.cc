@@ -43,8 +43,8 @@ TEST(ForceSafetyTest, ClampsAndSlewHoldUnderAHundredNewtonRequest) {
     ASSERT_LE(dut.rms_force_N(), 6.0 + 1e-9) << "tick " << k;
     previous = out.force_W_N;
   }
-  EXPECT_GT(peak_seen_N, 15.0);                    // short bursts may go well above 6 N
-  EXPECT_NEAR(previous.norm(), 6.0, 1e-3);         // sustained force is the continuous limit
+  EXPECT_GT(peak_seen_N, 15.0);             // short bursts may go well above 6 N
+  EXPECT_NEAR(previous.norm(), 6.0, 1e-3);  // sustained force is the continuous limit
   EXPECT_GT(dut.counters().peak_limited, 0u);
   EXPECT_GT(dut.counters().continuous_limited, 0u);
   EXPECT_GT(dut.counters().slew_limited, 0u);

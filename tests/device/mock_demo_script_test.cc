@@ -63,8 +63,7 @@ TEST_P(DemoScriptTest, TrajectoryIsContinuousWithBoundedSpeed) {
       peak_speed = std::max(peak_speed, speed);
       // velocity against a central difference (the user damper relies on it)
       const double h = 1e-6;
-      const Eigen::Vector3d numeric =
-          (EvaluateScript(p, t + h).p_D_m[i] - EvaluateScript(p, t - h).p_D_m[i]) / (2 * h);
+      const Eigen::Vector3d numeric = (EvaluateScript(p, t + h).p_D_m[i] - EvaluateScript(p, t - h).p_D_m[i]) / (2 * h);
       ASSERT_LT((numeric - now.v_D_m_per_s[i]).norm(), 1e-4) << "t " << t << " finger " << i;
     }
     previous = now;
@@ -83,8 +82,7 @@ TEST_P(DemoScriptTest, VisitsThePhasesInOrder) {
     const int index = static_cast<int>(phase);
     ASSERT_GE(index, expected) << DemoPhaseName(phase) << " came back at t " << t;
     // settle and touch are pauses only: without pauses they take no time
-    ASSERT_LE(index, expected + (p.hold_s > 0.0 ? 1 : 2))
-        << "skipped to " << DemoPhaseName(phase) << " at t " << t;
+    ASSERT_LE(index, expected + (p.hold_s > 0.0 ? 1 : 2)) << "skipped to " << DemoPhaseName(phase) << " at t " << t;
     expected = index;
     const FingerTargets f = EvaluateScript(p, t);
     const double thumb = PadDepth(p, kThumb, f.p_D_m[kThumb]);
@@ -102,8 +100,7 @@ TEST_P(DemoScriptTest, VisitsThePhasesInOrder) {
         // still pinched; only the thumb slides, along rub_direction_D
         EXPECT_NEAR(thumb, p.press_depth_m, 1e-12);
         EXPECT_NEAR(index_depth, p.press_depth_m, 1e-12);
-        const Eigen::Vector3d slide =
-            f.p_D_m[kThumb] - EvaluateScript(p, 0.0).p_D_m[kThumb] - p.stretch_D_m;
+        const Eigen::Vector3d slide = f.p_D_m[kThumb] - EvaluateScript(p, 0.0).p_D_m[kThumb] - p.stretch_D_m;
         const double along = slide.dot(p.rub_direction_D);
         rub_max = std::max(rub_max, along);
         rub_min = std::min(rub_min, along);
@@ -175,8 +172,7 @@ std::string ParamName(const ::testing::TestParamInfo<ScriptParams>& info) {
   return kNames.at(info.index);
 }
 
-INSTANTIATE_TEST_SUITE_P(Params, DemoScriptTest, ::testing::Values(DemoScene(), Defaults(), Tilted()),
-                         ParamName);
+INSTANTIATE_TEST_SUITE_P(Params, DemoScriptTest, ::testing::Values(DemoScene(), Defaults(), Tilted()), ParamName);
 
 TEST(DemoScriptTest, SceneTimings) {
   // at the demo scene's values, in seconds: settle 0.5, approach 1.2 (32 mm at a 0.05 m/s peak),

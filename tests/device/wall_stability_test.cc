@@ -37,8 +37,7 @@ struct LoopSetup {
 
 // The "local_contact" side: a wall through the fabric plane. Inside: F0 = k d n at x0 = p,
 // K = -k n n^T (exact for a plane). Outside: no force.
-ForceModel WallModel(const Eigen::Vector3d& p_W, const Eigen::Vector3d& wall_point_W,
-                     const Eigen::Vector3d& n_W) {
+ForceModel WallModel(const Eigen::Vector3d& p_W, const Eigen::Vector3d& wall_point_W, const Eigen::Vector3d& n_W) {
   ForceModel m;
   const double depth_m = (wall_point_W - p_W).dot(n_W);
   if (depth_m > 0.0) {
@@ -118,8 +117,7 @@ LoopSetup PressIntoWall(double approach_s) {
   s.script.press_depth_m = 0.010;  // the user aims 10 mm behind the wall
   s.bridge.safety.startup_ramp_s = 0.2;
   // a non-trivial device placement, so frames are exercised too
-  s.bridge.X_WD = Eigen::Translation3d(0.0, 0.0, -0.1) *
-                  Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitZ());
+  s.bridge.X_WD = Eigen::Translation3d(0.0, 0.0, -0.1) * Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitZ());
   return s;
 }
 

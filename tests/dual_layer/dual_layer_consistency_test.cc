@@ -14,10 +14,10 @@
 #include <gtest/gtest.h>
 
 #include "libs/contact/patch_simulation.h"
-#include "libs/textile/fabric_model.h"
-#include "libs/textile/kes_material.h"
 #include "libs/dual_layer/dual_layer_sim.h"
 #include "libs/dual_layer/pinch_stretch_strip.h"
+#include "libs/textile/fabric_model.h"
+#include "libs/textile/kes_material.h"
 #include "tests/textile/fabric_textproto.h"
 #include "tests/textile/textile_test_util.h"
 
@@ -33,8 +33,7 @@ struct Comparison {
 // The scripted pinch and stretch through the dual layer (patches refined `refinement_levels`
 // times) and through the single-layer reference, both from a 2 mm strip.
 Comparison Compare(int refinement_levels, double patch_margin_m) {
-  const textile::FabricMaterial material =
-      textile::MaterialFromKes(textile::testing::CompositeDenim());
+  const textile::FabricMaterial material = textile::MaterialFromKes(textile::testing::CompositeDenim());
   contact::ContactOptions o;
   o.finger_fabric = {0.8, 0.6};
   textile::StepOptions local;
@@ -46,8 +45,8 @@ Comparison Compare(int refinement_levels, double patch_margin_m) {
   Strip ref_strip = PinchStretchStrip(material, 0.002);
   contact::PatchSimulation reference(std::move(ref_strip.model), std::move(ref_strip.state), local, o);
   Strip dual_strip = PinchStretchStrip(material, 0.002);
-  DualLayerSim dual(material, std::move(dual_strip.model), std::move(dual_strip.state),
-                    0.01, 0.001, o, patch_margin_m, refinement_levels);
+  DualLayerSim dual(material, std::move(dual_strip.model), std::move(dual_strip.state), 0.01, 0.001, o, patch_margin_m,
+                    refinement_levels);
 
   Comparison c;
   const double t_end = 2.5;
@@ -59,23 +58,25 @@ Comparison Compare(int refinement_levels, double patch_margin_m) {
     const double fb = b.finger[0].force_W_N.z() + b.finger[1].force_W_N.z();
     c.peak_reference_N = std::max(c.peak_reference_N, std::abs(fa));
     if (k % 250 == 0) {
-      std::printf("[dual r%d] t %.2f s force ref %.4f N dual %.4f N, states %s %s\n", refinement_levels, k * 0.001,
-                  fa, fb, contact::ToString(a.state), contact::ToString(b.state));
+      std::printf("[dual r%d] t %.2f s force ref %.4f N dual %.4f N, states %s %s\n", refinement_levels, k * 0.001, fa,
+                  fb, contact::ToString(a.state), contact::ToString(b.state));
     }
     c.largest_force_difference_N = std::max(c.largest_force_difference_N, std::abs(fb - fa));
     // Once the pull has built a force (over 20 % of its final 3.6 N), compare point by point.
-    if (std::abs(fa) > 0.7) c.pointwise_beyond_0p7N = std::max(c.pointwise_beyond_0p7N, std::abs(fb - fa) / std::abs(fa));
+    if (std::abs(fa) > 0.7)
+      c.pointwise_beyond_0p7N = std::max(c.pointwise_beyond_0p7N, std::abs(fb - fa) / std::abs(fa));
   }
   // The dual layer's fabric is its global state (patch results merged in).
   const Eigen::VectorXd& xa = reference.state().x_W_m;
   const Eigen::VectorXd& xb = dual.global_state().x_W_m;
   c.shape_rms_m = std::sqrt((xa - xb).squaredNorm() / (static_cast<double>(xa.size()) / 3.0));
   c.handoffs = dual.handoffs();
-  std::printf("[dual r%d] shape RMS %.3f mm, largest force difference %.3f N = %.2f %% of the peak %.3f N "
-              "(point by point, beyond 0.7 N: %.2f %%), %d hand-offs\n",
-              refinement_levels, 1e3 * c.shape_rms_m, c.largest_force_difference_N,
-              100 * c.largest_force_difference_N / c.peak_reference_N, c.peak_reference_N,
-              100 * c.pointwise_beyond_0p7N, c.handoffs);
+  std::printf(
+      "[dual r%d] shape RMS %.3f mm, largest force difference %.3f N = %.2f %% of the peak %.3f N "
+      "(point by point, beyond 0.7 N: %.2f %%), %d hand-offs\n",
+      refinement_levels, 1e3 * c.shape_rms_m, c.largest_force_difference_N,
+      100 * c.largest_force_difference_N / c.peak_reference_N, c.peak_reference_N, 100 * c.pointwise_beyond_0p7N,
+      c.handoffs);
   return c;
 }
 

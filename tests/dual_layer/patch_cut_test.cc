@@ -74,11 +74,13 @@ TEST(PatchCutTest, UnrefinedPatchIsTheFabricsOwnParticles) {
   // the same triangles as the fabric's cells (2, 0) .. (5, 3), split the same way
   std::set<std::array<std::uint32_t, 3>> fabric_tris;
   for (const auto& t : c.model.mesh.triangles()) {
-    fabric_tris.insert({static_cast<std::uint32_t>(t[0]), static_cast<std::uint32_t>(t[1]), static_cast<std::uint32_t>(t[2])});
+    fabric_tris.insert(
+        {static_cast<std::uint32_t>(t[0]), static_cast<std::uint32_t>(t[1]), static_cast<std::uint32_t>(t[2])});
   }
   for (int t = 0; t < static_cast<int>(patch.triangles.size()) / 3; ++t) {
     std::array<std::uint32_t, 3> global{};
-    for (int k = 0; k < 3; ++k) global[static_cast<std::size_t>(k)] = patch.ids[static_cast<int>(patch.triangles[3 * t + k])];
+    for (int k = 0; k < 3; ++k)
+      global[static_cast<std::size_t>(k)] = patch.ids[static_cast<int>(patch.triangles[3 * t + k])];
     EXPECT_TRUE(fabric_tris.count(global)) << "triangle " << t;
   }
 }

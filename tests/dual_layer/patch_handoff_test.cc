@@ -7,11 +7,11 @@
 
 #include <gtest/gtest.h>
 
-#include "libs/textile/fabric_model.h"
-#include "libs/textile/kes_material.h"
 #include "libs/dual_layer/dual_layer_sim.h"
 #include "libs/dual_layer/local_patch.h"
 #include "libs/dual_layer/patch_cut.h"
+#include "libs/textile/fabric_model.h"
+#include "libs/textile/kes_material.h"
 #include "tests/contact/contact_test_util.h"
 #include "tests/textile/fabric_textproto.h"
 
@@ -49,7 +49,8 @@ SlideResult Slide(bool carry_over) {
     const double t = k * 0.001;
     V p = t < t_slide0 ? above + std::min(1.0, t / t_press) * (pressed - above)
                        : pressed + std::min(1.0, (t - t_slide0) / (t_slide1 - t_slide0)) * (end - pressed);
-    const contact::ContactOutput& out = harness.Tick({true, contact::testing::PoseFacing(p, V(0, 0, -1), V::UnitX())}, {});
+    const contact::ContactOutput& out =
+        harness.Tick({true, contact::testing::PoseFacing(p, V(0, 0, -1), V::UnitX())}, {});
     const double force = out.finger[0].force_W_N.norm();
     if (t > t_slide0 + 0.05) {
       max_jump = std::max(max_jump, std::abs(force - previous));
@@ -61,9 +62,10 @@ SlideResult Slide(bool carry_over) {
     }
     previous = force;
   }
-  std::printf("[handoff] carry-over %s: %d hand-offs, %d patch boundary moves, max force %.3f N, "
-              "max jump %.4f N/tick\n",
-              carry_over ? "on" : "off", harness.handoffs(), rect_changes, max_force, max_jump);
+  std::printf(
+      "[handoff] carry-over %s: %d hand-offs, %d patch boundary moves, max force %.3f N, "
+      "max jump %.4f N/tick\n",
+      carry_over ? "on" : "off", harness.handoffs(), rect_changes, max_force, max_jump);
   return {harness.handoffs(), rect_changes, max_force, max_jump};
 }
 

@@ -11,10 +11,10 @@
 #include <functional>
 #include <vector>
 
+#include "libs/dual_layer/patch_cut.h"
 #include "libs/textile/fabric_model.h"
 #include "libs/textile/fabric_stepper.h"
 #include "libs/textile/kes_material.h"
-#include "libs/dual_layer/patch_cut.h"
 #include "tests/textile/textile_test_util.h"
 
 namespace haptex::dual_layer {
@@ -25,8 +25,8 @@ using V = Eigen::Vector3d;
 constexpr double kDt = 0.01;
 
 struct BorderMotion {
-  double position_alternation_m = 0.0;  // of the border ring's y over the global steps
-  double extrapolated_alternation_m = 0.0;  // of y + dt v_y: where local_contact takes the border
+  double position_alternation_m = 0.0;                          // of the border ring's y over the global steps
+  double extrapolated_alternation_m = 0.0;                      // of y + dt v_y: where local_contact takes the border
   double mean_sent_v_m_per_s = 0.0, mean_ring_v_m_per_s = 0.0;  // over the last steps
 };
 
@@ -34,8 +34,8 @@ struct BorderMotion {
 // the 5 x 5 interior i, j in [8, 12] comes back from the local layer displaced along y by
 // `interior_y(step)`; the patch [7, 13]^2 is cut after the step as global_sim does.
 BorderMotion Couple(const std::function<double(int)>& interior_y) {
-  const textile::FabricModel model = textile::BuildFabricModel(
-      textile::MaterialFromKes(textile::testing::CompositeDenim()), {0.20, 0.20, 21, 21});
+  const textile::FabricModel model =
+      textile::BuildFabricModel(textile::MaterialFromKes(textile::testing::CompositeDenim()), {0.20, 0.20, 21, 21});
   textile::Placement placement;
   placement.origin_W = V(-0.10, 0.0, 0.0);
   placement.axis_u_W = V(0, 0, -1);
@@ -73,8 +73,8 @@ BorderMotion Couple(const std::function<double(int)>& interior_y) {
     stepper.Step(&state);
     ReleaseMerged(&state, &merged);
     const Eigen::VectorXd& v = cut_velocity.Update(state.v_W_m_per_s);
-    CutPatch(model, state, v, {7, 13, 7, 13}, static_cast<std::uint64_t>(s + 1),
-             static_cast<std::uint64_t>(s + 1), kDt, refined, &patch);
+    CutPatch(model, state, v, {7, 13, 7, 13}, static_cast<std::uint64_t>(s + 1), static_cast<std::uint64_t>(s + 1), kDt,
+             refined, &patch);
     std::vector<double> ys, ends;
     for (int k = 0; k < patch.num_particles; ++k) {
       if (patch.border[k] == 0) continue;
@@ -135,8 +135,8 @@ TEST(PatchMergeTest, SteadilyMovingClothKeepsItsBorderVelocity) {
 // A newer result replaces the last; a malformed one merges and releases nothing; ids outside the
 // id space and non-finite positions are rejected; particles global_sim prescribes stay its own.
 TEST(PatchMergeTest, MergesHoldsAndReleases) {
-  const textile::FabricModel model = textile::BuildFabricModel(
-      textile::MaterialFromKes(textile::testing::CompositeDenim()), {0.02, 0.02, 3, 3});
+  const textile::FabricModel model =
+      textile::BuildFabricModel(textile::MaterialFromKes(textile::testing::CompositeDenim()), {0.02, 0.02, 3, 3});
   textile::FabricState state = textile::MakeRestState(model);
   state.Fix(0);
   std::vector<int> merged;

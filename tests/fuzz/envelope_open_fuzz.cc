@@ -20,8 +20,7 @@ using haptex::net::EnvelopeOpener;
 using haptex::net::SessionKey;
 
 const SessionKey& FuzzKey() {
-  static const SessionKey key =
-      SessionKey::FromHex("f0f1f2f3f4f5f6f7f8f9fafbfcfdfeff000102030405060708090a0b0c0d0e0f");
+  static const SessionKey key = SessionKey::FromHex("f0f1f2f3f4f5f6f7f8f9fafbfcfdfeff000102030405060708090a0b0c0d0e0f");
   return key;
 }
 
@@ -48,8 +47,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   opener.Open({data, size}, google::protobuf::Arena::CreateMessage<haptex::v1::Envelope>(&arena));
 
   if (size + haptex::net::kDatagramOverheadBytes > opener.max_datagram_bytes()) return 0;
-  std::vector<std::uint8_t> authentic(haptex::net::kDatagramMagic.begin(),
-                                      haptex::net::kDatagramMagic.end());
+  std::vector<std::uint8_t> authentic(haptex::net::kDatagramMagic.begin(), haptex::net::kDatagramMagic.end());
   authentic.resize(haptex::net::kDatagramHeaderBytes);  // fixed nonce: deterministic runs
   authentic.insert(authentic.end(), data, data + size);
   authentic.resize(authentic.size() + DatagramMac::kTagBytes);

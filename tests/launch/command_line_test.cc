@@ -68,8 +68,8 @@ TEST_F(LaunchCommandLineTest, BridgeAndMockPointAtEachOther) {
 TEST_F(LaunchCommandLineTest, LocalContactAndTactilePeers) {
   Plan(testing::ShippedScene("demo"));
   EXPECT_THAT(Peers(Argv(P::SERVICE_LOCAL_CONTACT)),
-              ::testing::ElementsAre("launcher=127.0.0.1:40000", "global_sim=127.0.0.1:40001",
-                                     "bridge=127.0.0.1:40003", "tactile=127.0.0.1:40005"));
+              ::testing::ElementsAre("launcher=127.0.0.1:40000", "global_sim=127.0.0.1:40001", "bridge=127.0.0.1:40003",
+                                     "tactile=127.0.0.1:40005"));
   EXPECT_THAT(Peers(Argv(P::SERVICE_TACTILE)),
               ::testing::ElementsAre("launcher=127.0.0.1:40000", "display=127.0.0.1:40008"));
   EXPECT_EQ(After(Argv(P::SERVICE_MOCK_PINS), "--log-csv"), "/run/pins.csv");
@@ -96,7 +96,7 @@ TEST_F(LaunchCommandLineTest, RealDevicesAreAddressedFromTheScene) {
 TEST_F(LaunchCommandLineTest, RemoteHostsGetTheirOwnLauncherAndWildcardBinds) {
   scene_ = testing::ShippedScene("remote");
   plan_ = AssignPorts(scene_, DeriveServices(scene_), 47600, nullptr);
-  const auto mock = Argv(P::SERVICE_MOCK_GRAB);  // on lab
+  const auto mock = Argv(P::SERVICE_MOCK_GRAB);   // on lab
   const auto tactile = Argv(P::SERVICE_TACTILE);  // on compute
   EXPECT_EQ(After(mock, "--bind"), "0.0.0.0:47606");
   EXPECT_EQ(After(mock, "--bridge"), "192.0.2.10:47604");
@@ -105,9 +105,7 @@ TEST_F(LaunchCommandLineTest, RemoteHostsGetTheirOwnLauncherAndWildcardBinds) {
   EXPECT_THAT(Peers(tactile), Contains("display=192.0.2.10:47608"));  // the pins are at the lab
 }
 
-TEST(LaunchJoinCommandLineTest, QuotesSpaces) {
-  EXPECT_EQ(JoinCommandLine({"a", "b c", ""}), "a 'b c' ''");
-}
+TEST(LaunchJoinCommandLineTest, QuotesSpaces) { EXPECT_EQ(JoinCommandLine({"a", "b c", ""}), "a 'b c' ''"); }
 
 }  // namespace
 }  // namespace haptex::launch

@@ -11,8 +11,8 @@
 #include <signal.h>
 
 #include <chrono>
-#include <ostream>
 #include <cmath>
+#include <ostream>
 #include <regex>
 #include <sstream>
 #include <thread>
@@ -73,7 +73,8 @@ TEST_P(LaunchForceKillTest, ForceIsZeroWithin20msAndTheRunRecovers) {
       break;
     }
   }
-  std::printf("[force-kill] %s: the mock's fingers at zero force %.2f ms after the kill\n", name.c_str(), zero_after_ms);
+  std::printf("[force-kill] %s: the mock's fingers at zero force %.2f ms after the kill\n", name.c_str(),
+              zero_after_ms);
   ASSERT_GE(zero_after_ms, 0.0) << "force never reached zero after the kill";
   EXPECT_LE(zero_after_ms, 20.0);
   EXPECT_THAT(testing::ReadText(run + "/summary.json"),

@@ -10,8 +10,8 @@
 #include <signal.h>
 
 #include <chrono>
-#include <ostream>
 #include <cmath>
+#include <ostream>
 #include <thread>
 
 #include "tests/launch/launch_test_support.h"

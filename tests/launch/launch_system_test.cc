@@ -28,7 +28,8 @@ using ::testing::HasSubstr;
 // pins. The fabric is the database's denim plus surface values for the tactile surface (test
 // values: the database has no weave pitches yet).
 std::string SceneText(const std::string& name) {
-  std::string fabric = testing::ReadText(haptex::testing::SourceDir() + "/data/fabrics/wang2011_black_denim_11oz.textproto");
+  std::string fabric =
+      testing::ReadText(haptex::testing::SourceDir() + "/data/fabrics/wang2011_black_denim_11oz.textproto");
   const std::string weave = "weave {\n  pattern: PATTERN_TWILL\n}";
   const auto at = fabric.find(weave);
   if (at != std::string::npos) {
@@ -36,7 +37,8 @@ std::string SceneText(const std::string& name) {
                    "weave { pattern: PATTERN_TWILL warp_pitch_mm: 0.6 weft_pitch_mm: 0.7 yarn_diameter_mm: 0.4 }\n"
                    "surface { smd_um: 5 }");
   }
-  return "name: \"" + name + "\"\nfabric { inline_fabric {\n" + fabric + "\n} }\n"
+  return "name: \"" + name + "\"\nfabric { inline_fabric {\n" + fabric +
+         "\n} }\n"
          "fingers { finger: FINGER_THUMB }\nfingers { finger: FINGER_INDEX }\n"
          "device { mock { user { kind: KIND_RUB } } }\n"
          "tactile { enabled: true mock_display: true }\n";
@@ -53,8 +55,17 @@ class LaunchSystemTest : public ::testing::Test {
 
   std::unique_ptr<haptex::testing::Subprocess> Launch(const std::string& duration,
                                                       const std::vector<std::string>& extra = {}) {
-    std::vector<std::string> argv{haptex::testing::BuildDir() + "/cli/haptex", "launch", scene_, "--skip",
-                                  "global_sim", "--skip", "local_contact", "--duration", duration, "--out", run_};
+    std::vector<std::string> argv{haptex::testing::BuildDir() + "/cli/haptex",
+                                  "launch",
+                                  scene_,
+                                  "--skip",
+                                  "global_sim",
+                                  "--skip",
+                                  "local_contact",
+                                  "--duration",
+                                  duration,
+                                  "--out",
+                                  run_};
     argv.insert(argv.end(), extra.begin(), extra.end());
     return std::make_unique<haptex::testing::Subprocess>(argv);
   }
@@ -79,7 +90,8 @@ TEST_F(LaunchSystemTest, RunFolderHasSummaryRecordingsLogsAndPlots) {
   EXPECT_THAT(summary, HasSubstr(R"("end_reason":"duration")"));
   EXPECT_THAT(summary, HasSubstr(R"("exit_code":0)"));
   for (const std::string name : {"device_bridge", "mock_grab", "tactile", "mock_pins"}) {
-    EXPECT_THAT(summary, ::testing::ContainsRegex("\"name\":\"" + name + "\",\"reason\":[^}]*\"started_here\":true,\"health_received\":true"))
+    EXPECT_THAT(summary, ::testing::ContainsRegex("\"name\":\"" + name +
+                                                  "\",\"reason\":[^}]*\"started_here\":true,\"health_received\":true"))
         << name;
     EXPECT_THAT(summary, HasSubstr("\"exit\":\"exit 0\"")) << name;
     // logs: the service's own lines
@@ -192,7 +204,8 @@ TEST_P(LaunchKillTest, KilledServiceIsRestartedAndInTheSummary) {
   const auto killed_at = std::chrono::steady_clock::now();
   ASSERT_EQ(kill(pid, SIGKILL), 0);
   const std::string after = WaitFor(*launcher, name + ": restarted \\(after signal 9, ready ([0-9.]+) s after it died");
-  std::cout << name << " killed: ready again " << after << " s after it died (launcher's clock); seen by the test after "
+  std::cout << name << " killed: ready again " << after
+            << " s after it died (launcher's clock); seen by the test after "
             << std::chrono::duration<double>(std::chrono::steady_clock::now() - killed_at).count() << " s\n";
   if (name != "device_bridge") {
     // the device was held at zero force while it restarted

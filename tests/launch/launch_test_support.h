@@ -1,16 +1,16 @@
 #pragma once
 // Scenes for the launcher's tests: the shipped ones, and scenes written from text.
 
+#include <gtest/gtest.h>
+#include <unistd.h>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <gtest/gtest.h>
 #include <regex>
 #include <sstream>
 #include <string>
 #include <thread>
-#include <unistd.h>
 #include <vector>
 
 #include "libs/base/clock.h"
@@ -21,9 +21,7 @@
 
 namespace haptex::launch::testing {
 
-inline scene::FabricDatabase Fabrics() {
-  return scene::FabricDatabase(haptex::testing::SourceDir() + "/data/fabrics");
-}
+inline scene::FabricDatabase Fabrics() { return scene::FabricDatabase(haptex::testing::SourceDir() + "/data/fabrics"); }
 
 inline std::string ShippedScenePath(const std::string& name) {
   return haptex::testing::SourceDir() + "/launch/scenes/" + name + ".textproto";
@@ -80,8 +78,13 @@ using haptex::testing::MockForceRows;
 /// `haptex launch` of the shipped demo until Ctrl-C, into `run_dir`; its tactile pair (tactile,
 /// mock_pins) skipped unless asked for.
 inline std::vector<std::string> DemoLaunchArgv(const std::string& run_dir, bool with_tactile) {
-  std::vector<std::string> argv{haptex::testing::BuildDir() + "/cli/haptex", "launch", ShippedScenePath("demo"),
-                                "--duration", "0", "--out", run_dir};
+  std::vector<std::string> argv{haptex::testing::BuildDir() + "/cli/haptex",
+                                "launch",
+                                ShippedScenePath("demo"),
+                                "--duration",
+                                "0",
+                                "--out",
+                                run_dir};
   if (!with_tactile) argv.insert(argv.end(), {"--skip", "tactile", "--skip", "mock_pins"});
   return argv;
 }

@@ -107,9 +107,9 @@ session_key { hex: "00112233445566778899aabbccddeeff00112233445566778899aabbccdd
   const std::string haptex = haptex::testing::BuildDir() + "/cli/haptex";
   haptex::testing::Subprocess host_a(
       hosts.In(hosts.a(), {haptex, "launch", scene, "--host", "a", "--duration", "4", "--out", dir + "/run_a"}));
-  haptex::testing::Subprocess host_b(hosts.In(
-      hosts.b(), {haptex, "launch", scene, "--host", "b", "--skip", "global_sim", "--skip", "local_contact",
-                  "--duration", "4", "--out", dir + "/run_b"}));
+  haptex::testing::Subprocess host_b(
+      hosts.In(hosts.b(), {haptex, "launch", scene, "--host", "b", "--skip", "global_sim", "--skip", "local_contact",
+                           "--duration", "4", "--out", dir + "/run_b"}));
   const auto code_a = host_a.WaitFor(120s);
   const auto code_b = host_b.WaitFor(120s);
   EXPECT_EQ(code_a, 0) << host_a.Stdout() << host_a.Stderr();
@@ -141,7 +141,8 @@ TEST(LaunchMultiHostTest, ShippedRemoteSceneOnLabAndCompute) {
   const std::string dir = testing::FreshDir("multi_host_remote");
   const std::string scene = testing::ShippedScenePath("remote");
   const std::string haptex = haptex::testing::BuildDir() + "/cli/haptex";
-  const std::vector<std::string> key{"HAPTEX_SESSION_KEY=00112233445566778899aabbccddeeff00112233445566778899aabbccddeeff"};
+  const std::vector<std::string> key{
+      "HAPTEX_SESSION_KEY=00112233445566778899aabbccddeeff00112233445566778899aabbccddeeff"};
   haptex::testing::Subprocess lab(
       hosts.In(hosts.a(), {haptex, "launch", scene, "--host", "lab", "--duration", "6", "--out", dir + "/lab"}), key);
   haptex::testing::Subprocess compute(

@@ -47,8 +47,8 @@ TEST(LaunchPortPlanTest, AFreePortHandedOutTwiceIsAskedForAgain) {
   const v1::Scene scene = testing::ShippedScene("demo");
   // the kernel's ephemeral ports can repeat: every port comes twice here
   int calls = 0;
-  const PortPlan plan = AssignPorts(scene, DeriveServices(scene), 0,
-                                    [&] { return static_cast<std::uint16_t>(50000 + calls++ / 2); });
+  const PortPlan plan =
+      AssignPorts(scene, DeriveServices(scene), 0, [&] { return static_cast<std::uint16_t>(50000 + calls++ / 2); });
   std::set<std::uint16_t> ports = {plan.launchers.at("local").port};
   for (const PlacedService& s : plan.services) {
     EXPECT_TRUE(ports.insert(s.haptex.port).second);

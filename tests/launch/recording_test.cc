@@ -7,8 +7,8 @@
 #include <array>
 #include <chrono>
 #include <filesystem>
-#include <thread>
 #include <fstream>
+#include <thread>
 
 #include "libs/net/messenger.h"
 #include "services/common/envelope_recorder.h"

@@ -53,9 +53,9 @@ TEST(LaunchServiceSetTest, DemoNeedsEverythingInStartOrder) {
 
 TEST(LaunchServiceSetTest, RubAndPinchHaveNoTactile) {
   for (const char* name : {"rub_friction", "pinch_stretch"}) {
-    EXPECT_THAT(Kinds(DeriveServices(testing::ShippedScene(name))),
-                ElementsAre(P::SERVICE_DEVICE_BRIDGE, P::SERVICE_MOCK_GRAB, P::SERVICE_GLOBAL_SIM,
-                            P::SERVICE_LOCAL_CONTACT))
+    EXPECT_THAT(
+        Kinds(DeriveServices(testing::ShippedScene(name))),
+        ElementsAre(P::SERVICE_DEVICE_BRIDGE, P::SERVICE_MOCK_GRAB, P::SERVICE_GLOBAL_SIM, P::SERVICE_LOCAL_CONTACT))
         << name;
   }
   EXPECT_THAT(ReasonOf(DeriveServices(testing::ShippedScene("pinch_stretch")), P::SERVICE_LOCAL_CONTACT),

@@ -36,9 +36,7 @@ class EnvelopeCodecTest : public ::testing::Test {
   }
   std::vector<std::uint8_t> SealForceModel() { return SealForceModel(sealer_); }
 
-  DropReason Open(const std::vector<std::uint8_t>& datagram) {
-    return opener_.Open(datagram, &envelope_);
-  }
+  DropReason Open(const std::vector<std::uint8_t>& datagram) { return opener_.Open(datagram, &envelope_); }
 
   // A valid header for SealRaw-based cases.
   v1::Envelope Header() const {
@@ -78,8 +76,10 @@ TEST_F(EnvelopeCodecTest, RoundTripKeepsHeaderAndBody) {
   EXPECT_EQ(opener_.counters().accepted(), 1u);
   // The hand-written header is exactly protobuf's own encoding of the same Envelope.
   v1::Envelope expected = envelope_;
-  EXPECT_EQ(std::vector<std::uint8_t>(datagram.begin() + kDatagramHeaderBytes, datagram.end() - 16),
-            [&] { auto s = expected.SerializeAsString(); return std::vector<std::uint8_t>(s.begin(), s.end()); }());
+  EXPECT_EQ(std::vector<std::uint8_t>(datagram.begin() + kDatagramHeaderBytes, datagram.end() - 16), [&] {
+    auto s = expected.SerializeAsString();
+    return std::vector<std::uint8_t>(s.begin(), s.end());
+  }());
 }
 
 TEST_F(EnvelopeCodecTest, SequenceIncreasesPerDatagram) {
@@ -159,8 +159,7 @@ TEST_F(EnvelopeCodecTest, MissingBodyAndUnknownBodyAreDropped) {
   // A body of a newer schema: field 99 is not in our oneof and lands in unknown fields.
   const std::size_t n = sealer_.SealBody(force_model_, 99, 0, buffer_);
   ASSERT_GT(n, 0u);
-  EXPECT_EQ(Open({buffer_.begin(), buffer_.begin() + static_cast<std::ptrdiff_t>(n)}),
-            DropReason::kUnknownBody);
+  EXPECT_EQ(Open({buffer_.begin(), buffer_.begin() + static_cast<std::ptrdiff_t>(n)}), DropReason::kUnknownBody);
   EXPECT_EQ(opener_.counters().Get(DropReason::kUnknownBody), 2u);
 }
 

@@ -35,9 +35,7 @@ std::size_t DrainAtLeast(Messenger& m, std::size_t count, Handler&& handler) {
 class MessengerTest : public ::testing::Test {
  protected:
   MessengerTest()
-      : key_(SessionKey::Generate()),
-        bridge_(key_, Config("device_bridge")),
-        contact_(key_, Config("local_contact")) {
+      : key_(SessionKey::Generate()), bridge_(key_, Config("device_bridge")), contact_(key_, Config("local_contact")) {
     to_contact_ = bridge_.AddPeer("local_contact", contact_.local_endpoint());
     to_bridge_ = contact_.AddPeer("device_bridge", bridge_.local_endpoint());
     auto* f = states_.add_fingers();

@@ -22,7 +22,7 @@ TEST(ReplayWindowTest, OlderThanWindowIsStale) {
   EXPECT_EQ(window.Check(5), DropReason::kNone);
   EXPECT_EQ(window.Check(5 + ReplayWindow::kWindow), DropReason::kNone);
   EXPECT_EQ(window.Check(5), DropReason::kStale);
-  EXPECT_EQ(window.Check(6), DropReason::kNone);  // just inside
+  EXPECT_EQ(window.Check(6), DropReason::kNone);     // just inside
   EXPECT_EQ(window.Check(1000), DropReason::kNone);  // big jump clears the bitmap
   EXPECT_EQ(window.Check(999), DropReason::kNone);
   EXPECT_EQ(window.Check(1000), DropReason::kReplayed);
@@ -60,8 +60,7 @@ TEST(SenderTableTest, MissingIdentityAndFullTable) {
   SenderTable table;
   EXPECT_EQ(table.Check("", 1, 1), DropReason::kMissingSender);
   EXPECT_EQ(table.Check("x", 0, 1), DropReason::kMissingSender);
-  EXPECT_EQ(table.Check(std::string(SenderTable::kMaxNameBytes + 1, 'n'), 1, 1),
-            DropReason::kMissingSender);
+  EXPECT_EQ(table.Check(std::string(SenderTable::kMaxNameBytes + 1, 'n'), 1, 1), DropReason::kMissingSender);
   for (std::size_t i = 0; i < SenderTable::kMaxSenders; ++i) {
     EXPECT_EQ(table.Check("s" + std::to_string(i), 1, 1), DropReason::kNone);
   }

@@ -28,9 +28,7 @@ TEST(SessionKeyTest, RejectsBadHexWithClearMessage) {
   EXPECT_THROW(SessionKey::FromHex(bad), std::invalid_argument);
 }
 
-TEST(SessionKeyTest, GeneratedKeysDiffer) {
-  EXPECT_NE(SessionKey::Generate().ToHex(), SessionKey::Generate().ToHex());
-}
+TEST(SessionKeyTest, GeneratedKeysDiffer) { EXPECT_NE(SessionKey::Generate().ToHex(), SessionKey::Generate().ToHex()); }
 
 TEST(SessionKeyTest, DerivedSessionIdIsStableAndKeyDependent) {
   const SessionKey a = SessionKey::FromHex(kHex);

@@ -24,8 +24,7 @@ using namespace std::chrono_literals;
 using netsim::DropCause;
 
 std::int64_t NowNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::steady_clock::now().time_since_epoch())
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
       .count();
 }
 
@@ -47,8 +46,7 @@ struct Received {
 };
 
 // Reads datagrams until `count` arrived or nothing came for `quiet`.
-std::vector<Received> ReceiveUpTo(UdpEndpoint* socket, std::size_t count,
-                                  std::chrono::milliseconds quiet = 2000ms) {
+std::vector<Received> ReceiveUpTo(UdpEndpoint* socket, std::size_t count, std::chrono::milliseconds quiet = 2000ms) {
   std::vector<Received> out;
   std::vector<std::uint8_t> buffer(70000);
   while (out.size() < count && socket->WaitReadable(quiet)) {
@@ -84,7 +82,9 @@ class UdpRelayTest : public ::testing::Test {
   }
   // Runs the relay on this thread for its configured duration: what was sent before is taken in
   // by the first receive, before the loop looks at anything else.
-  void RunCreated() { relay_->Run([] { return false; }); }
+  void RunCreated() {
+    relay_->Run([] { return false; });
+  }
 
   void Stop() {
     stop_.store(true);
@@ -242,8 +242,7 @@ TEST_F(UdpRelayTest, RelayLoopDoesNotAllocatePerDatagram) {
     UdpEndpoint::Endpoint from;
     while (server_.ReceiveOne(buffer, &from)) {
     }
-    return (relay.forward_stats().in_flight() == 0 && relay.forward_stats().received == kN) ||
-           NowNs() > give_up_ns;
+    return (relay.forward_stats().in_flight() == 0 && relay.forward_stats().received == kN) || NowNs() > give_up_ns;
   });
   ASSERT_TRUE(counter.has_value());
   EXPECT_EQ(counter->count(), 0);

@@ -30,8 +30,7 @@ struct Delivered {
 // its time comes as the relay does, and reports each delivery to the model. Returns the copies in
 // delivery order.
 template <typename SizeOf>
-std::vector<Delivered> Simulate(ImpairmentModel* model, int count, std::int64_t spacing_ns,
-                                SizeOf size_of) {
+std::vector<Delivered> Simulate(ImpairmentModel* model, int count, std::int64_t spacing_ns, SizeOf size_of) {
   ReleaseQueue queue(static_cast<std::size_t>(2 * count));
   std::vector<Delivered> delivered;
   const auto deliver_until = [&](std::int64_t now_ns) {
@@ -46,8 +45,7 @@ std::vector<Delivered> Simulate(ImpairmentModel* model, int count, std::int64_t 
     deliver_until(now_ns);
     const Decision decision = model->Decide(now_ns, size_of(i));
     for (int c = 0; c < decision.copies; ++c) {
-      queue.Push({decision.release_ns[static_cast<std::size_t>(c)], decision.arrival_ns,
-                  decision.sequence, 0, 0});
+      queue.Push({decision.release_ns[static_cast<std::size_t>(c)], decision.arrival_ns, decision.sequence, 0, 0});
     }
   }
   deliver_until(std::numeric_limits<std::int64_t>::max());

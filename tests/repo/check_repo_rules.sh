@@ -59,7 +59,7 @@ for s in scripts/demo scripts/test scripts/setup .ci/run; do
   [[ -x "$root/$s" ]] || fail "$s is missing or not executable"
 done
 
-# 7. citations resolve inside the repository: a path under a top-level folder with a file extension
+# 8. citations resolve inside the repository: a path under a top-level folder with a file extension
 #    (in comments, strings, docs), a markdown link relative to its document, and "FILE.md section N"
 #    must name what exists; nothing may point outside the tree (the shared folder beside a checkout,
 #    a notes folder, machine-local absolute paths): a reader of the project could not follow it.
@@ -149,6 +149,19 @@ links=$(awk -F'\t' '$1 == "LINK" {print $2 ": " $3}' <<<"$cites")
 [[ -z "$links" ]] || fail "markdown link to a missing file: $links"
 sections=$(awk -F'\t' '$1 == "SECTION" {print $2 ": " $3}' <<<"$cites")
 [[ -z "$sections" ]] || fail "cites a missing section: $sections"
+
+# 9. C++ is formatted as the tree's .clang-format says (clang-format from Debian, scripts/setup)
+if [[ -f "$root/.clang-format" ]]; then
+  if command -v clang-format >/dev/null; then
+    unformatted=$(cd "$root" && files | grep -E '\.(cc|h)$' | while read -r f; do
+      clang-format --style=file --dry-run -Werror "$f" >/dev/null 2>&1 || echo "$f"; done)
+    [[ -z "$unformatted" ]] || fail "not formatted by .clang-format (run clang-format -i): $(echo $unformatted)"
+  else
+    fail "clang-format is missing (scripts/setup installs it)"
+  fi
+else
+  fail ".clang-format is missing"
+fi
 
 [[ $failed -eq 0 ]] && echo "repo rules: all hold"
 exit $failed

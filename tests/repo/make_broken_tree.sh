@@ -22,3 +22,6 @@ printf '## 1. Only section\n\nSee %s/missing.md and [the guide](guide.md); %s/pa
 printf 'Built in %sbuild-x.\n' "$machine" >> "$dir/docs/page.md"
 printf '// After %s/physics.md section 1.1,\n// and %s/x.py.\n' "$nd" "$shared" > "$dir/libs/textile/cited.h"
 printf '# computed by %s/scripts/table.py\n' "$nd" > "$dir/libs/textile/table.textproto"
+# a C++ file the house style would reformat
+printf 'BasedOnStyle: Google\n' > "$dir/.clang-format"
+printf 'int   badly ( int x ){return x;}\n' > "$dir/libs/textile/unformatted.c""c"

@@ -25,8 +25,7 @@ TEST(PeriodicLoopTest, TicksInOrderWithFixedDtAndNeverEarly) {
   PeriodicLoop loop("test", 1000.0);
   std::vector<TickInfo> ticks;
   ticks.reserve(100);
-  loop.Run([&](const TickInfo& info) { ticks.push_back(info); },
-           [&] { return ticks.size() >= 50; });
+  loop.Run([&](const TickInfo& info) { ticks.push_back(info); }, [&] { return ticks.size() >= 50; });
   ASSERT_EQ(ticks.size(), 50u);
   for (std::size_t i = 0; i < ticks.size(); ++i) {
     EXPECT_EQ(ticks[i].tick, i);

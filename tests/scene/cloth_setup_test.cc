@@ -13,9 +13,9 @@ LoadedScene Scene(const std::string& extra) {
 }
 
 TEST(ClothSetupTest, HangsFromTheTopEdgeInTheWorldFrame) {
-  const ClothSetup setup = MakeClothSetup(Scene(
-      "cloth { width_m: 0.2 height_m: 0.3 particles_u: 5 particles_v: 7 "
-      "stand_position_w_m { z: 1.0 } }"));
+  const ClothSetup setup =
+      MakeClothSetup(Scene("cloth { width_m: 0.2 height_m: 0.3 particles_u: 5 particles_v: 7 "
+                           "stand_position_w_m { z: 1.0 } }"));
   ASSERT_EQ(setup.fixed_particles, (std::vector<int>{0, 1, 2, 3, 4}));
   const ClothInstance cloth = MakeClothInstance(setup);
   EXPECT_TRUE(cloth.state.x(0).isApprox(Eigen::Vector3d(-0.1, 0, 1.0)));
@@ -27,9 +27,9 @@ TEST(ClothSetupTest, HangsFromTheTopEdgeInTheWorldFrame) {
 }
 
 TEST(ClothSetupTest, FlatLedgeFixesTheRowsOnTheLedge) {
-  const ClothSetup setup = MakeClothSetup(Scene(
-      "cloth { width_m: 0.04 height_m: 0.2 particles_u: 3 particles_v: 11 "
-      "mounting: MOUNTING_FLAT_LEDGE ledge_v_m: 0.04 }"));
+  const ClothSetup setup =
+      MakeClothSetup(Scene("cloth { width_m: 0.04 height_m: 0.2 particles_u: 3 particles_v: 11 "
+                           "mounting: MOUNTING_FLAT_LEDGE ledge_v_m: 0.04 }"));
   // rows v = 0, 0.02, 0.04 rest on the ledge
   EXPECT_EQ(setup.fixed_particles.size(), 9u);
   const ClothInstance cloth = MakeClothInstance(setup);
@@ -38,9 +38,9 @@ TEST(ClothSetupTest, FlatLedgeFixesTheRowsOnTheLedge) {
 }
 
 TEST(ClothSetupTest, ModelDialsComeFromTheScene) {
-  const ClothSetup setup = MakeClothSetup(Scene(
-      "rates { global_hz: 50 }\nmodel { global_integrator: INTEGRATOR_SEMI_IMPLICIT cg_tolerance: 1e-5 "
-      "disable_gravity: true disable_bending: true disable_air_drag: true }"));
+  const ClothSetup setup = MakeClothSetup(
+      Scene("rates { global_hz: 50 }\nmodel { global_integrator: INTEGRATOR_SEMI_IMPLICIT cg_tolerance: 1e-5 "
+            "disable_gravity: true disable_bending: true disable_air_drag: true }"));
   EXPECT_EQ(setup.step_options.method, textile::Integrator::kSymplecticEuler);
   EXPECT_DOUBLE_EQ(setup.step_options.dt_s, 0.02);
   EXPECT_DOUBLE_EQ(setup.step_options.cg_tolerance, 1e-5);

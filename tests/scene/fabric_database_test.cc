@@ -34,8 +34,7 @@ TEST(FabricDatabaseTest, NameMustMatchTheFile) {
     db.Load("misnamed");
     FAIL();
   } catch (const TextProtoError& e) {
-    EXPECT_NE(std::string(e.what()).find("misnamed.textproto:1:1: name 'other_name' differs"),
-              std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("misnamed.textproto:1:1: name 'other_name' differs"), std::string::npos)
         << e.what();
   }
 }

@@ -48,18 +48,19 @@ fabric { inline_fabric {
   warp_tensile { emt_percent: 5 lt: 0.7 } weft_tensile { emt_percent: 5 lt: 0.7 }
   shear { g_gf_per_cm_deg: 1 } warp_bending { b_gfcm2_per_cm: 0.1 } weft_bending { b_gfcm2_per_cm: 0.1 }
   thickness_mm: 0.4 weight_mg_per_cm2: 12 } }
-)", "t", db_);
+)",
+                                        "t", db_);
   EXPECT_EQ(loaded.fabric.name(), "mine");
 }
 
 // Fewer than 3 Gauss-Seidel iterations per haptic tick went unstable (docs/contact.md).
 TEST_F(SceneLoaderTest, LocalSolverDialsAreRangeChecked) {
-  const auto few = Refused("name: \"x\"\nfabric { database_name: \"test_cotton\" }\n"
-                           "model { local_cg_max_iterations: 2 }\n");
+  const auto few = Refused(
+      "name: \"x\"\nfabric { database_name: \"test_cotton\" }\n"
+      "model { local_cg_max_iterations: 2 }\n");
   ASSERT_EQ(few.size(), 1u);
   EXPECT_EQ(few[0].line, 3);
-  EXPECT_NE(few[0].message.find("local_cg_max_iterations must be in [3, 100000]"), std::string::npos)
-      << few[0].message;
+  EXPECT_NE(few[0].message.find("local_cg_max_iterations must be in [3, 100000]"), std::string::npos) << few[0].message;
   EXPECT_TRUE(Mentions(Refused("name: \"x\"\nfabric { database_name: \"test_cotton\" }\n"
                                "model { local_cg_tolerance: 0.9 }\n"),
                        "local_cg_tolerance"));
@@ -71,12 +72,12 @@ TEST_F(SceneLoaderTest, LocalSolverDialsAreRangeChecked) {
 }
 
 TEST_F(SceneLoaderTest, OutOfRangeValueIsLocatedAtItsField) {
-  const auto issues = Refused("name: \"x\"\nfabric { database_name: \"test_cotton\" }\ncloth {\n    particles_u: 1\n}\n");
+  const auto issues =
+      Refused("name: \"x\"\nfabric { database_name: \"test_cotton\" }\ncloth {\n    particles_u: 1\n}\n");
   ASSERT_EQ(issues.size(), 1u);
   EXPECT_EQ(issues[0].line, 4);
   EXPECT_EQ(issues[0].column, 5);
-  EXPECT_NE(issues[0].message.find("particles_u must be in [2, 401]"), std::string::npos)
-      << issues[0].message;
+  EXPECT_NE(issues[0].message.find("particles_u must be in [2, 401]"), std::string::npos) << issues[0].message;
 }
 
 TEST_F(SceneLoaderTest, EveryProblemIsReportedAtOnce) {
@@ -165,7 +166,8 @@ device { mock {} }
 tactile { enabled: true mock_display: true
   surface { pattern: PATTERN_TWILL smd_um: 3 source { citation: "a paper" } }
 }
-)", "ok.textproto", db_));
+)",
+                             "ok.textproto", db_));
 }
 
 TEST_F(SceneLoaderTest, RefinedPatchesMustFitOneDatagram) {

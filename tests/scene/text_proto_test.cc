@@ -43,15 +43,14 @@ TEST(TextProtoTest, MissingFileIsAnError) {
     ParseTextProtoFile("/nonexistent/scene.textproto", &scene);
     FAIL();
   } catch (const TextProtoError& e) {
-    EXPECT_NE(std::string(e.what()).find("/nonexistent/scene.textproto:1:1: cannot open"),
-              std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/scene.textproto:1:1: cannot open"), std::string::npos);
   }
 }
 
 TEST(TextProtoTest, LocatorFindsNestedAndRepeatedFields) {
   v1::Scene scene;
-  const ParsedText parsed = ParseTextProto(
-      "name: \"x\"\nfingers { finger: FINGER_THUMB }\nfingers {\n  radius_m: 0.5\n}\n", "s", &scene);
+  const ParsedText parsed =
+      ParseTextProto("name: \"x\"\nfingers { finger: FINGER_THUMB }\nfingers {\n  radius_m: 0.5\n}\n", "s", &scene);
   const FieldLocator root(parsed.locations.get(), {1, 1, ""});
   const FieldLocator second = root.Nested(scene, "fingers", 1);
   const TextIssue at_radius = second.At(scene.fingers(1), "radius_m", -1, "too big");

@@ -86,8 +86,8 @@ TEST(GreyImageTest, PngHasValidChunksAndStoredData) {
   const std::size_t idat = 8 + 25;
   EXPECT_EQ(png.substr(idat + 4, 4), "IDAT");
   EXPECT_EQ(static_cast<unsigned char>(png[idat + 8]), 0x78);
-  EXPECT_EQ(static_cast<unsigned char>(png[idat + 10]), 1);  // BFINAL, stored
-  EXPECT_EQ(static_cast<unsigned char>(png[idat + 11]), 15);  // LEN = 3 * 5
+  EXPECT_EQ(static_cast<unsigned char>(png[idat + 10]), 1);         // BFINAL, stored
+  EXPECT_EQ(static_cast<unsigned char>(png[idat + 11]), 15);        // LEN = 3 * 5
   EXPECT_EQ(static_cast<unsigned char>(png[idat + 15 + 14]), 255);  // last pixel of the last row
 }
 

@@ -31,7 +31,8 @@ PeriodicTile ShearedTile() {
 TEST(PeriodicTileTest, RepeatsOverItsLattice) {
   const PeriodicTile dut = ShearedTile();
   const Eigen::Matrix2d b = dut.basis_m();
-  for (const Eigen::Vector2d& p : {Eigen::Vector2d(0.0123, 0.0456), Eigen::Vector2d(-0.003, 0.1), Eigen::Vector2d(0.0, 0.0)}) {
+  for (const Eigen::Vector2d& p :
+       {Eigen::Vector2d(0.0123, 0.0456), Eigen::Vector2d(-0.003, 0.1), Eigen::Vector2d(0.0, 0.0)}) {
     const double h = dut.HeightUm(p.x(), p.y());
     for (const Eigen::Vector2d& n : {Eigen::Vector2d(1, 0), Eigen::Vector2d(0, 1), Eigen::Vector2d(-7, 13)}) {
       const Eigen::Vector2d q = p + b * n;
@@ -91,7 +92,8 @@ TEST(PeriodicTileTest, SmoothingAttenuatesAGratingAsAGaussian) {
   Eigen::ArrayXXd h(32, 4);
   for (int i = 0; i < 32; ++i) h.row(i).setConstant(10.0 * std::sin(2.0 * std::numbers::pi * i / 32.0));
   const PeriodicTile smooth = PeriodicTile(basis, Eigen::Vector2d::Zero(), h).Smoothed(sigma);
-  const double expected = 10.0 * std::exp(-2.0 * std::numbers::pi * std::numbers::pi * sigma * sigma / (period * period));
+  const double expected =
+      10.0 * std::exp(-2.0 * std::numbers::pi * std::numbers::pi * sigma * sigma / (period * period));
   EXPECT_NEAR(smooth.HeightUm(period / 4.0, 0.0), expected, 1e-6);
 }
 

@@ -53,11 +53,12 @@ std::string CaseName(const ::testing::TestParamInfo<LatticeCase>& param_info) {
          (param_info.param.hairiness > 0.0 ? "Hairy" : "Clean");
 }
 
-INSTANTIATE_TEST_SUITE_P(Weaves, LatticeRecoveryTest,
-                         ::testing::Values(LatticeCase{WeavePattern::kPlain, 0.0}, LatticeCase{WeavePattern::kPlain, 0.3},
-                                           LatticeCase{WeavePattern::kTwill, 0.0}, LatticeCase{WeavePattern::kTwill, 0.3},
-                                           LatticeCase{WeavePattern::kSatin, 0.0}, LatticeCase{WeavePattern::kSatin, 0.3}),
-                         CaseName);
+INSTANTIATE_TEST_SUITE_P(
+    Weaves, LatticeRecoveryTest,
+    ::testing::Values(LatticeCase{WeavePattern::kPlain, 0.0}, LatticeCase{WeavePattern::kPlain, 0.3},
+                      LatticeCase{WeavePattern::kTwill, 0.0}, LatticeCase{WeavePattern::kTwill, 0.3},
+                      LatticeCase{WeavePattern::kSatin, 0.0}, LatticeCase{WeavePattern::kSatin, 0.3}),
+    CaseName);
 
 TEST(PeriodicityTest, TileReproducesTheSpectrumOfTheMap) {
   const WeaveParams p = Weave(WeavePattern::kTwill, 0.3);

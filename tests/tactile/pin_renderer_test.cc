@@ -10,8 +10,8 @@
 
 #include <gtest/gtest.h>
 
-#include "libs/tactile/weave_surface.h"
 #include "libs/tactile/periodicity.h"
+#include "libs/tactile/weave_surface.h"
 #include "tests/support/allocation_counter.h"
 
 namespace haptex::tactile {
@@ -35,7 +35,7 @@ PeriodicTile WeaveTile(double smd_um) {
 }
 
 struct Channels {
-  double a40 = 0.0;   // mean over pins inside the contact area
+  double a40 = 0.0;  // mean over pins inside the contact area
   double a320 = 0.0;
   double max40 = 0.0;
   double max320 = 0.0;

@@ -22,8 +22,8 @@ TEST(AnchorSpringForceTest, ForceAndJacobianMatchFiniteDifferences) {
   FabricState s = MakeRestState(model);
   s.anchor_stiffness_N_per_m[7] = 250.0;
   s.anchor_W_m.segment<3>(21) += Eigen::Vector3d(0.001, -0.002, 0.003);
-  const testing::ForceFn fn = [&](const FabricModel& m, const Eigen::VectorXd& x,
-                                  const Eigen::VectorXd&, ForceSink* sink) {
+  const testing::ForceFn fn = [&](const FabricModel& m, const Eigen::VectorXd& x, const Eigen::VectorXd&,
+                                  ForceSink* sink) {
     FabricState t = s;
     t.x_W_m = x;
     AddAnchorSpringForces(m, t, sink);

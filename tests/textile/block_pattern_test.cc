@@ -36,8 +36,8 @@ TEST(BlockPatternTest, SymmetricSortedWithDiagonal) {
   EXPECT_EQ(dut.num_blocks(), 2 + 1 + 3 + 2);
   for (int r = 0; r < 4; ++r) {
     EXPECT_EQ(dut.cols[static_cast<std::size_t>(dut.diag_slot[static_cast<std::size_t>(r)])], r);
-    for (int k = dut.row_start[static_cast<std::size_t>(r)] + 1;
-         k < dut.row_start[static_cast<std::size_t>(r) + 1]; ++k) {
+    for (int k = dut.row_start[static_cast<std::size_t>(r)] + 1; k < dut.row_start[static_cast<std::size_t>(r) + 1];
+         ++k) {
       EXPECT_LT(dut.cols[static_cast<std::size_t>(k) - 1], dut.cols[static_cast<std::size_t>(k)]);
     }
   }
@@ -89,10 +89,10 @@ TEST(BlockPatternTest, MovedBlocksGoToTheRowEndsAndTheSplitProductAgrees) {
   // The AVX and the portable kernel give the same bits (rows 2..3 reach x's last row).
   if (base::CpuHasAvx()) {
     Eigen::VectorXd y_avx = Eigen::VectorXd::Zero(12), y_portable = Eigen::VectorXd::Zero(12);
-    const double xy_avx = internal::MultiplySplitRowRange(split, blocks.data(), scalars.data(), x.data(),
-                                                          y_avx.data(), 0, 4, true);
-    const double xy_portable = internal::MultiplySplitRowRange(split, blocks.data(), scalars.data(), x.data(),
-                                                               y_portable.data(), 0, 4, false);
+    const double xy_avx =
+        internal::MultiplySplitRowRange(split, blocks.data(), scalars.data(), x.data(), y_avx.data(), 0, 4, true);
+    const double xy_portable =
+        internal::MultiplySplitRowRange(split, blocks.data(), scalars.data(), x.data(), y_portable.data(), 0, 4, false);
     EXPECT_EQ(std::bit_cast<std::uint64_t>(xy_avx), std::bit_cast<std::uint64_t>(xy_portable));
     EXPECT_EQ(std::memcmp(y_avx.data(), y_portable.data(), 12 * sizeof(double)), 0);
   }
@@ -159,8 +159,8 @@ TEST(BlockPatternTest, GridRowShapesGiveThePortableBits) {
   EXPECT_NEAR(xy, x.dot(y_ref), 1e-12 * y_ref.norm() * x.norm());
   if (base::CpuHasAvx()) {
     Eigen::VectorXd y_avx = Eigen::VectorXd::Zero(3 * kRows), y_portable = y_avx;
-    const double xy_avx = internal::MultiplySplitRowRange(split, blocks.data(), scalars.data(), x.data(),
-                                                          y_avx.data(), 0, kRows, true);
+    const double xy_avx =
+        internal::MultiplySplitRowRange(split, blocks.data(), scalars.data(), x.data(), y_avx.data(), 0, kRows, true);
     const double xy_portable = internal::MultiplySplitRowRange(split, blocks.data(), scalars.data(), x.data(),
                                                                y_portable.data(), 0, kRows, false);
     EXPECT_EQ(std::bit_cast<std::uint64_t>(xy_avx), std::bit_cast<std::uint64_t>(xy_portable));

@@ -9,8 +9,7 @@ namespace haptex::textile {
 namespace {
 
 TEST(ExternalForceTest, EdgeLoadSumsToTotalAndIsUniformPerLength) {
-  const FabricModel model =
-      BuildFabricModel(MaterialFromKes(testing::CompositeDenim()), {0.38, 0.2, 17, 15});
+  const FabricModel model = BuildFabricModel(MaterialFromKes(testing::CompositeDenim()), {0.38, 0.2, 17, 15});
   FabricState s = MakeRestState(model);
   const auto row = testing::WarpRow(model, 16);
   AddEdgeLoad(model, row, Eigen::Vector3d(0, 0, -1.4), &s);
@@ -21,8 +20,7 @@ TEST(ExternalForceTest, EdgeLoadSumsToTotalAndIsUniformPerLength) {
 }
 
 TEST(ExternalForceTest, GravityAndPointLoad) {
-  const FabricModel model =
-      BuildFabricModel(MaterialFromKes(testing::CompositeDenim()), {0.1, 0.1, 3, 3});
+  const FabricModel model = BuildFabricModel(MaterialFromKes(testing::CompositeDenim()), {0.1, 0.1, 3, 3});
   FabricState s = MakeRestState(model);
   SetPointLoad(4, Eigen::Vector3d(1, 0, 0), &s);
   Eigen::VectorXd f = Eigen::VectorXd::Zero(3 * model.num_particles);
@@ -36,8 +34,7 @@ TEST(ExternalForceTest, GravityAndPointLoad) {
 }
 
 TEST(ExternalForceTest, RejectsBadChains) {
-  const FabricModel model =
-      BuildFabricModel(MaterialFromKes(testing::CompositeDenim()), {0.1, 0.1, 3, 3});
+  const FabricModel model = BuildFabricModel(MaterialFromKes(testing::CompositeDenim()), {0.1, 0.1, 3, 3});
   FabricState s = MakeRestState(model);
   EXPECT_THROW(AddEdgeLoad(model, {}, Eigen::Vector3d::Zero(), &s), std::invalid_argument);
   EXPECT_THROW(AddEdgeLoad(model, {0, 99}, Eigen::Vector3d::Zero(), &s), std::invalid_argument);

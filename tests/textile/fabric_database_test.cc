@@ -14,8 +14,7 @@ namespace {
 TEST(FabricDatabaseTest, EveryFabricConvertsAndCitesASource) {
   int count = 0;
   double lightest = 1e9, heaviest = 0.0, softest_b = 1e9, stiffest_b = 0.0;
-  for (const auto& entry :
-       std::filesystem::directory_iterator(testing::SourceDir() + "/data/fabrics")) {
+  for (const auto& entry : std::filesystem::directory_iterator(testing::SourceDir() + "/data/fabrics")) {
     if (entry.path().extension() != ".textproto") continue;
     const std::string stem = entry.path().stem().string();
     const kes::Fabric f = testing::LoadDatabaseFabric(stem);

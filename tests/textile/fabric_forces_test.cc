@@ -64,8 +64,7 @@ double MaxAbs(const std::vector<Eigen::Matrix3d>& blocks) {
 // The fused one-pass assembly against the sum of the reference per-force functions, in tension,
 // compression (a crumpled, moving state) and with the constant blocks cached.
 TEST(FabricForcesTest, FusedAssemblyEqualsSumOfForces) {
-  const FabricModel model =
-      BuildFabricModel(MaterialFromKes(testing::CompositeDenim()), {0.05, 0.04, 6, 5});
+  const FabricModel model = BuildFabricModel(MaterialFromKes(testing::CompositeDenim()), {0.05, 0.04, 6, 5});
   for (const double stretch : {1.02, 0.97}) {
     FabricState s = MakeRestState(model);
     for (int p = 0; p < model.num_particles; ++p) {
@@ -113,13 +112,10 @@ void ExpectFusedEqualsReference(const FabricModel& model, const FabricState& s, 
   ForceSink fs = SinkFor(&fused, s);
   AccumulateForces(model, s, &fs);
   EXPECT_LE((fused.f - ref.f).cwiseAbs().maxCoeff(), 1e-12 * ref.f.cwiseAbs().maxCoeff()) << what;
-  EXPECT_LE((fused.dfdx_v - ref.dfdx_v).cwiseAbs().maxCoeff(),
-            1e-12 * ref.dfdx_v.cwiseAbs().maxCoeff())
-      << what;
+  EXPECT_LE((fused.dfdx_v - ref.dfdx_v).cwiseAbs().maxCoeff(), 1e-12 * ref.dfdx_v.cwiseAbs().maxCoeff()) << what;
   const double a_tol = 1e-12 * MaxAbs(ref.system);
   for (std::size_t k = 0; k < ref.system.size(); ++k) {
-    EXPECT_LE((fused.system[k] - ref.system[k]).cwiseAbs().maxCoeff(), a_tol)
-        << what << ", block " << k;
+    EXPECT_LE((fused.system[k] - ref.system[k]).cwiseAbs().maxCoeff(), a_tol) << what << ", block " << k;
   }
   Eigen::VectorXd f_only = Eigen::VectorXd::Zero(3 * model.num_particles);
   ForceSink os;
@@ -135,8 +131,7 @@ TEST(FabricForcesTest, FusedAssemblyHandlesTailCollapsedElementsAndNoDrag) {
   for (const double drag_coefficient : {1.5, 0.0}) {
     ModelOptions options;
     options.drag.quadratic_coefficient = drag_coefficient;
-    const FabricModel model = BuildFabricModel(MaterialFromKes(testing::CompositeDenim()),
-                                               {0.03, 0.03, 4, 4}, options);
+    const FabricModel model = BuildFabricModel(MaterialFromKes(testing::CompositeDenim()), {0.03, 0.03, 4, 4}, options);
     ASSERT_NE(model.triangles.size() % 4, 0u);
     FabricState s = MakeRestState(model);
     for (int p = 0; p < model.num_particles; ++p) {
@@ -148,8 +143,7 @@ TEST(FabricForcesTest, FusedAssemblyHandlesTailCollapsedElementsAndNoDrag) {
     // Collapse the first quad (corners 0, 1, nu, nu + 1) onto particle 0.
     const int nu = model.mesh.particles_warp();
     for (const int p : {1, nu, nu + 1}) s.x(p) = s.x(0);
-    ExpectFusedEqualsReference(model, s, drag_coefficient > 0.0 ? "collapsed, drag"
-                                                                : "collapsed, no drag");
+    ExpectFusedEqualsReference(model, s, drag_coefficient > 0.0 ? "collapsed, drag" : "collapsed, no drag");
   }
 }
 
@@ -173,8 +167,7 @@ TEST(FabricForcesTest, Avx2AndPortableKernelsGiveTheSameBits) {
   for (const double drag_coefficient : {1.5, 0.0}) {
     ModelOptions options;
     options.drag.quadratic_coefficient = drag_coefficient;
-    const FabricModel model = BuildFabricModel(MaterialFromKes(testing::CompositeDenim()),
-                                               {0.03, 0.03, 6, 6}, options);
+    const FabricModel model = BuildFabricModel(MaterialFromKes(testing::CompositeDenim()), {0.03, 0.03, 6, 6}, options);
     ASSERT_NE(model.triangles.size() % 4, 0u);
     for (const double stretch : {1.02, 0.97}) {
       FabricState s = MakeRestState(model);

@@ -10,8 +10,7 @@ namespace {
 
 class FabricStateTest : public ::testing::Test {
  protected:
-  FabricModel model_ =
-      BuildFabricModel(MaterialFromKes(testing::CompositeDenim()), {0.2, 0.1, 5, 3});
+  FabricModel model_ = BuildFabricModel(MaterialFromKes(testing::CompositeDenim()), {0.2, 0.1, 5, 3});
 };
 
 TEST_F(FabricStateTest, RestStateFollowsPlacement) {

@@ -14,8 +14,7 @@ namespace {
 
 class FabricStepperTest : public ::testing::Test {
  protected:
-  FabricModel model_ =
-      BuildFabricModel(MaterialFromKes(testing::CompositeDenim()), {0.1, 0.1, 6, 6});
+  FabricModel model_ = BuildFabricModel(MaterialFromKes(testing::CompositeDenim()), {0.1, 0.1, 6, 6});
 };
 
 TEST_F(FabricStepperTest, InvalidOptionsThrowAtConfiguration) {

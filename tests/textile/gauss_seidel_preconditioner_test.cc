@@ -5,8 +5,8 @@
 #include <cstring>
 #include <random>
 
-#include <Eigen/LU>
 #include <gtest/gtest.h>
+#include <Eigen/LU>
 
 #include "libs/base/cpu_features.h"
 #include "libs/textile/fabric_forces.h"
@@ -34,8 +34,8 @@ bool SameRowBits(const PaddedVector& a, const PaddedVector& b) {
 }
 
 FabricModel DenimModel(int n, double size_m) {
-  return BuildFabricModel(
-      MaterialFromKes(testing::LoadDatabaseFabric("wang2011_black_denim_11oz")), {size_m, size_m, n, n});
+  return BuildFabricModel(MaterialFromKes(testing::LoadDatabaseFabric("wang2011_black_denim_11oz")),
+                          {size_m, size_m, n, n});
 }
 
 // A 2 x 2 cm patch at 1 mm spacing with its border fixed, as under the fingers.
@@ -119,8 +119,8 @@ TEST(GaussSeidelPreconditionerTest, SweepsAndSplitProductMatchTheDenseFactors) {
   for (double omega : {1.0, 1.4}) {
     GaussSeidelPreconditioner gs(model.product_rows);
     if (omega == 1.0) gs.UsePortableKernel();  // the other kernel at the other omega
-    ASSERT_TRUE(gs.Update(a.blocks, omega,
-                          [&](int r) { return s.mode[static_cast<std::size_t>(r)] == ParticleMode::kFree; }));
+    ASSERT_TRUE(
+        gs.Update(a.blocks, omega, [&](int r) { return s.mode[static_cast<std::size_t>(r)] == ParticleMode::kFree; }));
     // D_w + L and D_w + U over the free rows; identity elsewhere keeps them invertible.
     const Eigen::Index n3 = dense.rows();
     Eigen::MatrixXd lower = Eigen::MatrixXd::Zero(n3, n3), upper = lower, diag_w = lower;
@@ -393,8 +393,8 @@ TEST(GaussSeidelPreconditionerTest, RowBlocksInvertAndPremultiplyExactly) {
     Eigen::Matrix3d singular;
     singular << 2.0, 1.0, 0.0, 1.0, 3.0, 1.0, 3.0, 4.0, 1.0;  // row 2 = row 0 + row 1: det exactly 0
     EXPECT_FALSE(internal::SetRowBlocks(singular, omega, nullptr, nullptr, avx2, &d, &d_inv, &lower, &upper));
-    EXPECT_FALSE(internal::SetRowBlocks(Eigen::Matrix3d::Zero(), omega, nullptr, nullptr, avx2, &d, &d_inv,
-                                        &lower, &upper));
+    EXPECT_FALSE(
+        internal::SetRowBlocks(Eigen::Matrix3d::Zero(), omega, nullptr, nullptr, avx2, &d, &d_inv, &lower, &upper));
     Eigen::Matrix3d nan = a;
     nan(1, 2) = std::numeric_limits<double>::quiet_NaN();
     EXPECT_FALSE(internal::SetRowBlocks(nan, omega, nullptr, nullptr, avx2, &d, &d_inv, &lower, &upper));
@@ -648,4 +648,3 @@ TEST(GaussSeidelPreconditionerTest, WarmedUpStepDoesNotAllocate) {
 
 }  // namespace
 }  // namespace haptex::textile
-

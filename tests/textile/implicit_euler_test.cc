@@ -32,8 +32,7 @@ TEST_F(ImplicitEulerTest, FreeFallIsExactInVelocity) {
   ModelOptions o;
   o.drag.linear_N_s_per_m3 = 0.0;
   o.drag.quadratic_coefficient = 0.0;
-  const FabricModel model =
-      BuildFabricModel(MaterialFromKes(testing::CompositeDenim()), {0.1, 0.1, 5, 5}, o);
+  const FabricModel model = BuildFabricModel(MaterialFromKes(testing::CompositeDenim()), {0.1, 0.1, 5, 5}, o);
   FabricState s = MakeRestState(model);
   StepOptions opt;
   opt.dt_s = 0.01;

@@ -14,8 +14,7 @@ namespace haptex::textile {
 namespace {
 
 FabricModel DenimModel(int n) {
-  return BuildFabricModel(
-      MaterialFromKes(testing::LoadDatabaseFabric("wang2011_black_denim_11oz")), {0.2, 0.2, n, n});
+  return BuildFabricModel(MaterialFromKes(testing::LoadDatabaseFabric("wang2011_black_denim_11oz")), {0.2, 0.2, n, n});
 }
 
 FabricState Hanging(const FabricModel& model) {
@@ -29,8 +28,7 @@ FabricState Hanging(const FabricModel& model) {
 
 // Blocks of A = M - h df/dv - h^2 df/dx at the state, h = 10 ms.
 std::vector<Eigen::Matrix3d> SystemBlocks(const FabricModel& model, const FabricState& s) {
-  std::vector<Eigen::Matrix3d> blocks(static_cast<std::size_t>(model.pattern.num_blocks()),
-                                      Eigen::Matrix3d::Zero());
+  std::vector<Eigen::Matrix3d> blocks(static_cast<std::size_t>(model.pattern.num_blocks()), Eigen::Matrix3d::Zero());
   Eigen::VectorXd f = Eigen::VectorXd::Zero(3 * model.num_particles), fv = f;
   ForceSink sink;
   sink.force_N = &f;

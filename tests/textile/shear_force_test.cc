@@ -10,17 +10,14 @@ namespace haptex::textile {
 namespace {
 
 TEST(ShearForceTest, JacobianMatchesFiniteDifferencesNearZeroShear) {
-  const FabricModel model =
-      BuildFabricModel(MaterialFromKes(testing::CompositeDenim()), {0.03, 0.02, 4, 3});
+  const FabricModel model = BuildFabricModel(MaterialFromKes(testing::CompositeDenim()), {0.03, 0.02, 4, 3});
   FabricState s = MakeRestState(model);
   testing::Perturb(&s, 1e-6, 0.01, 11);
   Eigen::VectorXd f;
   Eigen::MatrixXd jx, jv;
   testing::DenseForceAndJacobians(model, AddShearForces, s.x_W_m, s.v_W_m_per_s, &f, &jx, &jv);
-  const auto fdx = testing::FiniteDifferenceJacobian(model, AddShearForces, s.x_W_m,
-                                                     s.v_W_m_per_s, false, 1e-8);
-  const auto fdv = testing::FiniteDifferenceJacobian(model, AddShearForces, s.x_W_m,
-                                                     s.v_W_m_per_s, true, 1e-6);
+  const auto fdx = testing::FiniteDifferenceJacobian(model, AddShearForces, s.x_W_m, s.v_W_m_per_s, false, 1e-8);
+  const auto fdv = testing::FiniteDifferenceJacobian(model, AddShearForces, s.x_W_m, s.v_W_m_per_s, true, 1e-6);
   // The dropped tau-term vanishes with the shear: small deformation, small mismatch.
   testing::ExpectJacobianNear(jx, fdx, 2e-2, "df/dx");
   testing::ExpectJacobianNear(jv, fdv, 1e-6, "df/dv");

@@ -37,26 +37,31 @@ FabricMaterial MaterialFor(FabricCase c) {
     case FabricCase::kStiffest:
       return MaterialFromKes(testing::LoadDatabaseFabric("wang2011_royal_target"));
     case FabricCase::kTenTimesStiffest:
-      return testing::ScaleStiffness(
-          MaterialFromKes(testing::LoadDatabaseFabric("wang2011_royal_target")), 10.0);
+      return testing::ScaleStiffness(MaterialFromKes(testing::LoadDatabaseFabric("wang2011_royal_target")), 10.0);
   }
   return {};
 }
 
 const char* Name(FabricCase c) {
   switch (c) {
-    case FabricCase::kLightest: return "lightest";
-    case FabricCase::kStiffest: return "stiffest";
-    case FabricCase::kTenTimesStiffest: return "stiffest_x10";
+    case FabricCase::kLightest:
+      return "lightest";
+    case FabricCase::kStiffest:
+      return "stiffest";
+    case FabricCase::kTenTimesStiffest:
+      return "stiffest_x10";
   }
   return "";
 }
 
 const char* Name(Scenario s) {
   switch (s) {
-    case Scenario::kLoadRelease: return "load_release";
-    case Scenario::kTeleport: return "teleport";
-    case Scenario::kCrumpled: return "crumpled";
+    case Scenario::kLoadRelease:
+      return "load_release";
+    case Scenario::kTeleport:
+      return "teleport";
+    case Scenario::kCrumpled:
+      return "crumpled";
   }
   return "";
 }
@@ -78,9 +83,7 @@ TEST_P(StabilityMatrixTest, SurvivesAndCalmsDown) {
   opt.dt_s = dt;
   opt.max_speed_m_per_s = kSpeedBound_m_per_s;
   FabricStepper stepper(model, opt);
-  auto steps_for = [&](double seconds) {
-    return std::max(10, static_cast<int>(std::lround(seconds / dt)));
-  };
+  auto steps_for = [&](double seconds) { return std::max(10, static_cast<int>(std::lround(seconds / dt))); };
   double max_speed = 0.0;
   auto run = [&](int steps, double* ke_peak, double* ke_end) {
     *ke_peak = 0.0;
@@ -117,11 +120,11 @@ TEST_P(StabilityMatrixTest, SurvivesAndCalmsDown) {
   }
   // The disturbance is over: energy must decay.
   run(steps_for(0.4), &peak, &end);
-  std::printf("[table] %s dt=%.1f ms %s: max speed %.3f m/s, KE peak %.3g J, KE end %.3g J, "
-              "speed-cap steps %lld, cg max-iter hits %lld\n",
-              Name(fabric), 1e3 * dt, Name(scenario), max_speed, peak, end,
-              static_cast<long long>(s.diagnostics.speed_capped),
-              static_cast<long long>(s.diagnostics.cg_not_converged));
+  std::printf(
+      "[table] %s dt=%.1f ms %s: max speed %.3f m/s, KE peak %.3g J, KE end %.3g J, "
+      "speed-cap steps %lld, cg max-iter hits %lld\n",
+      Name(fabric), 1e3 * dt, Name(scenario), max_speed, peak, end, static_cast<long long>(s.diagnostics.speed_capped),
+      static_cast<long long>(s.diagnostics.cg_not_converged));
   EXPECT_TRUE(s.x_W_m.allFinite());
   EXPECT_EQ(s.diagnostics.nan_events, 0);
   EXPECT_LE(max_speed, kSpeedBound_m_per_s + 1e-9);
@@ -133,15 +136,13 @@ TEST_P(StabilityMatrixTest, SurvivesAndCalmsDown) {
 
 INSTANTIATE_TEST_SUITE_P(
     Matrix, StabilityMatrixTest,
-    ::testing::Combine(::testing::Values(FabricCase::kLightest, FabricCase::kStiffest,
-                                         FabricCase::kTenTimesStiffest),
+    ::testing::Combine(::testing::Values(FabricCase::kLightest, FabricCase::kStiffest, FabricCase::kTenTimesStiffest),
                        ::testing::Values(0.0001, 0.001, 0.01, 0.033),
-                       ::testing::Values(Scenario::kLoadRelease, Scenario::kTeleport,
-                                         Scenario::kCrumpled)),
+                       ::testing::Values(Scenario::kLoadRelease, Scenario::kTeleport, Scenario::kCrumpled)),
     [](const ::testing::TestParamInfo<Param>& param_info) {
       return std::string(Name(std::get<0>(param_info.param))) + "_dt" +
-             std::to_string(static_cast<int>(std::lround(std::get<1>(param_info.param) * 1e4))) +
-             "x100us_" + Name(std::get<2>(param_info.param));
+             std::to_string(static_cast<int>(std::lround(std::get<1>(param_info.param) * 1e4))) + "x100us_" +
+             Name(std::get<2>(param_info.param));
     });
 
 }  // namespace

@@ -24,8 +24,7 @@ TEST(StrainCurveTest, OddCurveIsAntisymmetric) {
 }
 
 TEST(StrainCurveTest, RejectsNegativeCompression) {
-  EXPECT_THROW(StrainCurve::Tensile(MonotoneSpline({0.0, 1.0}, {0.0, 1.0}), -1.0),
-               std::invalid_argument);
+  EXPECT_THROW(StrainCurve::Tensile(MonotoneSpline({0.0, 1.0}, {0.0, 1.0}), -1.0), std::invalid_argument);
 }
 
 }  // namespace

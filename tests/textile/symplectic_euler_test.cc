@@ -3,9 +3,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include <Eigen/Eigenvalues>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <Eigen/Eigenvalues>
 
 #include "libs/textile/fabric_forces.h"
 #include "libs/textile/fabric_stepper.h"
@@ -78,21 +78,19 @@ TEST(SymplecticEulerTest, AgreesWithImplicitEulerAtSmallSteps) {
 // True explicit stability limit 2 / sqrt(lambda_max(M^-1 K)) at `s`, K = -df/dx by central
 // differences of every force (undamped model, so the limit is exactly that).
 double TrueStableStep(const FabricModel& model, const FabricState& s) {
-  const testing::ForceFn fn = [&s](const FabricModel& m, const Eigen::VectorXd& x,
-                                   const Eigen::VectorXd& v, ForceSink* sink) {
+  const testing::ForceFn fn = [&s](const FabricModel& m, const Eigen::VectorXd& x, const Eigen::VectorXd& v,
+                                   ForceSink* sink) {
     FabricState t = s;
     t.x_W_m = x;
     t.v_W_m_per_s = v;
     AccumulateForces(m, t, sink);
   };
-  const Eigen::MatrixXd k =
-      -testing::FiniteDifferenceJacobian(model, fn, s.x_W_m, s.v_W_m_per_s, false, 1e-7);
+  const Eigen::MatrixXd k = -testing::FiniteDifferenceJacobian(model, fn, s.x_W_m, s.v_W_m_per_s, false, 1e-7);
   Eigen::VectorXd m_inv_sqrt(3 * model.num_particles);
   for (int p = 0; p < model.num_particles; ++p) {
     m_inv_sqrt.segment<3>(3 * p).setConstant(1.0 / std::sqrt(model.mass_kg[p]));
   }
-  const Eigen::MatrixXd a =
-      m_inv_sqrt.asDiagonal() * (0.5 * (k + k.transpose())) * m_inv_sqrt.asDiagonal();
+  const Eigen::MatrixXd a = m_inv_sqrt.asDiagonal() * (0.5 * (k + k.transpose())) * m_inv_sqrt.asDiagonal();
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(a, Eigen::EigenvaluesOnly);
   return 2.0 / std::sqrt(es.eigenvalues().maxCoeff());
 }
@@ -107,8 +105,7 @@ TEST(SymplecticEulerTest, StabilityEstimateAccountsForTension) {
   undamped.drag.linear_N_s_per_m3 = 0.0;
   undamped.drag.quadratic_coefficient = 0.0;
   const FabricModel model = BuildFabricModel(
-      MaterialFromKes(testing::LoadDatabaseFabric("wang2011_navy_sparkle_sweat")),
-      {0.2, 0.2, 7, 7}, undamped);
+      MaterialFromKes(testing::LoadDatabaseFabric("wang2011_navy_sparkle_sweat")), {0.2, 0.2, 7, 7}, undamped);
   Eigen::VectorXd row;
   for (const double stretch : {1.0, 3.5}) {
     FabricState s = MakeRestState(model);
@@ -118,9 +115,10 @@ TEST(SymplecticEulerTest, StabilityEstimateAccountsForTension) {
     }
     const double truth = TrueStableStep(model, s);
     const double at_state = EstimateExplicitStableStep(model, s, &row);
-    std::printf("[table] stretch %.1f: true limit %.3g s, configuration estimate %.3g s, "
-                "estimate at the state %.3g s\n", stretch, truth, EstimateExplicitStableStep(model),
-                at_state);
+    std::printf(
+        "[table] stretch %.1f: true limit %.3g s, configuration estimate %.3g s, "
+        "estimate at the state %.3g s\n",
+        stretch, truth, EstimateExplicitStableStep(model), at_state);
     EXPECT_LE(at_state, truth) << "stretch " << stretch;
     EXPECT_LE(std::min(at_state, EstimateExplicitStableStep(model)), truth);
     if (stretch > 1.0) {

@@ -10,8 +10,7 @@ namespace haptex::textile {
 namespace {
 
 TEST(TensileForceTest, ZeroAtRestAndJacobianMatchesFiniteDifferencesUnderTension) {
-  const FabricModel model =
-      BuildFabricModel(MaterialFromKes(testing::CompositeDenim()), {0.03, 0.02, 4, 3});
+  const FabricModel model = BuildFabricModel(MaterialFromKes(testing::CompositeDenim()), {0.03, 0.02, 4, 3});
   FabricState s = MakeRestState(model);
   Eigen::VectorXd f;
   Eigen::MatrixXd jx, jv;
@@ -25,13 +24,11 @@ TEST(TensileForceTest, ZeroAtRestAndJacobianMatchesFiniteDifferencesUnderTension
   // Position Jacobian at zero velocity (damping's position derivative is dropped by design).
   testing::Perturb(&s, 1e-5, 0.0, 7);
   testing::DenseForceAndJacobians(model, AddTensileForces, s.x_W_m, s.v_W_m_per_s, &f, &jx, &jv);
-  const auto fdx = testing::FiniteDifferenceJacobian(model, AddTensileForces, s.x_W_m,
-                                                     s.v_W_m_per_s, false, 1e-8);
+  const auto fdx = testing::FiniteDifferenceJacobian(model, AddTensileForces, s.x_W_m, s.v_W_m_per_s, false, 1e-8);
   testing::ExpectJacobianNear(jx, fdx, 1e-4, "df/dx");
   testing::Perturb(&s, 0.0, 0.01, 8);
   testing::DenseForceAndJacobians(model, AddTensileForces, s.x_W_m, s.v_W_m_per_s, &f, &jx, &jv);
-  const auto fdv = testing::FiniteDifferenceJacobian(model, AddTensileForces, s.x_W_m,
-                                                     s.v_W_m_per_s, true, 1e-6);
+  const auto fdv = testing::FiniteDifferenceJacobian(model, AddTensileForces, s.x_W_m, s.v_W_m_per_s, true, 1e-6);
   testing::ExpectJacobianNear(jv, fdv, 1e-6, "df/dv");
   // Symmetric, as CG needs.
   EXPECT_LT((jx - jx.transpose()).cwiseAbs().maxCoeff(), 1e-9 * jx.cwiseAbs().maxCoeff());

@@ -36,9 +36,8 @@ void DenseForceAndJacobians(const FabricModel& model, const ForceFn& fn, const E
   *dfdv = run(0.0, 1.0);
 }
 
-Eigen::MatrixXd FiniteDifferenceJacobian(const FabricModel& model, const ForceFn& fn,
-                                         const Eigen::VectorXd& x, const Eigen::VectorXd& v,
-                                         bool wrt_v, double step) {
+Eigen::MatrixXd FiniteDifferenceJacobian(const FabricModel& model, const ForceFn& fn, const Eigen::VectorXd& x,
+                                         const Eigen::VectorXd& v, bool wrt_v, double step) {
   const int n3 = 3 * model.num_particles;
   Eigen::MatrixXd jac(n3, n3);
   auto force = [&](const Eigen::VectorXd& xx, const Eigen::VectorXd& vv) {

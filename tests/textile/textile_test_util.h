@@ -23,16 +23,13 @@ using validation::ScaleStiffness;
 using validation::WarpRow;
 
 /// Element force function under test: adds forces (and Jacobians if the sink wants them).
-using ForceFn = std::function<void(const FabricModel&, const Eigen::VectorXd& x,
-                                   const Eigen::VectorXd& v, ForceSink*)>;
+using ForceFn = std::function<void(const FabricModel&, const Eigen::VectorXd& x, const Eigen::VectorXd& v, ForceSink*)>;
 
 /// Dense force, df/dx and df/dv of `fn` at (x, v).
 void DenseForceAndJacobians(const FabricModel& model, const ForceFn& fn, const Eigen::VectorXd& x,
-                            const Eigen::VectorXd& v, Eigen::VectorXd* f, Eigen::MatrixXd* dfdx,
-                            Eigen::MatrixXd* dfdv);
+                            const Eigen::VectorXd& v, Eigen::VectorXd* f, Eigen::MatrixXd* dfdx, Eigen::MatrixXd* dfdv);
 /// Central finite differences of `fn` with respect to x (wrt_v false) or v (wrt_v true).
-Eigen::MatrixXd FiniteDifferenceJacobian(const FabricModel& model, const ForceFn& fn,
-                                         const Eigen::VectorXd& x, const Eigen::VectorXd& v,
-                                         bool wrt_v, double step);
+Eigen::MatrixXd FiniteDifferenceJacobian(const FabricModel& model, const ForceFn& fn, const Eigen::VectorXd& x,
+                                         const Eigen::VectorXd& v, bool wrt_v, double step);
 
 }  // namespace haptex::textile::testing

@@ -57,8 +57,7 @@ double OverhangAtAngle(const FabricMaterial& material, double guess, int n, doub
 }
 
 TEST(CantileverValidationTest, PeirceOverhangWithinFivePercentAndErrorShrinks) {
-  const FabricMaterial material =
-      MaterialFromKes(testing::LoadDatabaseFabric("wang2011_royal_target"));
+  const FabricMaterial material = MaterialFromKes(testing::LoadDatabaseFabric("wang2011_royal_target"));
   const double w = material.density_kg_per_m2 * 9.81;
   const double c = std::cbrt(material.bending_warp_Nm / w);
   const double peirce = 2.0 * c;
@@ -66,8 +65,8 @@ TEST(CantileverValidationTest, PeirceOverhangWithinFivePercentAndErrorShrinks) {
   for (int n : {5, 10, 20, 40}) {
     const double l = OverhangAtAngle(material, peirce, n, 41.5);
     const double err = std::abs(l - peirce) / peirce;
-    std::printf("[table] Peirce cantilever n=%d cells: overhang %.3f mm, Peirce %.3f mm, error %.3f %%\n",
-                n, 1e3 * l, 1e3 * peirce, 100 * err);
+    std::printf("[table] Peirce cantilever n=%d cells: overhang %.3f mm, Peirce %.3f mm, error %.3f %%\n", n, 1e3 * l,
+                1e3 * peirce, 100 * err);
     errors.push_back(err);
   }
   EXPECT_LE(errors.back(), 0.05);

@@ -37,8 +37,7 @@ Cantilever MakeCantilever(const FabricMaterial& material, double l, int n) {
 double ChordAngleDeg(const Cantilever& c) {
   double angle = 0.0;
   for (int j = 0; j < 3; ++j) {
-    const Eigen::Vector3d d =
-        c.state.x(c.model.mesh.Index(c.n + 1, j)) - c.state.x(c.model.mesh.Index(1, j));
+    const Eigen::Vector3d d = c.state.x(c.model.mesh.Index(c.n + 1, j)) - c.state.x(c.model.mesh.Index(1, j));
     angle += std::atan2(-d.z(), d.x()) * 180.0 / kPi / 3.0;
   }
   return angle;
@@ -63,8 +62,8 @@ TEST_F(ConvergenceTest, StaticErrorFallsWithResolution) {
     FabricStepper stepper(c.model, opt);
     testing::RunToRest(&stepper, &c.state, 20000, 1e-7);
     const double err = std::abs(ChordAngleDeg(c) - 41.49);
-    std::printf("[table] resolution n=%d cells: chord %.3f deg (exact 41.49), error %.3f deg\n", n,
-                ChordAngleDeg(c), err);
+    std::printf("[table] resolution n=%d cells: chord %.3f deg (exact 41.49), error %.3f deg\n", n, ChordAngleDeg(c),
+                err);
     errors.push_back(err);
   }
   for (std::size_t i = 1; i < errors.size(); ++i) EXPECT_LT(errors[i], errors[i - 1]);

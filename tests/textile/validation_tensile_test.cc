@@ -28,8 +28,8 @@ class TensileValidationTest : public ::testing::TestWithParam<Case> {};
 
 TEST_P(TensileValidationTest, ElongationMatchesAnalyticIntegralWithinOnePercent) {
   const Case c = GetParam();
-  const FabricMaterial material = MaterialFromKes(
-      c.composite_denim ? testing::CompositeDenim() : testing::LoadDatabaseFabric(c.name));
+  const FabricMaterial material =
+      MaterialFromKes(c.composite_denim ? testing::CompositeDenim() : testing::LoadDatabaseFabric(c.name));
   const double length = 0.38, width = 0.20, g = 9.81;
   const FabricModel model = BuildFabricModel(material, {length, width, 17, 15});
   ASSERT_EQ(model.triangles.size(), 448u);
@@ -52,11 +52,11 @@ TEST_P(TensileValidationTest, ElongationMatchesAnalyticIntegralWithinOnePercent)
     double z = 0.0;
     for (int p : bottom) z += s.x(p).z();
     const double simulated = -z / static_cast<double>(bottom.size()) - length;
-    const double exact = testing::AnalyticHangingElongation(material.tensile_warp, length, width,
-                                                            material.density_kg_per_m2, load, g);
+    const double exact =
+        testing::AnalyticHangingElongation(material.tensile_warp, length, width, material.density_kg_per_m2, load, g);
     const double rel = std::abs(simulated - exact) / exact;
-    std::printf("[table] %s load %.1f N: simulated %.4f mm, analytic %.4f mm, error %.4f %%\n",
-                c.label, load, 1e3 * simulated, 1e3 * exact, 100 * rel);
+    std::printf("[table] %s load %.1f N: simulated %.4f mm, analytic %.4f mm, error %.4f %%\n", c.label, load,
+                1e3 * simulated, 1e3 * exact, 100 * rel);
     EXPECT_LE(rel, 0.01) << c.label << " at " << load << " N";
     EXPECT_EQ(s.diagnostics.nan_events, 0);
   }
@@ -65,11 +65,8 @@ TEST_P(TensileValidationTest, ElongationMatchesAnalyticIntegralWithinOnePercent)
 INSTANTIATE_TEST_SUITE_P(
     Fabrics, TensileValidationTest,
     ::testing::Values(Case{"stiff_woven_composite_denim", true, ""},
-                      Case{"soft_knit_wang2011_navy_sparkle_sweat", false,
-                           "wang2011_navy_sparkle_sweat"}),
-    [](const ::testing::TestParamInfo<Case>& param_info) {
-      return std::string(param_info.param.label);
-    });
+                      Case{"soft_knit_wang2011_navy_sparkle_sweat", false, "wang2011_navy_sparkle_sweat"}),
+    [](const ::testing::TestParamInfo<Case>& param_info) { return std::string(param_info.param.label); });
 
 }  // namespace
 }  // namespace haptex::textile

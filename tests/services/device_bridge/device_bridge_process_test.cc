@@ -14,15 +14,15 @@
 #include <regex>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
-#include <thread>
 
 #include "launch/force_log_reader.h"
+#include "libs/base/clock.h"
 #include "libs/device/grab_protocol.h"
 #include "libs/net/messenger.h"
 #include "libs/net/udp_address.h"
-#include "libs/base/clock.h"
 #include "tests/support/subprocess.h"
 #include "tests/support/test_paths.h"
 
@@ -71,17 +71,16 @@ class DeviceBridgeProcessTest : public ::testing::Test {
     }
     mock_ = std::make_unique<testing::Subprocess>(
         std::vector<std::string>{Bin("mock_grab/haptex-mock-grab"), "--script", script, "--bridge",
-                                 "127.0.0.1:" + std::to_string(bridge_port), "--force-log", log_,
-                                 "--session-id", std::to_string(kSession)},
+                                 "127.0.0.1:" + std::to_string(bridge_port), "--force-log", log_, "--session-id",
+                                 std::to_string(kSession)},
         Env());
     const std::string mock_port = WaitForLine(*mock_, "listening on 127\\.0\\.0\\.1:([0-9]+)");
     bridge_ = std::make_unique<testing::Subprocess>(
         std::vector<std::string>{Bin("device_bridge/haptex-device-bridge"), "--controller-bind",
-                                 "127.0.0.1:" + std::to_string(bridge_port), "--controller",
-                                 "127.0.0.1:" + mock_port, "--session-id", std::to_string(kSession),
-                                 "--peer", "local_contact=" + net::FormatUdpAddress(contact_->local_endpoint()),
-                                 "--peer", "launcher=" + net::FormatUdpAddress(launcher_->local_endpoint()),
-                                 "--health-hz", "20"},
+                                 "127.0.0.1:" + std::to_string(bridge_port), "--controller", "127.0.0.1:" + mock_port,
+                                 "--session-id", std::to_string(kSession), "--peer",
+                                 "local_contact=" + net::FormatUdpAddress(contact_->local_endpoint()), "--peer",
+                                 "launcher=" + net::FormatUdpAddress(launcher_->local_endpoint()), "--health-hz", "20"},
         Env());
     WaitForLine(*bridge_, "controller socket on 127\\.0\\.0\\.1:([0-9]+)");
     // the first FingerStates tell us where the bridge listens
@@ -280,8 +279,8 @@ TEST_F(DeviceBridgeProcessTest, WatchdogZeroesTheForceWithin20msOfTheLastModel) 
     if (r.time_ns < last_model_ns && r.CommandedNormN(0) > 2.9) nonzero_before = true;
     if (r.time_ns > last_model_ns && first_zero_ns < 0 && r.CommandedNormN(0) == 0.0) first_zero_ns = r.time_ns;
     if (r.time_ns > last_model_ns + 20'000'000 + margin_ns) {
-      ASSERT_EQ(r.CommandedNormN(0), 0.0) << "force still " << r.CommandedNormN(0) << " N at "
-                                        << (r.time_ns - last_model_ns) * 1e-6 << " ms";
+      ASSERT_EQ(r.CommandedNormN(0), 0.0)
+          << "force still " << r.CommandedNormN(0) << " N at " << (r.time_ns - last_model_ns) * 1e-6 << " ms";
     }
   }
   EXPECT_TRUE(nonzero_before) << "the 3 N force never reached the finger: the test would prove nothing";
@@ -333,11 +332,11 @@ TEST_F(DeviceBridgeProcessTest, ClampsAndSlewHoldWhenAModelAsksFor100N) {
     EXPECT_NEAR(r.commanded_D_N[0][1], 0.0, 1e-6);
   }
   EXPECT_LE(peak, 20.0 + 1e-3);
-  EXPECT_GE(peak, 5.9);  // it did push, up to the limits
+  EXPECT_GE(peak, 5.9);                                   // it did push, up to the limits
   EXPECT_NEAR(rows.back().CommandedNormN(0), 0.0, 1e-9);  // the NaN models ended as zero force
   EXPECT_LE(worst_slew_ratio, 1.0 + 1e-3);
-  std::cout << "[measured] peak " << peak << " N, largest change between commands " << max_step
-            << " N; cuts to zero " << cuts << ", of them controller host timeouts " << timeouts << "\n";
+  std::cout << "[measured] peak " << peak << " N, largest change between commands " << max_step << " N; cuts to zero "
+            << cuts << ", of them controller host timeouts " << timeouts << "\n";
 }
 
 TEST_F(DeviceBridgeProcessTest, SilentControllerIsReportedAsDeviceLost) {

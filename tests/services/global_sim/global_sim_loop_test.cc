@@ -32,7 +32,8 @@ fingers { finger: FINGER_THUMB }
 fingers { finger: FINGER_INDEX }
 device { mock {} }
 rates { cloth_frame_hz: 25 }
-)", "loop", db);
+)",
+                           "loop", db);
 }
 
 v1::FingerStates ThumbAt(const V& p_W_m, bool device_ok = true) {
@@ -47,7 +48,8 @@ v1::FingerStates ThumbAt(const V& p_W_m, bool device_ok = true) {
 
 class GlobalSimLoopTest : public ::testing::Test {
  protected:
-  GlobalSimLoopTest() : scene_(TestScene()), health_("global_sim"), loop_(scene_, 1.0 / kDt, {kLocal, kViewer}, &health_) {}
+  GlobalSimLoopTest()
+      : scene_(TestScene()), health_("global_sim"), loop_(scene_, 1.0 / kDt, {kLocal, kViewer}, &health_) {}
 
   void Step(services::Outbox& out) {
     loop_.Update(step_ * kDt, kDt);
@@ -157,7 +159,8 @@ TEST_F(GlobalSimLoopTest, WarmedUpStepDoesNotAllocate) {
     }
   }
   std::vector<v1::Envelope> results;
-  for (int s = 0; s < 21; ++s) results.push_back(haptex::testing::WrapEnvelope(result, 2 + static_cast<std::uint64_t>(s)));
+  for (int s = 0; s < 21; ++s)
+    results.push_back(haptex::testing::WrapEnvelope(result, 2 + static_cast<std::uint64_t>(s)));
   loop_.Read(results.back(), 0.0);
   Step(out);
   haptex::testing::AllocationCounter counter;

@@ -26,8 +26,8 @@
 #include <Eigen/Core>
 
 #include "launch/recording.h"
-#include "libs/scene/scene_loader.h"
 #include "libs/scene/scene_contact.h"
+#include "libs/scene/scene_loader.h"
 #include "tests/support/subprocess.h"
 #include "tests/support/test_paths.h"
 
@@ -90,8 +90,8 @@ recording { enabled: true }
   const double reach_m = options.index.radius_m + options.fabric_half_thickness_m;
 
   const std::string run = dir + "/run";
-  haptex::testing::Subprocess launcher({haptex::testing::BuildDir() + "/cli/haptex", "launch", scene_path,
-                                        "--duration", "5", "--out", run});
+  haptex::testing::Subprocess launcher(
+      {haptex::testing::BuildDir() + "/cli/haptex", "launch", scene_path, "--duration", "5", "--out", run});
   const std::optional<int> code = launcher.WaitFor(std::chrono::seconds(120));
   ASSERT_TRUE(code.has_value()) << "launcher still running\n" << launcher.Stdout();
   ASSERT_EQ(*code, 0) << launcher.Stdout() << launcher.Stderr();
@@ -127,16 +127,18 @@ recording { enabled: true }
         force_tick = tick;
         gap_at_force_m = gap_m;
       }
-      if (state_tick < 0 && f.contact_state() != v1::CONTACT_STATE_I && f.contact_state() != v1::CONTACT_STATE_UNSPECIFIED) {
+      if (state_tick < 0 && f.contact_state() != v1::CONTACT_STATE_I &&
+          f.contact_state() != v1::CONTACT_STATE_UNSPECIFIED) {
         state_tick = tick;
       }
       if (geometric_tick < 0) gap_before_m = gap_m;
     }
     if (geometric_tick >= 0 && force_tick >= 0 && state_tick >= 0) break;
   }
-  std::printf("[onset] geometric contact at local tick %d (gap the tick before %.1f um); the finger's force "
-              "begins at tick %d (gap %.1f um); the contact state leaves I at tick %d (its label needs 0.01 N)\n",
-              geometric_tick, 1e6 * gap_before_m, force_tick, 1e6 * gap_at_force_m, state_tick);
+  std::printf(
+      "[onset] geometric contact at local tick %d (gap the tick before %.1f um); the finger's force "
+      "begins at tick %d (gap %.1f um); the contact state leaves I at tick %d (its label needs 0.01 N)\n",
+      geometric_tick, 1e6 * gap_before_m, force_tick, 1e6 * gap_at_force_m, state_tick);
   ASSERT_GE(geometric_tick, 0) << "the finger never reached the fabric";
   ASSERT_GE(force_tick, 0) << "local_contact never sent a contact force";
   EXPECT_LE(std::abs(force_tick - geometric_tick), 1);

@@ -9,9 +9,9 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <optional>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <regex>
 #include <string>
 
@@ -72,8 +72,8 @@ TEST(DualLayerProcessTest, PinchAndStretchIsFeltAndEndsAtZeroForce) {
   EXPECT_GT(peak_index, 0.5);
   EXPECT_EQ(last_thumb, 0.0);
   EXPECT_EQ(last_index, 0.0);
-  std::printf("[dual-process] peak commanded force thumb %.2f N index %.2f N over %d controller ticks\n",
-              peak_thumb, peak_index, rows);
+  std::printf("[dual-process] peak commanded force thumb %.2f N index %.2f N over %d controller ticks\n", peak_thumb,
+              peak_index, rows);
 }
 
 }  // namespace

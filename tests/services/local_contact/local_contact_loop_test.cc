@@ -33,7 +33,8 @@ cloth { width_m: 0.1 height_m: 0.1 particles_u: 21 particles_v: 21 }
 fingers { finger: FINGER_THUMB }
 fingers { finger: FINGER_INDEX }
 device { mock {} }
-)", "loop", db);
+)",
+                           "loop", db);
 }
 
 // The thumb `depth_m` into the cloth's centre, pad facing the cloth; the index finger far away.
@@ -83,8 +84,9 @@ class LocalContactLoopTest : public ::testing::Test {
 
   // One tick at time k ms with the thumb `depth_m` in.
   void Tick(int k, double depth_m, services::Outbox& out) {
-    loop_.Read(haptex::testing::WrapEnvelope(Thumb(depth_m, static_cast<std::uint64_t>(k)), static_cast<std::uint64_t>(k)),
-               k * 0.001);
+    loop_.Read(
+        haptex::testing::WrapEnvelope(Thumb(depth_m, static_cast<std::uint64_t>(k)), static_cast<std::uint64_t>(k)),
+        k * 0.001);
     loop_.Update(k * 0.001, 0.001);
     loop_.Write(out);
   }
@@ -208,7 +210,8 @@ TEST_F(LocalContactLoopTest, WarmedUpTickDoesNotAllocate) {
   for (int k = 1; k <= 200; ++k) Tick(k, 0.002, out);  // warm-up: the patch swapped in, the pinch of contact formed
   // the envelopes are made before counting: a received envelope lives on the messenger's arena
   std::vector<v1::Envelope> states;
-  for (int k = 201; k <= 300; ++k) states.push_back(haptex::testing::WrapEnvelope(Thumb(0.002, k), static_cast<std::uint64_t>(k)));
+  for (int k = 201; k <= 300; ++k)
+    states.push_back(haptex::testing::WrapEnvelope(Thumb(0.002, k), static_cast<std::uint64_t>(k)));
   haptex::testing::AllocationCounter counter;
   for (int k = 201; k <= 300; ++k) {
     loop_.Read(states[static_cast<std::size_t>(k - 201)], k * 0.001);

@@ -44,7 +44,8 @@ TEST(MockGrabLoopTest, CommandsMoveTheFingersAndTheForceLogRecordsThem) {
       loop.Update(t, kDt);
       loop.Write(out);
       device::StatusFrame status;
-      ASSERT_EQ(device::DecodeStatusFrame(loop.status(), device::GrabValueLimits{}, &status), device::FrameError::kNone);
+      ASSERT_EQ(device::DecodeStatusFrame(loop.status(), device::GrabValueLimits{}, &status),
+                device::FrameError::kNone);
       EXPECT_EQ(status.echo_host_sequence, static_cast<std::uint32_t>(k + 1));
     }
     EXPECT_EQ(loop.controller().frame_counters().accepted(), 100u);

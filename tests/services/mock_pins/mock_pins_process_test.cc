@@ -33,15 +33,22 @@ class MockPinsProcessTest : public ::testing::Test {
 
   void Start(std::vector<std::string> extra = {}) {
     // ctest runs each case as its own process, in parallel: one file per case
-    csv_ = ::testing::TempDir() + "/mock_pins_" +
-           ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
-           std::to_string(getpid()) + ".csv";
+    csv_ = ::testing::TempDir() + "/mock_pins_" + ::testing::UnitTest::GetInstance()->current_test_info()->name() +
+           "_" + std::to_string(getpid()) + ".csv";
     std::vector<std::string> argv = {haptex::testing::BuildDir() + "/services/mock_pins/haptex-mock-pins",
-                                     "--bind", "127.0.0.1:0", "--session-id", std::to_string(kSession),
-                                     "--peer", "launcher=" + net::FormatUdpAddress(launcher_->local_endpoint()),
-                                     "--health-hz", "20", "--log-csv", csv_};
+                                     "--bind",
+                                     "127.0.0.1:0",
+                                     "--session-id",
+                                     std::to_string(kSession),
+                                     "--peer",
+                                     "launcher=" + net::FormatUdpAddress(launcher_->local_endpoint()),
+                                     "--health-hz",
+                                     "20",
+                                     "--log-csv",
+                                     csv_};
     argv.insert(argv.end(), extra.begin(), extra.end());
-    process_ = std::make_unique<haptex::testing::Subprocess>(argv, std::vector<std::string>{"HAPTEX_SESSION_KEY=" + key_.ToHex()});
+    process_ = std::make_unique<haptex::testing::Subprocess>(
+        argv, std::vector<std::string>{"HAPTEX_SESSION_KEY=" + key_.ToHex()});
     // the first Health tells us where the display listens
     const auto health = NextHealth(5s);
     ASSERT_TRUE(health.has_value()) << process_->Stderr();
@@ -140,7 +147,7 @@ TEST(MockPinsOptionsTest, MissingKeyOrBadPeerIsExitCode2) {
   EXPECT_EQ(no_key.WaitFor(5s), 2);
   EXPECT_NE(no_key.Stderr().find("no session key"), std::string::npos) << no_key.Stderr();
   haptex::testing::Subprocess bad_peer({binary, "--peer", "launcher"},
-                               {"HAPTEX_SESSION_KEY=" + net::SessionKey::Generate().ToHex()});
+                                       {"HAPTEX_SESSION_KEY=" + net::SessionKey::Generate().ToHex()});
   EXPECT_EQ(bad_peer.WaitFor(5s), 2);
   EXPECT_NE(bad_peer.Stderr().find("NAME=HOST:PORT"), std::string::npos) << bad_peer.Stderr();
 }

@@ -9,9 +9,7 @@
 namespace haptex::mock_pins {
 namespace {
 
-TEST(PinFrameCheckTest, AcceptsAValidFrame) {
-  EXPECT_EQ(CheckPinFrame(testing::RampFrame(1)), PinFrameProblem::kNone);
-}
+TEST(PinFrameCheckTest, AcceptsAValidFrame) { EXPECT_EQ(CheckPinFrame(testing::RampFrame(1)), PinFrameProblem::kNone); }
 
 TEST(PinFrameCheckTest, RefusesEachKindOfBadFrame) {
   EXPECT_EQ(CheckPinFrame(v1::PinFrame{}), PinFrameProblem::kNoFingers);
@@ -27,8 +25,7 @@ TEST(PinFrameCheckTest, RefusesEachKindOfBadFrame) {
   auto short_frame = testing::RampFrame(1);
   short_frame.mutable_fingers(0)->mutable_amplitude_320hz()->RemoveLast();
   EXPECT_EQ(CheckPinFrame(short_frame), PinFrameProblem::kWrongPinCount);
-  for (float bad : {-0.1f, 1.5f, std::numeric_limits<float>::quiet_NaN(),
-                    std::numeric_limits<float>::infinity()}) {
+  for (float bad : {-0.1f, 1.5f, std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity()}) {
     auto frame = testing::RampFrame(1);
     frame.mutable_fingers(1)->set_amplitude_320hz(5, bad);
     EXPECT_EQ(CheckPinFrame(frame), PinFrameProblem::kOutOfRange) << bad;

@@ -40,7 +40,7 @@ double MaxAmplitude(const v1::PinFrame& frame) {
 
 // Runs the loop at 500 Hz for `seconds`, feeding `trace` every tick unless it is null.
 double RunAt500Hz(TactileLoop& loop, double* t, double seconds, const v1::TouchTrace* trace, v1::PinFrame* frame,
-           v1::TouchTrace* moving = nullptr) {
+                  v1::TouchTrace* moving = nullptr) {
   double peak = 0;
   for (int k = 0; k < static_cast<int>(seconds * 500); ++k) {
     *t += 0.002;
@@ -69,7 +69,7 @@ TEST(TactileLoopTest, SilentWithoutContactVibratesWhileSlidingSilentWhenTracesSt
   EXPECT_EQ(RunAt500Hz(loop, &t, 0.2, &resting, &frame), 0.0);  // contact, no sliding
   v1::TouchTrace sliding = Sliding(0.04, true);
   EXPECT_GT(RunAt500Hz(loop, &t, 0.3, &sliding, &frame, &sliding), 0.0);  // 40 mm/s over 1 mm threads
-  EXPECT_EQ(RunAt500Hz(loop, &t, 0.3, nullptr, &frame), 0.0);  // traces stopped: stale, silent
+  EXPECT_EQ(RunAt500Hz(loop, &t, 0.3, nullptr, &frame), 0.0);             // traces stopped: stale, silent
   EXPECT_GT(frame.frame_index(), 100u);
 }
 

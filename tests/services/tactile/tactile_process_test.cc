@@ -25,9 +25,9 @@ TEST(TactileProcessTest, RendersSlidingAsVibrationAndNoContactAsSilence) {
   config.identity = {"local_contact", 0, kSession};
   net::Messenger contact(key, config);
   testing::Subprocess tactile(
-      {testing::BuildDir() + "/services/tactile/haptex-tactile", "--session-id", std::to_string(kSession),
-       "--peer", "display=" + net::FormatUdpAddress(display.local_endpoint()), "--pattern", "plain",
-       "--warp-pitch-mm", "1", "--weft-pitch-mm", "1", "--yarn-mm", "0.6", "--smd-um", "5"},
+      {testing::BuildDir() + "/services/tactile/haptex-tactile", "--session-id", std::to_string(kSession), "--peer",
+       "display=" + net::FormatUdpAddress(display.local_endpoint()), "--pattern", "plain", "--warp-pitch-mm", "1",
+       "--weft-pitch-mm", "1", "--yarn-mm", "0.6", "--smd-um", "5"},
       {"HAPTEX_SESSION_KEY=" + key.ToHex()});
 
   // frames arrive without any touch: silent; they tell us the service's address
@@ -91,11 +91,12 @@ TEST(TactileProcessTest, RendersSlidingAsVibrationAndNoContactAsSilence) {
 
 TEST(TactileProcessTest, FabricWithoutSurfaceDataIsRefusedClearly) {
   testing::Subprocess tactile(
-      {testing::BuildDir() + "/services/tactile/haptex-tactile", "--peer", "display=127.0.0.1:9",
-       "--scene", testing::SourceDir() + "/launch/scenes/hanging.textproto"},
+      {testing::BuildDir() + "/services/tactile/haptex-tactile", "--peer", "display=127.0.0.1:9", "--scene",
+       testing::SourceDir() + "/launch/scenes/hanging.textproto"},
       {"HAPTEX_SESSION_KEY=" + net::SessionKey::Generate().ToHex()});
   EXPECT_EQ(tactile.WaitFor(10s), 2);
-  EXPECT_NE(tactile.Stderr().find("lacks warp pitch, weft pitch, yarn diameter, roughness SMD"), std::string::npos) << tactile.Stderr();
+  EXPECT_NE(tactile.Stderr().find("lacks warp pitch, weft pitch, yarn diameter, roughness SMD"), std::string::npos)
+      << tactile.Stderr();
 }
 
 }  // namespace
