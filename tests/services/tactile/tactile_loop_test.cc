@@ -5,6 +5,8 @@
 #include "libs/tactile/periodicity.h"
 #include "libs/tactile/weave_surface.h"
 #include "tests/support/allocation_counter.h"
+#include "tests/support/captured_outbox.h"
+#include "tests/support/wrap_envelope.h"
 
 namespace haptex::tactile_service {
 namespace {
@@ -90,6 +92,48 @@ TEST(TactileLoopTest, WarmedUpTickDoesNotAllocate) {
   RunAt500Hz(loop, &t, 0.2, &sliding, &frame, &sliding);  // warm-up: the message gets its fingers
   testing::AllocationCounter counter;
   RunAt500Hz(loop, &t, 0.2, &sliding, &frame, &sliding);
+  EXPECT_EQ(counter.count(), 0);
+}
+
+// As the service runs it: received envelopes in, PinFrames to the display out through the Outbox,
+// the counters in Health, silence on the way out; and the same cycle does not allocate.
+TEST(TactileLoopTest, EnvelopesInPinFramesToTheDisplayOut) {
+  constexpr services::PeerId kDisplay = 3;
+  runtime::HealthReporter health("tactile");
+  TactileLoop loop(PlainWeaveModel(), TactileLoop::kDefaultStaleAfterS, kDisplay, &health);
+  testing::CapturedOutbox out;
+  v1::TouchTrace sliding = Sliding(0.04, true);
+  for (int k = 1; k <= 150; ++k) {
+    const double t = k * 0.002;
+    sliding.mutable_fingers(0)->set_u_m(0.04 * t);
+    loop.Read(testing::WrapEnvelope(sliding, static_cast<std::uint64_t>(k)), t);
+    loop.Update(t, 0.002);
+    loop.Write(out);
+  }
+  const auto frames = out.Of<v1::PinFrame>(kDisplay);
+  ASSERT_GT(frames.size(), 100u);
+  EXPECT_EQ(frames.size(), loop.frames_sent());
+  EXPECT_GT(MaxAmplitude(frames.back()), 0.0);
+  EXPECT_EQ(loop.touch_traces(), 150u);
+  std::uint64_t sent = 0;
+  for (const auto& c : health.Build(0.0).counters()) {
+    if (c.name() == "pin_frames_sent") sent = c.value();
+  }
+  EXPECT_EQ(sent, loop.frames_sent());
+  out.Clear();
+  loop.WriteSilence(out);
+  ASSERT_EQ(out.Of<v1::PinFrame>(kDisplay).size(), 1u);
+  EXPECT_EQ(MaxAmplitude(out.Of<v1::PinFrame>(kDisplay)[0]), 0.0);
+
+  if (!testing::AllocationCountingSupported()) return;
+  out.capture = false;
+  const v1::Envelope envelope = testing::WrapEnvelope(sliding, 1000);
+  testing::AllocationCounter counter;
+  for (int k = 151; k <= 300; ++k) {
+    loop.Read(envelope, k * 0.002);
+    loop.Update(k * 0.002, 0.002);
+    loop.Write(out);
+  }
   EXPECT_EQ(counter.count(), 0);
 }
 
