@@ -238,6 +238,9 @@ const ContactOutput& ContactSolver::Resolve(const textile::FabricState& state) {
     Eigen::Matrix3d k = -k_fabric * Eigen::Matrix3d::Identity();
     if (ff.touching) k += ff.stiffness_index_W_N_per_m;
     out.stiffness_W_N_per_m = CapStiffness(k, options_.max_stiffness_N_per_m);
+    // the spring between the fingers acts on their distance: d F_this / d x_other = -d F_this / d x_this
+    if (ff.touching)
+      out.cross_stiffness_W_N_per_m = CapStiffness(-ff.stiffness_index_W_N_per_m, options_.max_stiffness_N_per_m);
 
     // Touch point and slip, for the tactile renderer.
     const Eigen::Vector3d finger_velocity =

@@ -40,6 +40,11 @@ struct FingerContactOutput {
   Eigen::Vector3d force_W_N{Eigen::Vector3d::Zero()};  ///< on the fingertip (clamped)
   /// d force / d finger position, for the bridge's F0 + K dx (negative semi-definite).
   Eigen::Matrix3d stiffness_W_N_per_m{Eigen::Matrix3d::Zero()};
+  /// d force / d the other finger's position: where the fingers press on each other (II, III,
+  /// and the grip of VIII, IX) the force follows their distance, so each finger's force changes
+  /// with the other's motion too. The bridge renders both terms, so that neither finger's motion
+  /// reaches the other's force only through a late F0.
+  Eigen::Matrix3d cross_stiffness_W_N_per_m{Eigen::Matrix3d::Zero()};
   bool force_clamped = false;       ///< the models asked for more than max_finger_force_N
   bool on_textile = false;          ///< with hysteresis
   int contact_particles = 0;        ///< inverted proxies on this finger

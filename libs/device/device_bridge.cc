@@ -11,9 +11,23 @@ namespace haptex::device {
 void DeviceBridgeConfig::Validate() const {
   estimator.Validate();
   safety.Validate();
+  passivity.Validate();
   if (!(device_lost_after_s > 0.0) || !std::isfinite(device_lost_after_s)) {
     throw std::invalid_argument("DeviceBridgeConfig: device_lost_after_s must be > 0 s, got " +
                                 std::to_string(device_lost_after_s));
+  }
+  if (!(max_model_age_s > 0.0) || !(max_model_age_s < static_cast<double>(kFrameHistory) / kControllerRate_Hz)) {
+    throw std::invalid_argument("DeviceBridgeConfig: max_model_age_s must be in (0, " +
+                                std::to_string(static_cast<double>(kFrameHistory) / kControllerRate_Hz) + ") s, got " +
+                                std::to_string(max_model_age_s));
+  }
+  if (!(recover_fraction > 0.0) || !(recover_fraction <= 1.0) || !(recover_after_s >= 0.0) ||
+      !std::isfinite(recover_after_s)) {
+    throw std::invalid_argument("DeviceBridgeConfig: recover_fraction must be in (0, 1] and recover_after_s >= 0");
+  }
+  if (!(round_trip_filter_s > 0.0) || !std::isfinite(round_trip_filter_s)) {
+    throw std::invalid_argument("DeviceBridgeConfig: round_trip_filter_s must be > 0 s, got " +
+                                std::to_string(round_trip_filter_s));
   }
   if (!(disarm_after_tick_gap_s > 0.0) || !std::isfinite(disarm_after_tick_gap_s)) {
     throw std::invalid_argument("DeviceBridgeConfig: disarm_after_tick_gap_s must be > 0 s, got " +
@@ -73,7 +87,11 @@ FrameError DeviceBridge::OnStatusDatagram(std::span<const std::byte> datagram, d
   for (std::size_t i = 0; i < kManipulatorCount; ++i) {
     const ManipulatorStatus& m = frame.manipulators[i];
     Finger& finger = fingers_[i];
-    if (resync) finger.estimator.Reset();
+    if (resync) {  // a restarted controller: its positions do not continue the old ones
+      finger.estimator.Reset();
+      finger.passivity.Reset();
+      finger.observed = false;
+    }
     FingerState& state = finger.state;
     state.controller_sequence = frame.sequence;
     state.controller_time_ns = frame.controller_time_ns;
@@ -89,6 +107,7 @@ FrameError DeviceBridge::OnStatusDatagram(std::span<const std::byte> datagram, d
       finger.estimator.Reset();
     }
   }
+  frame_arrivals_[frame.sequence % kFrameHistory] = FrameArrival{frame.sequence, t_rx_s};
   has_status_ = true;
   controller_flags_ = frame.controller_flags;
   last_status_sequence_ = frame.sequence;
@@ -97,12 +116,62 @@ FrameError DeviceBridge::OnStatusDatagram(std::span<const std::byte> datagram, d
   return error;
 }
 
-void DeviceBridge::SetForceModel(Manipulator finger, const ForceModel& model, double t_rx_s) {
+double DeviceBridge::FrameArrivalS(std::uint64_t sequence) const {
+  const FrameArrival& a = frame_arrivals_[sequence % kFrameHistory];
+  return sequence != 0 && a.sequence == sequence ? a.arrival_s : -std::numeric_limits<double>::infinity();
+}
+
+void DeviceBridge::SetForceModel(Manipulator finger, const ForceModel& model, double t_rx_s,
+                                 std::uint64_t based_on_controller_sequence) {
   Finger& f = fingers_[Index(finger)];
   f.model = model;
   f.has_model = true;
   f.model_rx_s = t_rx_s;
+  f.model_basis_s = FrameArrivalS(based_on_controller_sequence);
+  f.model_basis_sequence = based_on_controller_sequence;
   ++counters_.force_models;
+  if (!std::isfinite(f.model_basis_s)) {
+    ++counters_.models_unknown_basis;
+    return;
+  }
+  // the round trip, once per controller frame answered
+  if (based_on_controller_sequence != round_trip_basis_) {
+    round_trip_basis_ = based_on_controller_sequence;
+    const double sample_s = t_rx_s - f.model_basis_s;
+    haptic_round_trip_.Record(sample_s);
+    if (haptic_round_trip_.count() == 1) {
+      round_trip_estimate_s_ = sample_s;
+    } else {
+      const double gap_s = std::max(0.0, t_rx_s - last_round_trip_sample_s_);
+      round_trip_estimate_s_ +=
+          (1.0 - std::exp(-gap_s / config_.round_trip_filter_s)) * (sample_s - round_trip_estimate_s_);
+    }
+    last_round_trip_sample_s_ = t_rx_s;
+  }
+}
+
+void DeviceBridge::UpdateLinkAge(double t_s) {
+  bool any_too_old = false, all_young = true;
+  for (const Finger& finger : fingers_) {
+    if (!finger.has_model || !std::isfinite(finger.model_basis_s)) continue;
+    // the age it arrived with: how slow the link is (an outage is the model lifetime's business)
+    const double age_s = finger.model_rx_s - finger.model_basis_s;
+    any_too_old = any_too_old || age_s > config_.max_model_age_s;
+    all_young = all_young && age_s <= config_.recover_fraction * config_.max_model_age_s;
+  }
+  if (!link_too_slow_) {
+    if (!any_too_old) return;
+    link_too_slow_ = true;
+    young_since_s_ = -1.0;
+    ++counters_.slow_link_events;
+    return;
+  }
+  if (!all_young) {
+    young_since_s_ = -1.0;
+    return;
+  }
+  if (young_since_s_ < 0.0) young_since_s_ = t_s;
+  if (t_s - young_since_s_ >= config_.recover_after_s) link_too_slow_ = false;
 }
 
 void DeviceBridge::Tick(double t_s, double dt_s, std::span<std::byte, kCommandFrameSize> out) {
@@ -120,6 +189,9 @@ void DeviceBridge::Tick(double t_s, double dt_s, std::span<std::byte, kCommandFr
   const bool tick_gap = dt_s >= config_.disarm_after_tick_gap_s;
   if (tick_gap) ++counters_.tick_gap_disarms;
 
+  UpdateLinkAge(t_s);
+  if (link_too_slow_) ++counters_.slow_link_ticks;
+
   CommandFrame command;
   command.host_flags = shutdown_ ? host_flags::kShutdown : 0;
   for (std::size_t i = 0; i < kManipulatorCount; ++i) {
@@ -131,20 +203,42 @@ void DeviceBridge::Tick(double t_s, double dt_s, std::span<std::byte, kCommandFr
     // off only for the link's sake: force resumes over the short ramp once commands get through
     input.link_interruption = !blocked && link_hiccup;
     if (finger.has_model) {
-      const Eigen::Vector3d& p_W = config_.evaluate_at_predicted_pose ? finger.state.p_pred_W_m : finger.state.p_W_m;
-      input.requested_W_N = EvaluateForceModel(finger.model, p_W);
-      input.model_age_s = std::max(0.0, t_s - finger.model_rx_s);
+      const FingerState& other = fingers_[1 - i].state;
+      const bool predicted = config_.evaluate_at_predicted_pose;
+      input.requested_W_N = EvaluateForceModel(finger.model, predicted ? finger.state.p_pred_W_m : finger.state.p_W_m,
+                                               predicted ? other.p_pred_W_m : other.p_W_m);
       input.model_ttl_s = finger.model.ttl_s;
+      // fresh while models keep arriving, and only while they answer recent enough motion
+      const bool refused = link_too_slow_ || !std::isfinite(finger.model_basis_s);
+      input.model_age_s = refused ? std::numeric_limits<double>::infinity() : std::max(0.0, t_s - finger.model_rx_s);
     } else {
       input.model_age_s = std::numeric_limits<double>::infinity();
     }
+    // energy the rendering would create is damped out (a deficit left at a contact's end is
+    // still paid off: re-engaging a late model is where delay pumps energy in)
+    const Eigen::Vector3d& v_W = finger.state.v_W_m_per_s;
+    input.requested_W_N = finger.passivity.Adjust(input.requested_W_N, v_W, dt_s);
     const SafetyOutput result = finger.safety.Step(input, dt_s);
+    // the force held since the last tick moved the finger by what it was measured to move
+    if (finger.state.valid && finger.observed) {
+      finger.passivity.Observe(finger.last_command_W_N, finger.state.p_W_m - finger.observed_p_W_m);
+    }
+    finger.observed = finger.state.valid;
+    finger.observed_p_W_m = finger.state.p_W_m;
+    finger.last_command_W_N = result.force_W_N;
 
     ManipulatorCommand& m = command.manipulators[i];
     m.force_D_N = (R_DW_ * result.force_W_N).cast<float>();
     m.flags = static_cast<std::uint16_t>((input.output_allowed ? command_flags::kForceEnable : 0) |
                                          (result.ramping ? command_flags::kRamping : 0) |
                                          (result.limited ? command_flags::kLimited : 0));
+  }
+
+  // what the user feels: the first command from a model answering each newer controller frame
+  for (const Finger& finger : fingers_) {
+    if (!finger.has_model || !(finger.model_basis_s > end_to_end_basis_s_)) continue;
+    end_to_end_basis_s_ = finger.model_basis_s;
+    motion_to_force_end_to_end_.Record(t_s - finger.model_basis_s);
   }
 
   // motion-to-force latency: the first force computed from each new controller frame

@@ -7,6 +7,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <span>
 
 #include "libs/device/finger_state.h"
@@ -15,13 +16,19 @@
 #include "libs/device/force_safety.h"
 #include "libs/device/grab_protocol.h"
 #include "libs/device/latency_tracker.h"
+#include "libs/device/passivity_controller.h"
 
 namespace haptex::device {
+
+/// Controller frames whose arrival the bridge remembers, to age the models answering them: 1.6 s
+/// at 5 kHz, longer than any round trip it renders.
+inline constexpr std::size_t kFrameHistory = 8192;
 
 /// Everything the bridge core needs. Validate() throws std::invalid_argument with a clear message.
 struct DeviceBridgeConfig {
   FingerStateEstimatorConfig estimator;
   ForceSafetyConfig safety;
+  PassivityConfig passivity;
   GrabValueLimits value_limits;
   /// No accepted StatusFrame for this long: device lost, force zero, start-up ramp on return.
   double device_lost_after_s = 0.050;
@@ -32,6 +39,17 @@ struct DeviceBridgeConfig {
   double disarm_after_tick_gap_s = 0.004;
   /// Evaluate ForceModels at the predicted pose (compensates the link latency) or the measured one.
   bool evaluate_at_predicted_pose = true;
+  /// The longest haptic-link round trip rendered: a ForceModel arriving longer than this after the
+  /// controller frame it answers is refused (the force ramps to zero and the link is reported
+  /// slow) until younger ones come again. Every model is aged on the bridge's own clock, from the
+  /// arrival of the controller frame it answers (ForceModel.based_on_controller_sequence).
+  double max_model_age_s = 0.15;
+  /// A slow link is rendered again once every model has been younger than
+  /// recover_fraction x max_model_age_s for recover_after_s: no flapping at the limit.
+  double recover_fraction = 0.8;
+  double recover_after_s = 0.5;
+  /// Time constant of the haptic round-trip estimate that sets the link horizon [s].
+  double round_trip_filter_s = 1.0;
   /// Pose of the device workspace frame D in the world frame W.
   Eigen::Isometry3d X_WD{Eigen::Isometry3d::Identity()};
 
@@ -41,10 +59,13 @@ struct DeviceBridgeConfig {
 /// Faults the bridge counted outside the frame decoder and the safety stages.
 struct BridgeCounters {
   std::uint64_t ticks = 0;
-  std::uint64_t status_out_of_order = 0;  ///< valid frame, sequence not newer: ignored
-  std::uint64_t device_lost_events = 0;   ///< transitions present -> lost
-  std::uint64_t force_models = 0;         ///< ForceModels received
-  std::uint64_t tick_gap_disarms = 0;     ///< ticks after a gap >= disarm_after_tick_gap_s
+  std::uint64_t status_out_of_order = 0;   ///< valid frame, sequence not newer: ignored
+  std::uint64_t device_lost_events = 0;    ///< transitions present -> lost
+  std::uint64_t force_models = 0;          ///< ForceModels received
+  std::uint64_t tick_gap_disarms = 0;      ///< ticks after a gap >= disarm_after_tick_gap_s
+  std::uint64_t slow_link_ticks = 0;       ///< ticks in which models were refused for their age
+  std::uint64_t models_unknown_basis = 0;  ///< finger models based on no frame the bridge remembers
+  std::uint64_t slow_link_events = 0;      ///< transitions into refusing models for age
 };
 
 /// Bridge core for both manipulators. Non-copyable (holds ~80 kB of histograms: create it once,
@@ -60,8 +81,11 @@ class DeviceBridge {
   /// FrameError. Accepted frames newer than the last update the finger states.
   FrameError OnStatusDatagram(std::span<const std::byte> datagram, double t_rx_s);
 
-  /// Installs the newest ForceModel for one finger, received at host time `t_rx_s`.
-  void SetForceModel(Manipulator finger, const ForceModel& model, double t_rx_s);
+  /// Installs the newest ForceModel for one finger, received at host time `t_rx_s` and computed
+  /// from the finger states of controller frame `based_on_controller_sequence`: its age is counted
+  /// from that frame's arrival.
+  void SetForceModel(Manipulator finger, const ForceModel& model, double t_rx_s,
+                     std::uint64_t based_on_controller_sequence);
 
   /// One bridge period at host time `t_s` (`dt_s` since the previous Tick): evaluates the models,
   /// applies the safety stage and writes the CommandFrame to send now into `out`.
@@ -76,9 +100,16 @@ class DeviceBridge {
   void SetPredictionHorizon(double horizon_s) {
     for (Finger& f : fingers_) f.estimator.SetPredictionHorizon(horizon_s);
   }
+  /// Predict the poses sent to the contact models this much further ahead (both fingers).
+  void SetLinkHorizon(double horizon_s) {
+    for (Finger& f : fingers_) f.estimator.SetLinkHorizon(horizon_s);
+  }
 
   const FingerState& finger_state(Manipulator finger) const { return fingers_[Index(finger)].state; }
+  /// The newest ForceModel installed for `finger` (zero force before any).
+  const ForceModel& force_model(Manipulator finger) const { return fingers_[Index(finger)].model; }
   const ForceSafety& safety(Manipulator finger) const { return fingers_[Index(finger)].safety; }
+  const PassivityController& passivity(Manipulator finger) const { return fingers_[Index(finger)].passivity; }
   /// Force commanded in the last Tick, world frame.
   const Eigen::Vector3d& last_force_W_N(Manipulator finger) const {
     return fingers_[Index(finger)].safety.last_force_W_N();
@@ -93,20 +124,45 @@ class DeviceBridge {
   const LatencyTracker& motion_to_force_latency() const { return motion_to_force_; }
   /// Host time from a command's send to the first StatusFrame echoing it.
   const LatencyTracker& link_round_trip() const { return round_trip_; }
+  /// The haptic link's round trip: from a controller frame's arrival to the arrival of the first
+  /// ForceModel based on it (both on the host clock; across any network in between).
+  const LatencyTracker& haptic_round_trip() const { return haptic_round_trip_; }
+  /// The haptic round trip now: a low-pass of its samples (round_trip_filter_s); 0 before any.
+  double haptic_round_trip_estimate_s() const { return round_trip_estimate_s_; }
+  /// What the user feels: from a controller frame's arrival to the first command computed from a
+  /// ForceModel based on it.
+  const LatencyTracker& motion_to_force_end_to_end() const { return motion_to_force_end_to_end_; }
+  /// True while models are refused for their age (the link is slower than max_model_age_s).
+  bool link_too_slow() const { return link_too_slow_; }
   const DeviceBridgeConfig& config() const { return config_; }
 
  private:
   static std::size_t Index(Manipulator m) { return static_cast<std::size_t>(m); }
 
   struct Finger {
-    explicit Finger(const DeviceBridgeConfig& c) : estimator(c.estimator), safety(c.safety) {}
+    explicit Finger(const DeviceBridgeConfig& c) : estimator(c.estimator), safety(c.safety), passivity(c.passivity) {}
     FingerStateEstimator estimator;
     ForceSafety safety;
+    PassivityController passivity;
     FingerState state;
     ForceModel model;
     bool has_model = false;
     double model_rx_s = 0.0;
+    double model_basis_s = 0.0;  ///< arrival of the controller frame the model answers (-inf: unknown)
+    bool observed = false;       ///< observed_p_W_m holds a measured pose
+    Eigen::Vector3d observed_p_W_m{Eigen::Vector3d::Zero()};  ///< where the passivity observer saw the finger
+    Eigen::Vector3d last_command_W_N{Eigen::Vector3d::Zero()};
+    std::uint64_t model_basis_sequence = 0;
   };
+  struct FrameArrival {
+    std::uint64_t sequence = 0;
+    double arrival_s = 0.0;
+  };
+  /// Refuses models for their age from the tick a model's basis is older than max_model_age_s,
+  /// until every model has been young enough for recover_after_s.
+  void UpdateLinkAge(double t_s);
+  /// When the frame `sequence` arrived, or -inf when the bridge does not remember it.
+  double FrameArrivalS(std::uint64_t sequence) const;
 
   static constexpr std::size_t kSendHistory = 64;
   struct SentCommand {
@@ -121,6 +177,15 @@ class DeviceBridge {
   BridgeCounters counters_;
   LatencyTracker motion_to_force_;
   LatencyTracker round_trip_;
+  LatencyTracker haptic_round_trip_{1e-4};  // 0.1 ms bins: up to 1 s
+  LatencyTracker motion_to_force_end_to_end_{1e-4};
+  std::array<FrameArrival, kFrameHistory> frame_arrivals_{};
+  double round_trip_estimate_s_ = 0.0;
+  double last_round_trip_sample_s_ = 0.0;
+  std::uint64_t round_trip_basis_ = 0;                                    // newest basis sampled for the round trip
+  double end_to_end_basis_s_ = -std::numeric_limits<double>::infinity();  // arrival of the newest basis commanded
+  bool link_too_slow_ = false;
+  double young_since_s_ = -1.0;  // since when every model has been young enough to recover (-1: not)
   std::array<SentCommand, kSendHistory> sent_{};
 
   bool has_status_ = false;

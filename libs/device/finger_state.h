@@ -21,6 +21,11 @@ struct FingerState {
   double prediction_horizon_s = 0.0;
   Eigen::Vector3d p_pred_W_m{Eigen::Vector3d::Zero()};  ///< position at +prediction_horizon_s
   Eigen::Quaterniond q_pred_WF{Eigen::Quaterniond::Identity()};
+  /// The pose a haptic link round trip further ahead (+prediction_horizon_s + link_horizon_s):
+  /// where the finger will be when a force model computed from this state comes back.
+  double link_horizon_s = 0.0;
+  Eigen::Vector3d p_link_pred_W_m{Eigen::Vector3d::Zero()};
+  Eigen::Quaterniond q_link_pred_WF{Eigen::Quaterniond::Identity()};
   Eigen::Vector3d force_measured_W_N{Eigen::Vector3d::Zero()};  ///< device force sensor
   std::uint16_t device_flags = 0;                               ///< manipulator_flags from the controller
 };

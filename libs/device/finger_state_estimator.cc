@@ -86,6 +86,15 @@ void FingerStateEstimator::Update(const Eigen::Vector3d& p_W_m, const Eigen::Qua
   state->prediction_horizon_s = h;
   state->p_pred_W_m = p_W_m + h * v_W_m_per_s_;
   state->q_pred_WF = (FromRotationVector(h * w_W_rad_per_s_) * q).normalized();
+  const double h_link = h + link_horizon_s_;
+  state->link_horizon_s = link_horizon_s_;
+  state->p_link_pred_W_m = p_W_m + h_link * v_W_m_per_s_;
+  state->q_link_pred_WF = (FromRotationVector(h_link * w_W_rad_per_s_) * q).normalized();
+}
+
+void FingerStateEstimator::SetLinkHorizon(double horizon_s) {
+  if (!std::isfinite(horizon_s)) return;
+  link_horizon_s_ = std::clamp(horizon_s, 0.0, kMaxLinkHorizon_s);
 }
 
 void FingerStateEstimator::SetPredictionHorizon(double horizon_s) {

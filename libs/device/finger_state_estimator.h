@@ -41,9 +41,14 @@ class FingerStateEstimator {
   /// Changes the prediction horizon at run time (e.g. to the measured latency); clamped to
   /// [0, 0.1] s, non-finite values ignored. Takes effect at the next Update.
   void SetPredictionHorizon(double horizon_s);
+  /// The haptic link's round trip, predicted beyond the prediction horizon for the pose sent to
+  /// the contact models; clamped to [0, kMaxLinkHorizon_s], non-finite values ignored.
+  void SetLinkHorizon(double horizon_s);
+  static constexpr double kMaxLinkHorizon_s = 0.5;
 
  private:
   FingerStateEstimatorConfig config_;
+  double link_horizon_s_ = 0.0;
   double tau_s_;
   bool has_previous_ = false;
   std::uint64_t previous_time_ns_ = 0;

@@ -12,7 +12,7 @@ void LatencyTracker::Record(double latency_s) {
   }
   ++count_;
   max_s_ = std::max(max_s_, latency_s);
-  const double bin = std::floor(latency_s / kBinWidth_s);
+  const double bin = std::floor(latency_s / bin_width_s_);
   if (bin >= static_cast<double>(kBinCount)) {
     ++overflow_;
   } else {
@@ -28,7 +28,7 @@ double LatencyTracker::Percentile(double p) const {
   std::uint64_t seen = 0;
   for (std::size_t i = 0; i < kBinCount; ++i) {
     seen += bins_[i];
-    if (seen >= rank) return std::min(static_cast<double>(i + 1) * kBinWidth_s, max_s_);
+    if (seen >= rank) return std::min(static_cast<double>(i + 1) * bin_width_s_, max_s_);
   }
   return max_s_;
 }

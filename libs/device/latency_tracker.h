@@ -7,13 +7,15 @@
 
 namespace haptex::device {
 
-/// Records latencies into 1 us bins from 0 to 10 ms plus an overflow bin; max is exact.
-/// Percentiles are reported as the upper edge of their bin (so they over-estimate by < 1 us),
-/// or as the exact max when they fall into the overflow bin.
+/// Records latencies into kBinCount bins of `bin_width_s` (1 us: 0 to 10 ms) plus an overflow bin;
+/// max is exact. Percentiles are reported as the upper edge of their bin (so they over-estimate by
+/// less than a bin), or as the exact max when they fall into the overflow bin.
 class LatencyTracker {
  public:
-  static constexpr double kBinWidth_s = 1e-6;
+  static constexpr double kDefaultBinWidth_s = 1e-6;
   static constexpr std::size_t kBinCount = 10000;
+
+  explicit LatencyTracker(double bin_width_s = kDefaultBinWidth_s) : bin_width_s_(bin_width_s) {}
 
   /// Adds one sample. Negative or non-finite samples are counted in invalid() and not recorded.
   void Record(double latency_s);
@@ -29,6 +31,7 @@ class LatencyTracker {
   void Reset();
 
  private:
+  double bin_width_s_;
   std::array<std::uint32_t, kBinCount> bins_{};
   std::uint64_t overflow_ = 0;
   std::uint64_t count_ = 0;

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "haptex/v1/health.pb.h"
@@ -36,8 +37,10 @@ class HealthReporter final {
 
   void SetCounter(CounterId id, std::uint64_t value) { counter_values_[id] = value; }
   void SetState(v1::Health::State state) { state_ = state; }
-  /// Keeps the message's capacity when the text fits; call outside hot loops when it grows.
-  void SetLastError(const std::string& text) { health_.set_last_error(text); }
+  /// Keeps the message's capacity when the text fits (ReserveLastError beforehand lets a loop set it
+  /// without allocating).
+  void SetLastError(std::string_view text) { health_.mutable_last_error()->assign(text.data(), text.size()); }
+  void ReserveLastError(std::size_t bytes) { health_.mutable_last_error()->reserve(bytes); }
 
   const v1::Health& Build(double uptime_s);
 

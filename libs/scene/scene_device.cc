@@ -14,6 +14,8 @@ device::DeviceBridgeConfig BridgeConfigFromScene(const v1::Scene& scene) {
   config.safety.stale_after_s = OrDefault(d.force_model_stale_s(), config.safety.stale_after_s);
   config.safety.stale_ramp_s = OrDefault(d.watchdog_ramp_s(), config.safety.stale_ramp_s);
   config.device_lost_after_s = OrDefault(d.controller_lost_s(), config.device_lost_after_s);
+  config.max_model_age_s = OrDefault(d.max_model_age_s(), config.max_model_age_s);
+  if (d.disable_passivity_control()) config.passivity.enabled = false;
   config.Validate();
   return config;
 }

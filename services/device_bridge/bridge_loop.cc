@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string_view>
 
 #include "services/device_bridge/device_bridge_codec.h"
 
@@ -26,6 +27,9 @@ BridgeLoop::BridgeLoop(const BridgeLoopConfig& config, const BridgePeers& peers,
   const device::DeviceBridge* bridge = bridge_.get();
   health_->AddLatency("motion_to_force", [bridge] { return LatencyOf(bridge->motion_to_force_latency()); });
   health_->AddLatency("controller_round_trip", [bridge] { return LatencyOf(bridge->link_round_trip()); });
+  health_->AddLatency("haptic_round_trip", [bridge] { return LatencyOf(bridge->haptic_round_trip()); });
+  health_->AddLatency("motion_to_force_end_to_end",
+                      [bridge] { return LatencyOf(bridge->motion_to_force_end_to_end()); });
   ids_.status_ok = health_->AddCounter("status_frames_accepted");
   ids_.status_bad = health_->AddCounter("status_frames_rejected");
   ids_.foreign = health_->AddCounter("status_frames_from_strangers");
@@ -34,7 +38,11 @@ BridgeLoop::BridgeLoop(const BridgeLoopConfig& config, const BridgePeers& peers,
   ids_.lost = health_->AddCounter("device_lost_events");
   ids_.gap = health_->AddCounter("tick_gap_disarms");
   ids_.nan = health_->AddCounter("non_finite_forces");
+  ids_.too_old = health_->AddCounter("slow_link_ticks");
+  ids_.slow_events = health_->AddCounter("slow_link_events");
+  ids_.damped = health_->AddCounter("passivity_damped_ticks");
   FillFingerStates(*bridge_, &states_);  // sized once, before the loop
+  health_->ReserveLastError(kLastErrorCapacity);
 }
 
 void BridgeLoop::ReadController(std::span<const std::byte> datagram, double arrival_s, double t_s,
@@ -49,13 +57,20 @@ void BridgeLoop::ReadController(std::span<const std::byte> datagram, double arri
 
 void BridgeLoop::Read(const v1::Envelope& envelope, double t_s) {
   if (envelope.body_case() != v1::Envelope::kForceModel) return;
-  for (const v1::FingerForceModel& m : envelope.force_model().fingers()) {
+  const auto& fingers = envelope.force_model().fingers();
+  for (const v1::FingerForceModel& m : fingers) {
     device::Manipulator manipulator;
     if (!ToManipulator(m.finger(), &manipulator) || !IsWellFormed(m)) {
       ++bad_models_;
       continue;
     }
-    bridge_->SetForceModel(manipulator, ToForceModel(m), t_s);
+    const v1::FingerForceModel* other = nullptr;
+    for (const v1::FingerForceModel& o : fingers) {
+      device::Manipulator o_manipulator;
+      if (&o != &m && ToManipulator(o.finger(), &o_manipulator) && o_manipulator != manipulator) other = &o;
+    }
+    bridge_->SetForceModel(manipulator, ToForceModel(m, other), t_s,
+                           envelope.force_model().based_on_controller_sequence());
   }
 }
 
@@ -72,6 +87,11 @@ void BridgeLoop::Update(double t_s, double dt_s) {
   if (config_.measured_prediction_horizon && tick_ % horizon_update_every_ == 0 &&
       bridge_->link_round_trip().count() > 100 && bridge_->motion_to_force_latency().count() > 100) {
     bridge_->SetPredictionHorizon(bridge_->motion_to_force_latency().p50_s() + bridge_->link_round_trip().p50_s());
+  }
+  // The contact models get the pose the finger will have when their answer comes back: one haptic
+  // round trip (the network's, whatever it is) beyond the controller link's horizon.
+  if (config_.measured_prediction_horizon && tick_ % horizon_update_every_ == 0) {
+    bridge_->SetLinkHorizon(bridge_->haptic_round_trip_estimate_s());
   }
   bridge_->Tick(t_s, dt_s, command_);
 }
@@ -98,7 +118,41 @@ void BridgeLoop::Write(services::Outbox& out) {
   health_->SetCounter(ids_.lost, bridge_->counters().device_lost_events);
   health_->SetCounter(ids_.gap, bridge_->counters().tick_gap_disarms);
   health_->SetCounter(ids_.nan, non_finite);
-  health_->SetState(bridge_->device_lost() ? v1::Health::STATE_DEGRADED : v1::Health::STATE_READY);
+  health_->SetCounter(ids_.too_old, bridge_->counters().slow_link_ticks);
+  health_->SetCounter(ids_.slow_events, bridge_->counters().slow_link_events);
+  std::uint64_t damped = 0;
+  for (std::size_t i = 0; i < device::kManipulatorCount; ++i) {
+    damped += bridge_->passivity(static_cast<device::Manipulator>(i)).counters().damped_steps;
+  }
+  health_->SetCounter(ids_.damped, damped);
+  health_->SetState(bridge_->device_lost() || bridge_->link_too_slow() ? v1::Health::STATE_DEGRADED
+                                                                       : v1::Health::STATE_READY);
+  ReportDegradation();
+}
+
+void BridgeLoop::ReportDegradation() {
+  const Degradation now = bridge_->device_lost()     ? Degradation::kDeviceLost
+                          : bridge_->link_too_slow() ? Degradation::kLinkTooSlow
+                                                     : Degradation::kNone;
+  if (now == degradation_) return;
+  degradation_ = now;
+  // the text stays after recovery: it is the last error, and the state says it is over
+  std::array<char, kLastErrorCapacity> text{};
+  int length = 0;
+  const auto& c = bridge_->config();
+  if (now == Degradation::kDeviceLost) {
+    length = std::snprintf(text.data(), text.size(), "device lost: no controller frame for %.0f ms, force off",
+                           c.device_lost_after_s * 1e3);
+  } else if (now == Degradation::kLinkTooSlow) {
+    length = std::snprintf(text.data(), text.size(),
+                           "haptic link too slow: round trip %.0f ms, force models older than %.0f ms refused, "
+                           "force off until it stays below %.0f ms for %.1f s",
+                           bridge_->haptic_round_trip_estimate_s() * 1e3, c.max_model_age_s * 1e3,
+                           c.recover_fraction * c.max_model_age_s * 1e3, c.recover_after_s);
+  }
+  if (length > 0) {
+    health_->SetLastError(std::string_view(text.data(), std::min<std::size_t>(length, text.size() - 1)));
+  }
 }
 
 std::string BridgeLoop::Summary() const {

@@ -64,6 +64,11 @@ class BridgeLoop final {
   std::uint64_t bad_models() const { return bad_models_; }
 
  private:
+  static constexpr std::size_t kLastErrorCapacity = 200;
+  enum class Degradation { kNone, kDeviceLost, kLinkTooSlow };
+  /// Health's last_error names what changed, once per change, without allocating.
+  void ReportDegradation();
+
   BridgeLoopConfig config_;
   BridgePeers peers_;
   runtime::HealthReporter* health_;
@@ -74,8 +79,10 @@ class BridgeLoop final {
   std::array<std::byte, device::kCommandFrameSize> command_{};
   v1::FingerStates states_;
   std::uint64_t bad_models_ = 0, foreign_frames_ = 0;
+  Degradation degradation_ = Degradation::kDeviceLost;  // no controller yet is not an error
   struct CounterIds {
-    runtime::HealthReporter::CounterId status_ok, status_bad, foreign, models, models_bad, lost, gap, nan;
+    runtime::HealthReporter::CounterId status_ok, status_bad, foreign, models, models_bad, lost, gap, nan, too_old,
+        slow_events, damped;
   } ids_{};
 };
 

@@ -26,12 +26,28 @@ device::ForceModel ToForceModel(const v1::FingerForceModel& in) {
       for (int c = 0; c < 3; ++c) model.stiffness_W_N_per_m(r, c) = in.stiffness_w_n_per_m(3 * r + c);
     }
   }
+  if (in.cross_stiffness_w_n_per_m_size() == 9) {
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) model.cross_stiffness_W_N_per_m(r, c) = in.cross_stiffness_w_n_per_m(3 * r + c);
+    }
+  }
   model.ttl_s = in.ttl_s();
   return model;
 }
 
+device::ForceModel ToForceModel(const v1::FingerForceModel& in, const v1::FingerForceModel* other) {
+  device::ForceModel model = ToForceModel(in);
+  if (other != nullptr) {
+    model.other_x0_W_m = codec::ToEigen(other->x0_w_m());
+  } else {
+    model.cross_stiffness_W_N_per_m.setZero();  // no anchor for the other finger: no cross term
+  }
+  return model;
+}
+
 bool IsWellFormed(const v1::FingerForceModel& in) {
-  return in.stiffness_w_n_per_m_size() == 9 || in.stiffness_w_n_per_m_size() == 0;
+  const auto matrix = [](int values) { return values == 9 || values == 0; };
+  return matrix(in.stiffness_w_n_per_m_size()) && matrix(in.cross_stiffness_w_n_per_m_size());
 }
 
 void FillFingerStates(const device::DeviceBridge& bridge, v1::FingerStates* out) {
@@ -45,8 +61,10 @@ void FillFingerStates(const device::DeviceBridge& bridge, v1::FingerStates* out)
     codec::ToMessage(s.p_W_m, f->mutable_position_w_m());
     codec::ToMessage(s.q_WF, f->mutable_orientation_wf());
     codec::ToMessage(s.v_W_m_per_s, f->mutable_velocity_w_m_per_s());
-    codec::ToMessage(s.p_pred_W_m, f->mutable_predicted_position_w_m());
-    f->set_prediction_horizon_s(s.prediction_horizon_s);
+    // the contact models answer a link round trip later: they get the pose for then
+    codec::ToMessage(s.p_link_pred_W_m, f->mutable_predicted_position_w_m());
+    f->set_prediction_horizon_s(s.prediction_horizon_s + s.link_horizon_s);
+    f->set_link_horizon_s(s.link_horizon_s);
     codec::ToMessage(s.force_measured_W_N, f->mutable_measured_force_w_n());
     newest = std::max<std::uint64_t>(newest, s.controller_sequence);
   }

@@ -15,8 +15,11 @@ v1::Finger ToFinger(device::Manipulator manipulator);
 /// included): the safety stage, not the parser, decides what reaches the device. A stiffness
 /// without 9 values is treated as zero stiffness.
 device::ForceModel ToForceModel(const v1::FingerForceModel& in);
+/// The same, with the other finger's entry of the same ForceModel for the cross term's anchor
+/// (null: no other finger, no cross term).
+device::ForceModel ToForceModel(const v1::FingerForceModel& in, const v1::FingerForceModel* other);
 
-/// A stiffness of exactly 9 values (or none: zero stiffness). Anything else is a malformed model,
+/// Stiffnesses of exactly 9 values (or none: zero stiffness). Anything else is a malformed model,
 /// refused and counted rather than applied as a constant force.
 bool IsWellFormed(const v1::FingerForceModel& in);
 

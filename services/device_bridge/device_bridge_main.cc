@@ -29,6 +29,7 @@ struct Options {
   double rate_hz = device::kControllerRate_Hz;
   double stop_zero_force_s = 0.030;
   double prediction_horizon_ms = -1.0;  // < 0: the measured latency, updated as it runs
+  std::string passivity;                // "on", "off"; empty: the scene's
 };
 
 int Run(services::ServiceContext& context, const Options& options) {
@@ -37,6 +38,7 @@ int Run(services::ServiceContext& context, const Options& options) {
                           scene::FingerStatesToGlobalHz(scene), options.prediction_horizon_ms < 0};
   if (!config.measured_prediction_horizon)
     config.bridge.estimator.prediction_horizon_s = options.prediction_horizon_ms * 1e-3;
+  if (!options.passivity.empty()) config.bridge.passivity.enabled = options.passivity == "on";
   BridgeLoop work(config, {context.FindPeer(net::peer::kLocalContact), context.FindPeer(net::peer::kGlobalSim)},
                   &context.health());
   services::DeviceLink controller(options.controller_bind, options.controller);
@@ -86,6 +88,9 @@ int main(int argc, char** argv) {
                        "predict finger poses this far ahead (default: the measured latency from a pose's "
                        "measurement to its force reaching the finger)")
             ->check(CLI::Range(0.0, 50.0));
+        app.add_option("--passivity", options->passivity,
+                       "the passivity controller: on or off (default: the scene's, else on); off only to measure it")
+            ->check(CLI::IsMember({"on", "off"}));
         app.add_option("--rate", options->rate_hz, "bridge rate [Hz] (the controller's)")
             ->check(CLI::Range(100.0, 20000.0))
             ->capture_default_str();

@@ -9,7 +9,9 @@ v1::ContactState ToMessage(contact::ContactState state) {
 }
 
 std::array<contact::FingerInput, 2> FingerInputs(const v1::FingerStates& states,
-                                                 const std::array<bool, 2>& scene_fingers) {
+                                                 const std::array<bool, 2>& scene_fingers,
+                                                 const std::array<bool, 2>& ahead,
+                                                 std::array<Eigen::Vector3d, 2>* at_bridge) {
   std::array<contact::FingerInput, 2> fingers{};
   if (!states.device_ok()) return fingers;
   for (const v1::FingerState& f : states.fingers()) {
@@ -17,8 +19,15 @@ std::array<contact::FingerInput, 2> FingerInputs(const v1::FingerStates& states,
     if (slot < 0 || !scene_fingers[static_cast<std::size_t>(slot)]) continue;
     contact::FingerInput& in = fingers[static_cast<std::size_t>(slot)];
     in.present = true;
-    in.pose.p_W_m = codec::ToEigen(f.has_predicted_position_w_m() ? f.predicted_position_w_m() : f.position_w_m());
+    Eigen::Vector3d bridge_p_W_m = codec::ToEigen(f.position_w_m());
+    Eigen::Vector3d ahead_p_W_m = bridge_p_W_m;
+    if (f.has_predicted_position_w_m()) {
+      ahead_p_W_m = codec::ToEigen(f.predicted_position_w_m());
+      bridge_p_W_m = ahead_p_W_m - f.link_horizon_s() * codec::ToEigen(f.velocity_w_m_per_s());
+    }
+    in.pose.p_W_m = ahead[static_cast<std::size_t>(slot)] ? ahead_p_W_m : bridge_p_W_m;
     in.pose.R_WF = codec::ToRotation(f.orientation_wf());
+    if (at_bridge != nullptr) (*at_bridge)[static_cast<std::size_t>(slot)] = bridge_p_W_m;
   }
   return fingers;
 }
@@ -32,16 +41,22 @@ void FillForceModel(const contact::ContactOutput* contact, const std::array<cont
     m->set_finger(codec::FingerOfSlot(f));
     const contact::FingerInput& in = fingers[static_cast<std::size_t>(f)];
     Eigen::Vector3d force = Eigen::Vector3d::Zero();
-    Eigen::Matrix3d k = Eigen::Matrix3d::Zero();
-    if (contact != nullptr && in.present) {
+    Eigen::Matrix3d k = Eigen::Matrix3d::Zero(), k_cross = Eigen::Matrix3d::Zero();
+    // no contact force, no stiffness: the bridge must not extrapolate a contact that is not there
+    if (contact != nullptr && in.present && !contact->finger[static_cast<std::size_t>(f)].force_W_N.isZero(0.0)) {
       force = contact->finger[static_cast<std::size_t>(f)].force_W_N;
       k = contact->finger[static_cast<std::size_t>(f)].stiffness_W_N_per_m;
+      k_cross = contact->finger[static_cast<std::size_t>(f)].cross_stiffness_W_N_per_m;
     }
     codec::ToMessage(force, m->mutable_f0_w_n());
     codec::ToMessage(in.pose.p_W_m, m->mutable_x0_w_m());
     m->mutable_stiffness_w_n_per_m()->Resize(9, 0.0);
+    m->mutable_cross_stiffness_w_n_per_m()->Resize(9, 0.0);
     for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 3; ++c) m->set_stiffness_w_n_per_m(3 * r + c, k(r, c));
+      for (int c = 0; c < 3; ++c) {
+        m->set_stiffness_w_n_per_m(3 * r + c, k(r, c));
+        m->set_cross_stiffness_w_n_per_m(3 * r + c, k_cross(r, c));
+      }
     }
     m->set_ttl_s(ttl_s);
     m->set_contact_state(contact != nullptr ? ToMessage(contact->state) : v1::CONTACT_STATE_I);
@@ -52,6 +67,7 @@ void ZeroForceModel(v1::ForceModel* model) {
   for (v1::FingerForceModel& m : *model->mutable_fingers()) {
     codec::ToMessage(Eigen::Vector3d::Zero(), m.mutable_f0_w_n());
     for (double& k : *m.mutable_stiffness_w_n_per_m()) k = 0.0;
+    for (double& k : *m.mutable_cross_stiffness_w_n_per_m()) k = 0.0;
   }
 }
 

@@ -18,11 +18,16 @@ namespace haptex::local_contact {
 
 v1::ContactState ToMessage(contact::ContactState state);
 
-/// The fingers the contact models see: each finger of the scene (`scene_fingers`, by slot) at its
-/// predicted pose (where it is when the force reaches it; the measured pose when none is
-/// predicted). None while the device is not ok: no force from fingers the bridge cannot see.
+/// The fingers the contact models see: each finger of the scene (`scene_fingers`, by slot) where
+/// it is when the bridge applies the force (the measured pose when none is predicted); a finger
+/// marked in `ahead` a haptic round trip further (where it is when this answer reaches the
+/// bridge: a finger approaching the fabric is met there in time). None while the device is not
+/// ok: no force from fingers the bridge cannot see. With `at_bridge`, each finger's position when
+/// the bridge applies the force, whichever pose it was given.
 std::array<contact::FingerInput, 2> FingerInputs(const v1::FingerStates& states,
-                                                 const std::array<bool, 2>& scene_fingers);
+                                                 const std::array<bool, 2>& scene_fingers,
+                                                 const std::array<bool, 2>& ahead = {false, false},
+                                                 std::array<Eigen::Vector3d, 2>* at_bridge = nullptr);
 
 /// Both fingers' models (F0, K, x0 at the pose they were computed for) into `out`; zero force and
 /// stiffness for a finger that is not present or without contact output (`contact` null).

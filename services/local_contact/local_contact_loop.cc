@@ -13,6 +13,7 @@ LocalContactLoop::LocalContactLoop(const LocalContactConfig& config, const Local
   ids_.rejected = health_->AddCounter("patches_rejected");
   ids_.handoffs = health_->AddCounter("patch_handoffs");
   ids_.results = health_->AddCounter("patch_results_sent");
+  ids_.stale_states = health_->AddCounter("stale_finger_states_ticks");
   static constexpr std::array<const char*, 9> kStateNames = {"state_I_ticks",   "state_II_ticks",   "state_III_ticks",
                                                              "state_IV_ticks",  "state_V_ticks",    "state_VI_ticks",
                                                              "state_VII_ticks", "state_VIII_ticks", "state_IX_ticks"};
@@ -23,12 +24,16 @@ LocalContactLoop::LocalContactLoop(const LocalContactConfig& config, const Local
   touch_.add_fingers();
 }
 
-void LocalContactLoop::Read(const v1::Envelope& envelope, double /*t_s*/) {
+void LocalContactLoop::Read(const v1::Envelope& envelope, double t_s) {
   switch (envelope.body_case()) {
     case v1::Envelope::kFingerStates:
       if (!newest_states_.Accept(envelope)) return;
+      finger_states_rx_s_ = t_s;
       controller_sequence_ = envelope.finger_states().controller_sequence();
-      fingers_ = FingerInputs(envelope.finger_states(), config_.scene_fingers);
+      // a finger without contact is met where it will be when the answer arrives; one in contact
+      // where it is when the bridge applies the force (the model's stiffness carries the rest)
+      ahead_ = {!in_contact_[0], !in_contact_[1]};
+      fingers_ = FingerInputs(envelope.finger_states(), config_.scene_fingers, ahead_, &at_bridge_W_m_);
       return;
     case v1::Envelope::kLocalPatch:
       ++counters_.patches_received;
@@ -49,7 +54,9 @@ void LocalContactLoop::Read(const v1::Envelope& envelope, double /*t_s*/) {
   }
 }
 
-void LocalContactLoop::Update(double /*t_s*/, double /*dt_s*/) {
+void LocalContactLoop::Update(double t_s, double /*dt_s*/) {
+  fingers_known_ = finger_states_rx_s_ >= 0.0 && t_s - finger_states_rx_s_ <= config_.finger_states_stale_s;
+  if (finger_states_rx_s_ >= 0.0 && !fingers_known_) ++counters_.stale_finger_states_ticks;
   // Swap in what the builder finished (the newest last), carrying the local state across.
   while (std::unique_ptr<dual_layer::LocalPatch> fresh = builder_->TakeBuilt()) {
     if (patch_) {
@@ -65,12 +72,26 @@ void LocalContactLoop::Update(double /*t_s*/, double /*dt_s*/) {
     contact_ = &patch_->Tick(fingers_[0], fingers_[1]);
     ++counters_.state_ticks[static_cast<std::size_t>(static_cast<int>(contact_->state) - 1)];
   }
+  // In contact: the force at the bridge's pose still pushes. A finger met ahead stays ahead until
+  // its model, extrapolated back to where the bridge has it now, pushes too: switching as soon as
+  // the ahead pose touched would bounce between a touching and a not yet touching pose.
+  for (std::size_t f = 0; f < 2; ++f) {
+    in_contact_[f] = false;
+    if (contact_ == nullptr || !fingers_[f].present) continue;
+    const contact::FingerContactOutput& o = contact_->finger[f];
+    const Eigen::Vector3d at_bridge_N =
+        o.force_W_N + o.stiffness_W_N_per_m * (at_bridge_W_m_[f] - fingers_[f].pose.p_W_m) +
+        o.cross_stiffness_W_N_per_m * (at_bridge_W_m_[1 - f] - fingers_[1 - f].pose.p_W_m);
+    in_contact_[f] = ahead_[f] ? at_bridge_N.dot(o.force_W_N) > 0.0 : !o.force_W_N.isZero(0.0);
+  }
   result_due_ = patch_ && peers_.global_sim && patch_->ResultDue(1.0 / config_.rate_hz);
 }
 
 void LocalContactLoop::Write(services::Outbox& out) {
-  FillForceModel(contact_, fingers_, controller_sequence_, config_.force_model_ttl_s, &force_model_);
-  if (out.Send(peers_.bridge, force_model_)) ++counters_.force_models_sent;
+  if (fingers_known_) {
+    FillForceModel(contact_, fingers_, controller_sequence_, config_.force_model_ttl_s, &force_model_);
+    if (out.Send(peers_.bridge, force_model_)) ++counters_.force_models_sent;
+  }
   if (contact_ != nullptr && peers_.tactile) {
     FillTouchTrace(*contact_, patch_->sim->state().time_s, &touch_);
     out.Send(*peers_.tactile, touch_);
@@ -95,6 +116,7 @@ void LocalContactLoop::PublishCounters() {
   health_->SetCounter(ids_.rejected, counters_.patches_rejected + builder_->build_failures());
   health_->SetCounter(ids_.handoffs, counters_.patch_handoffs);
   health_->SetCounter(ids_.results, counters_.patch_results_sent);
+  health_->SetCounter(ids_.stale_states, counters_.stale_finger_states_ticks);
   for (std::size_t i = 0; i < counters_.state_ticks.size(); ++i)
     health_->SetCounter(ids_.states[i], counters_.state_ticks[i]);
 }

@@ -28,6 +28,10 @@ struct LocalContactConfig {
   /// How long the bridge may apply a ForceModel after receiving it (device::ForceSafetyConfig's
   /// staleness limit caps it on the bridge's side).
   double force_model_ttl_s = 0.010;
+  /// No FingerStates for this long: where the fingers are is unknown, and no ForceModel is sent (the
+  /// bridge's model lifetime takes the force away) until fresh ones come. A model computed from
+  /// old poses would be wrong, and arriving old it would be reported as a slow link.
+  double finger_states_stale_s = 0.050;
 };
 
 struct LocalContactPeers {
@@ -54,7 +58,8 @@ class LocalContactLoop final {
   struct Counters {
     std::uint64_t force_models_sent = 0, patches_received = 0, patches_dropped_busy = 0, patches_rejected = 0,
                   patch_handoffs = 0, patch_results_sent = 0;
-    std::array<std::uint64_t, 9> state_ticks{};  ///< ticks in contact state I..IX
+    std::uint64_t stale_finger_states_ticks = 0;  ///< ticks without fresh FingerStates: no model sent
+    std::array<std::uint64_t, 9> state_ticks{};   ///< ticks in contact state I..IX
   };
   const Counters& counters() const { return counters_; }
 
@@ -68,7 +73,12 @@ class LocalContactLoop final {
   std::unique_ptr<dual_layer::LocalPatch> patch_;
   net::NewestWins newest_states_;
   std::array<contact::FingerInput, 2> fingers_{};
+  std::array<bool, 2> in_contact_{};  ///< by slot: the finger pushes at the bridge's pose
+  std::array<bool, 2> ahead_{};       ///< by slot: the finger is met a haptic round trip ahead
+  std::array<Eigen::Vector3d, 2> at_bridge_W_m_{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
   std::uint64_t controller_sequence_ = 0;
+  double finger_states_rx_s_ = -1.0;                 ///< when the newest FingerStates arrived; < 0: never
+  bool fingers_known_ = false;                       ///< this tick: FingerStates are fresh
   std::uint64_t global_step_ = 0;                    ///< of the newest patch received
   const contact::ContactOutput* contact_ = nullptr;  ///< this tick's, null without a patch
   bool result_due_ = false;
@@ -78,7 +88,7 @@ class LocalContactLoop final {
   v1::PatchResult result_message_;
   Counters counters_;
   struct CounterIds {
-    runtime::HealthReporter::CounterId models, patches, busy, rejected, handoffs, results;
+    runtime::HealthReporter::CounterId models, patches, busy, rejected, handoffs, results, stale_states;
     std::array<runtime::HealthReporter::CounterId, 9> states;
   } ids_{};
 };

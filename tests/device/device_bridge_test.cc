@@ -53,7 +53,8 @@ ForceModel ConstantForce(const Eigen::Vector3d& force_W_N) {
 
 TEST(DeviceBridgeTest, NoControllerMeansLostAndZeroForce) {
   auto dut = std::make_unique<DeviceBridge>(FastConfig());
-  dut->SetForceModel(Manipulator::kThumb, ConstantForce({1.0, 0.0, 0.0}), 0.0);
+  dut->SetForceModel(Manipulator::kThumb, ConstantForce({1.0, 0.0, 0.0}), 0.0,
+                     dut->finger_state(Manipulator::kThumb).controller_sequence);
   CommandBytes out{};
   dut->Tick(0.0, kTick_s, out);
   const CommandFrame c = Decode(out);
@@ -84,12 +85,14 @@ TEST(DeviceBridgeTest, MapsPosesAndForcesBetweenDeviceAndWorldFrames) {
   DeviceBridgeConfig config = FastConfig();
   config.X_WD = Eigen::Translation3d(0.0, 0.0, -0.1) * Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitZ());
   auto dut = std::make_unique<DeviceBridge>(config);
-  dut->SetForceModel(Manipulator::kThumb, ConstantForce({1.0, 2.0, 3.0}), 0.0);
+  dut->SetForceModel(Manipulator::kThumb, ConstantForce({1.0, 2.0, 3.0}), 0.0,
+                     dut->finger_state(Manipulator::kThumb).controller_sequence);
   CommandBytes out{};
   for (int k = 1; k <= 100; ++k) {
     const double t = k * kTick_s;
     dut->OnStatusDatagram(Status(static_cast<std::uint32_t>(k), t), t);
-    dut->SetForceModel(Manipulator::kThumb, ConstantForce({1.0, 2.0, 3.0}), t);
+    dut->SetForceModel(Manipulator::kThumb, ConstantForce({1.0, 2.0, 3.0}), t,
+                       dut->finger_state(Manipulator::kThumb).controller_sequence);
     dut->Tick(t, kTick_s, out);
   }
   const FingerState& s = dut->finger_state(Manipulator::kThumb);
@@ -114,7 +117,8 @@ TEST(DeviceBridgeTest, WatchdogZeroesForceWithinTwentyMilliseconds) {
     dut->OnStatusDatagram(Status(static_cast<std::uint32_t>(k), t), t);
     if (t <= 0.1) {
       if (k % 5 == 0) {  // models at 1 kHz
-        dut->SetForceModel(Manipulator::kThumb, ConstantForce(force_W_N), t);
+        dut->SetForceModel(Manipulator::kThumb, ConstantForce(force_W_N), t,
+                           dut->finger_state(Manipulator::kThumb).controller_sequence);
         t0 = t;
       }
     }
@@ -139,7 +143,8 @@ TEST(DeviceBridgeTest, ControllerSilenceMeansDeviceLostThenRampsBackIn) {
   auto run = [&](double from, double to, bool controller_talks) {
     for (double t = from; t < to - 1e-9; t += kTick_s) {
       if (controller_talks) dut->OnStatusDatagram(Status(++seq, t), t);
-      dut->SetForceModel(Manipulator::kThumb, ConstantForce({3.0, 0.0, 0.0}), t);
+      dut->SetForceModel(Manipulator::kThumb, ConstantForce({3.0, 0.0, 0.0}), t,
+                         dut->finger_state(Manipulator::kThumb).controller_sequence);
       dut->Tick(t, kTick_s, out);
     }
   };
@@ -171,7 +176,8 @@ class ConstantForceBridge {
   double Tick(double dt_s) {
     t_ += dt_s;
     dut_->OnStatusDatagram(Status(++seq_, t_), t_);
-    dut_->SetForceModel(Manipulator::kThumb, ConstantForce({force_N_, 0.0, 0.0}), t_);
+    dut_->SetForceModel(Manipulator::kThumb, ConstantForce({force_N_, 0.0, 0.0}), t_,
+                        dut_->finger_state(Manipulator::kThumb).controller_sequence);
     dut_->Tick(t_, dt_s, out_);
     return dut_->last_force_W_N(Manipulator::kThumb).x();
   }
@@ -236,7 +242,8 @@ TEST(DeviceBridgeTest, NonFiniteForceModelGivesZeroForceAndIsCounted) {
   for (int k = 1; k <= 100; ++k) {
     const double t = k * kTick_s;
     dut->OnStatusDatagram(Status(static_cast<std::uint32_t>(k), t), t);
-    dut->SetForceModel(Manipulator::kThumb, k < 50 ? ConstantForce({0.2, 0.0, 0.0}) : broken, t);
+    dut->SetForceModel(Manipulator::kThumb, k < 50 ? ConstantForce({0.2, 0.0, 0.0}) : broken, t,
+                       dut->finger_state(Manipulator::kThumb).controller_sequence);
     dut->Tick(t, kTick_s, out);
   }
   const CommandFrame c = Decode(out);  // the frame is still valid: finite and encodable
@@ -250,7 +257,8 @@ TEST(DeviceBridgeTest, UncalibratedFingerGetsNoForce) {
   for (int k = 1; k <= 100; ++k) {
     const double t = k * kTick_s;
     dut->OnStatusDatagram(Status(static_cast<std::uint32_t>(k), t, {0.0f, 0.0f, 0.0f}, 0), t);
-    dut->SetForceModel(Manipulator::kThumb, ConstantForce({3.0, 0.0, 0.0}), t);
+    dut->SetForceModel(Manipulator::kThumb, ConstantForce({3.0, 0.0, 0.0}), t,
+                       dut->finger_state(Manipulator::kThumb).controller_sequence);
     dut->Tick(t, kTick_s, out);
   }
   EXPECT_FALSE(dut->finger_state(Manipulator::kThumb).valid);
@@ -263,7 +271,8 @@ TEST(DeviceBridgeTest, ShutdownCommandsZeroWithTheShutdownFlag) {
   for (int k = 1; k <= 100; ++k) {
     const double t = k * kTick_s;
     dut->OnStatusDatagram(Status(static_cast<std::uint32_t>(k), t), t);
-    dut->SetForceModel(Manipulator::kThumb, ConstantForce({0.3, 0.0, 0.0}), t);
+    dut->SetForceModel(Manipulator::kThumb, ConstantForce({0.3, 0.0, 0.0}), t,
+                       dut->finger_state(Manipulator::kThumb).controller_sequence);
     dut->Tick(t, kTick_s, out);
   }
   ASSERT_NE(Decode(out).manipulators[0].force_D_N, Eigen::Vector3f::Zero());
@@ -328,16 +337,100 @@ TEST(DeviceBridgeTest, WarmedUpTickDoesNotAllocate) {
   for (int k = 1; k <= 100; ++k) {
     const double t = k * kTick_s;
     dut->OnStatusDatagram(Status(static_cast<std::uint32_t>(k), t), t);
-    dut->SetForceModel(Manipulator::kThumb, model, t);
+    dut->SetForceModel(Manipulator::kThumb, model, t, dut->finger_state(Manipulator::kThumb).controller_sequence);
     dut->Tick(t, kTick_s, out);
   }
   const StatusBytes next = Status(101, 101 * kTick_s);
   testing::AllocationCounter counter;
   dut->OnStatusDatagram(next, 101 * kTick_s);
-  dut->SetForceModel(Manipulator::kIndex, model, 101 * kTick_s);
+  dut->SetForceModel(Manipulator::kIndex, model, 101 * kTick_s, 101);
   dut->Tick(101 * kTick_s, kTick_s, out);
   EXPECT_EQ(counter.count(), 0);
 }
 
 }  // namespace
+// A 5 kHz controller and models at 1 kHz answering the frame of `lag_s` ago, as a haptic link
+// with that round trip delivers them.
+class DelayedModelBridge {
+ public:
+  DelayedModelBridge() : dut_(std::make_unique<DeviceBridge>(FastConfig())) {}
+  /// Runs until `until_s`; returns the largest thumb force commanded in the last `tail_s`.
+  double Run(double until_s, double lag_s, double tail_s = 0.05) {
+    double tail_max_N = 0.0;
+    const auto lag_ticks = static_cast<std::uint32_t>(std::lround(lag_s / kTick_s));
+    for (; t_ < until_s - 1e-12; t_ += kTick_s) {
+      ++seq_;
+      dut_->OnStatusDatagram(Status(seq_, t_), t_);
+      if (seq_ % 5 == 0 && seq_ > lag_ticks) {
+        dut_->SetForceModel(Manipulator::kThumb, ConstantForce({1.0, 0.0, 0.0}), t_, seq_ - lag_ticks);
+      }
+      dut_->Tick(t_, kTick_s, out_);
+      if (t_ > until_s - tail_s) tail_max_N = std::max(tail_max_N, dut_->last_force_W_N(Manipulator::kThumb).norm());
+    }
+    return tail_max_N;
+  }
+  DeviceBridge& dut() { return *dut_; }
+  double t_s() const { return t_; }
+
+ private:
+  std::unique_ptr<DeviceBridge> dut_;
+  double t_ = kTick_s;
+  std::uint32_t seq_ = 0;
+  CommandBytes out_{};
+};
+
+TEST(DeviceBridgeTest, ModelsOlderThanTheLimitAreRefusedUntilTheLinkRecovers) {
+  DelayedModelBridge bridge;
+  const double limit_s = bridge.dut().config().max_model_age_s;
+  // a 50 ms round trip is rendered
+  EXPECT_NEAR(bridge.Run(0.5, 0.05), 1.0, 1e-6);
+  EXPECT_FALSE(bridge.dut().link_too_slow());
+  EXPECT_NEAR(bridge.dut().haptic_round_trip_estimate_s(), 0.05, 1e-3);
+  // twice the limit: refused, and the force goes to zero within the watchdog's ramp
+  const double slow_from_s = bridge.t_s();
+  bridge.Run(slow_from_s + 2.0 * limit_s, 2.0 * limit_s);
+  EXPECT_TRUE(bridge.dut().link_too_slow());
+  EXPECT_EQ(bridge.Run(bridge.t_s() + 0.3, 2.0 * limit_s, 0.3), 0.0) << "a too slow link still pushed";
+  EXPECT_EQ(bridge.dut().counters().slow_link_events, 1u);
+  EXPECT_GT(bridge.dut().counters().slow_link_ticks, 0u);
+  // fast again: not before recover_after_s of young models, then rendered again
+  const double fast_from_s = bridge.t_s();
+  const double recover_s = bridge.dut().config().recover_after_s;
+  EXPECT_EQ(bridge.Run(fast_from_s + recover_s - 0.05, 0.05, recover_s - 0.1), 0.0) << "no hysteresis";
+  EXPECT_NEAR(bridge.Run(fast_from_s + recover_s + 0.2, 0.05), 1.0, 1e-6);
+  EXPECT_FALSE(bridge.dut().link_too_slow());
+  EXPECT_EQ(bridge.dut().counters().slow_link_events, 1u);
+}
+
+TEST(DeviceBridgeTest, ARoundTripJustUnderTheLimitIsRenderedWithoutFlapping) {
+  DelayedModelBridge bridge;
+  const double lag_s = 0.95 * bridge.dut().config().max_model_age_s;
+  EXPECT_NEAR(bridge.Run(1.0, lag_s), 1.0, 1e-6);
+  EXPECT_EQ(bridge.dut().counters().slow_link_events, 0u);
+  EXPECT_EQ(bridge.dut().counters().slow_link_ticks, 0u);
+}
+
+TEST(DeviceBridgeTest, ModelsAnsweringNoKnownFrameAreRefusedAndCounted) {
+  auto dut = std::make_unique<DeviceBridge>(FastConfig());
+  CommandBytes out{};
+  for (int k = 1; k <= 500; ++k) {
+    const double t = k * kTick_s;
+    dut->OnStatusDatagram(Status(static_cast<std::uint32_t>(k), t), t);
+    // a stale or forged basis: a frame the controller has not sent yet
+    dut->SetForceModel(Manipulator::kThumb, ConstantForce({1.0, 0.0, 0.0}), t, 1'000'000);
+    dut->Tick(t, kTick_s, out);
+    ASSERT_EQ(dut->last_force_W_N(Manipulator::kThumb).norm(), 0.0);
+  }
+  EXPECT_EQ(dut->counters().models_unknown_basis, 500u);
+}
+
+TEST(DeviceBridgeTest, EndToEndLatencyIsTheRoundTripPlusTheWaitForTheNextTick) {
+  DelayedModelBridge bridge;
+  bridge.Run(1.0, 0.02);
+  const LatencyTracker& e2e = bridge.dut().motion_to_force_end_to_end();
+  ASSERT_GT(e2e.count(), 100u);
+  EXPECT_GE(e2e.Percentile(0.5), 0.02 - 1e-6);
+  EXPECT_LE(e2e.Percentile(0.5), 0.02 + 2 * kTick_s + 1e-4);
+}
+
 }  // namespace haptex::device

@@ -72,7 +72,8 @@ Trace RunLoop(const LoopSetup& setup) {
     bridge->OnStatusDatagram(status, t_rx);
     if (k % 5 == 0) {  // local_contact at 1 kHz
       const FingerState& s = bridge->finger_state(Manipulator::kThumb);
-      if (s.valid) bridge->SetForceModel(Manipulator::kThumb, WallModel(s.p_W_m, wall_point_W, n_W), t_rx);
+      if (s.valid)
+        bridge->SetForceModel(Manipulator::kThumb, WallModel(s.p_W_m, wall_point_W, n_W), t_rx, s.controller_sequence);
     }
     bridge->Tick(t_rx, kTick_s, command);
     have_command = true;
@@ -163,15 +164,39 @@ TEST(WallStabilityTest, ImpactAtThirtyCentimetresPerSecondSettles) {
 
 // The energy check has teeth: with no damping anywhere and the force evaluated at the measured
 // (delayed) pose, the sampled wall injects energy and the same check sees it grow.
-TEST(WallStabilityTest, EnergyCheckDetectsAnActiveLoop) {
+// An undamped user on a wall rendered without prediction: the loop's own latency makes it active.
+LoopSetup ActiveLoop() {
   LoopSetup setup = PressIntoWall(0.19);
   setup.mock.finger.user_damping_N_s_per_m = 0.0;
   setup.mock.finger.device_damping_N_s_per_m = 0.0;
   setup.bridge.evaluate_at_predicted_pose = false;
+  return setup;
+}
+
+TEST(WallStabilityTest, EnergyCheckDetectsAnActiveLoop) {
+  LoopSetup setup = ActiveLoop();
+  setup.bridge.passivity.enabled = false;  // the check itself must see the growth
   const Trace tr = RunLoop(setup);
   EXPECT_GT(MaxIn(tr, tr.energy_J, 4.5, 5.0), 10.0 * MaxIn(tr, tr.energy_J, 0.5, 1.0));
   RecordProperty("energy_peak_0_5_to_1_s_mJ", std::to_string(MaxIn(tr, tr.energy_J, 0.5, 1.0) * 1e3));
   RecordProperty("energy_peak_4_5_to_5_s_mJ", std::to_string(MaxIn(tr, tr.energy_J, 4.5, 5.0) * 1e3));
+}
+
+// The same active loop with the bridge's passivity controller: the energy the rendering would pump
+// in is damped out, so once the press has settled the loop's energy stays where it is (without the
+// controller it grows tenfold: the test above). The controller acts on what the bridge measures,
+// not on the mock's true state.
+TEST(WallStabilityTest, PassivityControllerKeepsTheActiveLoopFromGrowing) {
+  const Trace tr = RunLoop(ActiveLoop());
+  const double settled_mJ = MaxIn(tr, tr.energy_J, 1.0, 1.5) * 1e3;
+  const double late_mJ = MaxIn(tr, tr.energy_J, 4.5, 5.0) * 1e3;
+  RecordProperty("energy_peak_1_to_1_5_s_mJ", std::to_string(settled_mJ));
+  RecordProperty("energy_peak_4_5_to_5_s_mJ", std::to_string(late_mJ));
+  EXPECT_LE(late_mJ, 1.05 * settled_mJ);
+  LoopSetup unprotected = ActiveLoop();
+  unprotected.bridge.passivity.enabled = false;
+  const Trace growing = RunLoop(unprotected);
+  EXPECT_LT(late_mJ, 0.2 * MaxIn(growing, growing.energy_J, 4.5, 5.0) * 1e3);
 }
 
 }  // namespace

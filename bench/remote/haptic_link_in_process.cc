@@ -1,0 +1,110 @@
+// The haptic link under delay and loss, in one process (services/in_process): a scene's mock user
+// through the real loop objects with simulated links. Prints, per setting, the commanded force's
+// peak and its spread while the pinch holds, and the energy the device put into the fingers.
+//
+//   build/bench/remote/haptic_link_in_process SCENE [--seconds S] [--rtt-ms R ...] [--loss L ...]
+//       [--placement haptic|global] [--csv FILE]
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "libs/scene/scene_loader.h"
+#include "services/in_process/in_process_system.h"
+
+namespace {
+
+using haptex::in_process::InProcessSystem;
+using haptex::in_process::LinkImpairments;
+
+struct Result {
+  double peak_N = 0, hold_mean_N = 0, hold_sd_N = 0, energy_J = 0, max_step_N = 0;
+  std::uint64_t damped_ticks = 0, too_old = 0;
+};
+
+Result Run(const haptex::scene::LoadedScene& scene, double seconds, double rtt_ms, double loss, bool haptic,
+           std::ofstream* csv) {
+  haptex::netsim::ImpairmentConfig each_way;
+  each_way.delay_ms = rtt_ms / 2;
+  each_way.jitter_ms = rtt_ms > 0 ? 1.0 : 0.0;
+  each_way.loss = loss;
+  InProcessSystem system(scene, haptic ? LinkImpairments::HapticLink(each_way) : LinkImpairments::GlobalLink(each_way));
+  Result r;
+  double sum = 0, sum2 = 0;
+  int n = 0;
+  double previous = 0;
+  for (int k = 0; system.t_s() < seconds; ++k) {
+    system.Step();
+    const double f = std::max(system.finger(0).commanded_N.norm(), system.finger(1).commanded_N.norm());
+    r.peak_N = std::max(r.peak_N, f);
+    r.max_step_N = std::max(r.max_step_N, std::abs(f - previous));
+    previous = f;
+    // the hold of pinch_stretch: squeezed, before the stretch
+    if (system.t_s() > 4.0 && system.t_s() < 5.0) {
+      sum += f;
+      sum2 += f * f;
+      ++n;
+    }
+    if (csv != nullptr && k % 5 == 0) {
+      const auto& m = system.bridge().bridge().force_model(haptex::device::Manipulator::kIndex);
+      const auto& st = system.bridge().bridge().finger_state(haptex::device::Manipulator::kIndex);
+      *csv << rtt_ms << ',' << loss << ',' << system.t_s() << ',' << system.finger(0).commanded_N.norm() << ','
+           << system.finger(1).commanded_N.norm() << ',' << system.finger(0).position_m.y() << ','
+           << system.finger(1).position_m.y() << ',' << m.force0_W_N.norm() << ',' << m.stiffness_W_N_per_m.norm()
+           << ',' << (st.p_pred_W_m - m.x0_W_m).norm() << '\n';
+    }
+  }
+  r.hold_mean_N = n > 0 ? sum / n : 0;
+  r.hold_sd_N = n > 0 ? std::sqrt(std::max(0.0, sum2 / n - r.hold_mean_N * r.hold_mean_N)) : 0;
+  r.energy_J = system.energy_into_finger_J(0) + system.energy_into_finger_J(1);
+  for (int f = 0; f < 2; ++f) {
+    r.damped_ticks +=
+        system.bridge().bridge().passivity(static_cast<haptex::device::Manipulator>(f)).counters().damped_steps;
+  }
+  r.too_old = system.bridge().bridge().counters().slow_link_ticks;
+  return r;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::fprintf(
+        stderr,
+        "usage: %s SCENE [--seconds S] [--rtt-ms R ...] [--loss L ...] [--placement haptic|global] [--csv FILE]\n",
+        argv[0]);
+    return 2;
+  }
+  const haptex::scene::FabricDatabase db(haptex::scene::FabricDatabase::DefaultDirectory());
+  const haptex::scene::LoadedScene scene = haptex::scene::LoadScene(argv[1], db);
+  double seconds = 8;
+  std::vector<double> rtts, losses;
+  bool haptic = true;
+  std::ofstream csv;
+  for (int i = 2; i + 1 < argc; i += 2) {
+    const std::string flag = argv[i];
+    if (flag == "--seconds") seconds = std::atof(argv[i + 1]);
+    if (flag == "--rtt-ms") rtts.push_back(std::atof(argv[i + 1]));
+    if (flag == "--loss") losses.push_back(std::atof(argv[i + 1]));
+    if (flag == "--placement") haptic = std::strcmp(argv[i + 1], "haptic") == 0;
+    if (flag == "--csv") csv.open(argv[i + 1]);
+  }
+  if (rtts.empty()) rtts = {0, 10, 20, 50, 100, 200};
+  if (losses.empty()) losses = {0};
+  std::printf("rtt_ms loss peak_N hold_mean_N hold_sd_N max_step_N energy_J damped_ticks slow_link_ticks\n");
+  for (double loss : losses) {
+    for (double rtt : rtts) {
+      const Result r = Run(scene, seconds, rtt, loss, haptic, csv.is_open() ? &csv : nullptr);
+      std::printf("%6.0f %4.2f %6.2f %6.3f %6.3f %6.3f %8.4f %8llu %8llu\n", rtt, loss, r.peak_N, r.hold_mean_N,
+                  r.hold_sd_N, r.max_step_N, r.energy_J, static_cast<unsigned long long>(r.damped_ticks),
+                  static_cast<unsigned long long>(r.too_old));
+      std::fflush(stdout);
+    }
+  }
+  return 0;
+}
