@@ -56,8 +56,9 @@ void BM_BridgeTick(benchmark::State& state) {
     t += kTick_s;
     bridge->OnStatusDatagram(frames[k++], t);
     if (k % 5 == 0) {
-      bridge->SetForceModel(Manipulator::kThumb, Wall(), t);
-      bridge->SetForceModel(Manipulator::kIndex, Wall(), t);
+      const std::uint64_t basis = bridge->finger_state(Manipulator::kThumb).controller_sequence;
+      bridge->SetForceModel(Manipulator::kThumb, Wall(), t, basis);
+      bridge->SetForceModel(Manipulator::kIndex, Wall(), t, basis);
     }
     bridge->Tick(t, kTick_s, out);
     benchmark::DoNotOptimize(out);
