@@ -13,9 +13,12 @@
 #include <iostream>
 #include <memory>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 
 #include "launch/command_line.h"
+#include "launch/impair_option.h"
+#include "launch/impaired_links.h"
 #include "launch/port_plan.h"
 #include "launch/recording.h"
 #include "launch/run_report.h"
@@ -48,6 +51,7 @@ struct LaunchOptions {
   bool no_plots = false;
   int rt_priority = 0;  // SCHED_FIFO for the launcher and (inherited) every service; 0: normal
   bool dry_run = false;
+  std::vector<std::string> impair;  // SERVICE-SERVICE[:KEY=VALUE,...], launch/impair_option.h
 };
 
 // The build folder: this executable is BUILD/cli/haptex.
@@ -93,6 +97,77 @@ std::vector<std::string> ChildEnvironment(const net::SessionKey& key) {
   return env;
 }
 
+// The haptex executable that runs this launcher: it runs the relays too.
+std::string SelfPath(const std::string& build_dir) {
+  std::error_code error;
+  const fs::path self = fs::read_symlink("/proc/self/exe", error);
+  return error ? build_dir + "/cli/haptex" : self.string();
+}
+
+// One record per impaired link (what was asked), and the relays this host starts.
+std::vector<RelayRecord> PlanRelays(const std::vector<ImpairedLink>& links, const PortPlan& plan,
+                                    const std::string& here, const CommandOptions& command_options,
+                                    SupervisorConfig* config, std::string* plan_text) {
+  std::vector<RelayRecord> records;
+  for (std::size_t i = 0; i < links.size(); ++i) {
+    RelayRecord r;
+    r.placed = plan.relays.at(i);
+    r.asked = links[i].link;
+    r.source = links[i].source;
+    r.directions = scene::ResolveLink(r.asked);
+    r.local = r.placed.listen.host == here;
+    r.argv = RelayCommandLine(r.placed, r.directions, plan, command_options, SelfPath(command_options.build_dir));
+    r.report_path = RelayReportPath(command_options.run_dir, r.placed);
+    *plan_text += "relay " + r.placed.Name() + " (" + r.placed.listen.host + "): " + JoinCommandLine(r.argv) + "\n";
+    if (r.local) {
+      r.log_path = command_options.run_dir + "/logs/relay_" + r.placed.Name() + ".log";
+      config->relays.push_back({r.placed, r.argv, r.log_path});
+      r.note = "the relay wrote no report";
+    } else {
+      r.note = "the relay runs on host " + r.placed.listen.host + ": its report is in that host's run folder";
+    }
+    records.push_back(std::move(r));
+  }
+  return records;
+}
+
+void PrintImpairedLinks(const std::vector<RelayRecord>& relays) {
+  for (const RelayRecord& r : relays) {
+    const std::string text = ImpairmentText(r.asked);
+    std::cout << "  impair " << r.placed.Name() << " (" << r.source << "): " << (text.empty() ? "no impairment" : text)
+              << "; through a relay on " << r.placed.listen.host << " (" << r.placed.listen.Peer() << ", "
+              << r.placed.upstream.Peer() << ")\n";
+  }
+}
+
+// After the run: what each relay of this host reports it did.
+void ReadRelayReports(RunRecord* record) {
+  for (RelayRecord& r : record->relays) {
+    if (!r.local) continue;
+    try {
+      r.achieved = ReadRelayReport(r.report_path);
+    } catch (const std::exception& e) {
+      r.note = e.what();
+      record->errors.push_back("relay " + r.placed.Name() + ": " + e.what());
+    }
+  }
+}
+
+void PrintRelayResults(const std::vector<RelayRecord>& relays) {
+  const auto direction = [](const char* name, const RelayDirectionResult& d) {
+    std::ostringstream line;
+    line.precision(3);
+    line << std::fixed << name << " received " << d.received << ", forwarded " << d.forwarded << ", dropped "
+         << d.dropped_total << ", delay ms p50 " << d.delay_p50_ms << " p99 " << d.delay_p99_ms;
+    return line.str();
+  };
+  for (const RelayRecord& r : relays) {
+    if (!r.achieved) continue;
+    std::cout << "network " << r.placed.Name() << ": " << direction("forward", r.achieved->forward) << "; "
+              << direction("back", r.achieved->back) << "\n";
+  }
+}
+
 int Launch(const LaunchOptions& o) {
   // the scene, validated (errors at file:line:column; main prints them and exits 2)
   const scene::FabricDatabase fabrics(scene::FabricDatabase::DefaultDirectory());
@@ -118,6 +193,7 @@ int Launch(const LaunchOptions& o) {
     for (const auto& [name, address] : hosts) known += (known.empty() ? "" : ", ") + name;
     throw std::invalid_argument("--host " + o.host + ": the scene has no such host (hosts: " + known + ")");
   }
+  const std::vector<ImpairedLink> impaired = ImpairedLinks(scene, o.impair);
   const std::string here = o.host.empty() ? "local" : o.host;
   const auto runs_here = [&](const PlannedService& s) {
     return HostOf(scene, s.kind) == here && !skip.count(std::string(Spec(s.kind).name));
@@ -158,7 +234,7 @@ int Launch(const LaunchOptions& o) {
   const std::uint16_t base_port = static_cast<std::uint16_t>(o.base_port >= 0     ? o.base_port
                                                              : IsMultiHost(scene) ? kDefaultMultiHostBasePort
                                                                                   : 0);
-  const PortPlan plan = AssignPorts(scene, services, base_port, FreeUdpPort);
+  const PortPlan plan = AssignPorts(scene, services, base_port, FreeUdpPort, LinksOf(impaired));
   const std::string run_dir =
       fs::absolute(o.out.empty() ? "runs/" + scene.name() + "-" + TimeStamp() + (o.host.empty() ? "" : "-" + o.host)
                                  : o.out)
@@ -177,6 +253,8 @@ int Launch(const LaunchOptions& o) {
     if (!runs_here(s.service)) continue;
     config.services.push_back({s, argv, run_dir + "/logs/" + std::string(Spec(s.service.kind).name) + ".log"});
   }
+  std::vector<RelayRecord> relays = PlanRelays(impaired, plan, here, command_options, &config, &plan_text);
+  PrintImpairedLinks(relays);
   if (o.dry_run) {
     if (!missing.empty()) std::cout << "would refuse:" << missing << "\n";
     std::cout << "launcher@" << here << " on " << config.launcher.Peer() << "\n" << plan_text;
@@ -186,6 +264,7 @@ int Launch(const LaunchOptions& o) {
 
   fs::create_directories(run_dir + "/logs");
   fs::create_directories(run_dir + "/recordings");
+  if (!relays.empty()) fs::create_directories(run_dir + "/network");
   std::ofstream(run_dir + "/commands.txt") << plan_text;
   const net::SessionKey key = scene::ResolveSessionKey(scene.session_key());
   config.child_env = ChildEnvironment(key);
@@ -212,6 +291,7 @@ int Launch(const LaunchOptions& o) {
   record.host = o.host;
   record.not_needed = OmittedServices(scene);
   record.skipped.assign(skip.begin(), skip.end());
+  record.relays = std::move(relays);
   const int code = [&] {
     Supervisor supervisor(config, key, std::cout);
     return supervisor.Run(&record);
@@ -224,6 +304,8 @@ int Launch(const LaunchOptions& o) {
     remote.local = false;
     record.services.push_back(remote);
   }
+
+  ReadRelayReports(&record);
 
   // the run folder: recordings, what they say, plots, summary.json
   std::vector<Recording> recordings;
@@ -242,6 +324,7 @@ int Launch(const LaunchOptions& o) {
   if (!o.no_plots) plots = MakePlots(run_dir, scene, recordings, force_log);
   std::ofstream(run_dir + "/summary.json") << SummaryJson(record, files, analysis, force_log, plots);
 
+  PrintRelayResults(record.relays);
   for (const std::string& e : record.errors) std::cout << "error: " << e << "\n";
   for (const auto& p : plots) {
     std::cout << "plot " << p.name << ": " << (p.file.empty() ? "skipped, " + p.skipped : p.file) << "\n";
@@ -286,6 +369,12 @@ void AddLaunchCommand(CLI::App& app, int* exit_code) {
       ->check(CLI::Range(0, 99))
       ->capture_default_str();
   launch->add_flag("--dry-run", o->dry_run, "print the services, ports and command lines; start nothing");
+  launch
+      ->add_option("--impair", o->impair,
+                   "put the link between two services through an impairment relay, e.g. "
+                   "device_bridge-local_contact:rtt_ms=100,jitter_ms=5,loss=0.05 (keys: the scene's LinkImpairment "
+                   "fields; replaces the scene's link of that pair); repeatable")
+      ->allow_extra_args(false);  // one link per --impair: the scene after it stays the scene
   launch->callback([o, exit_code] { *exit_code = Launch(*o); });
 }
 

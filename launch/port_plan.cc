@@ -1,5 +1,6 @@
 #include "launch/port_plan.h"
 
+#include <algorithm>
 #include <set>
 #include <stdexcept>
 
@@ -39,6 +40,30 @@ const PlacedService* PortPlan::Find(ServiceKind kind) const {
   return nullptr;
 }
 
+std::string PlacedRelay::Name() const { return std::string(Spec(a).name) + "-" + std::string(Spec(b).name); }
+
+const PlacedRelay* PortPlan::FindRelay(ServiceKind x, ServiceKind y) const {
+  for (const PlacedRelay& r : relays) {
+    if ((r.a == x && r.b == y) || (r.a == y && r.b == x)) return &r;
+  }
+  return nullptr;
+}
+
+int RelayPortOffset(ServiceKind x, ServiceKind y) {
+  const auto& table = ServiceTable();
+  const auto index = [&](ServiceKind kind) {
+    for (std::size_t i = 0; i < table.size(); ++i) {
+      if (table[i].kind == kind) return static_cast<int>(i);
+    }
+    throw std::out_of_range("no launcher table entry for a relayed service");
+  };
+  const int n = static_cast<int>(table.size());
+  const int i = std::min(index(x), index(y));
+  const int j = std::max(index(x), index(y));
+  const int pair = i * n - i * (i + 1) / 2 + (j - i - 1);  // pairs (0,1), (0,2), ..., (n-2,n-1)
+  return kRelayPortOffset + 2 * pair;
+}
+
 std::string HostOf(const v1::Scene& scene, ServiceKind kind) {
   const P* placement = PlacementOf(scene, kind);
   return placement == nullptr || placement->host().empty() ? "local" : placement->host();
@@ -58,7 +83,8 @@ bool IsMultiHost(const v1::Scene& scene) {
 }
 
 PortPlan AssignPorts(const v1::Scene& scene, const std::vector<PlannedService>& services, std::uint16_t base_port,
-                     const std::function<std::uint16_t()>& free_port) {
+                     const std::function<std::uint16_t()>& free_port,
+                     const std::vector<v1::LinkImpairment>& impaired_links) {
   if (base_port == 0 && IsMultiHost(scene)) {
     throw std::invalid_argument(
         "services on several hosts need fixed ports: give --base-port (the same on every host)");
@@ -107,6 +133,20 @@ PortPlan AssignPorts(const v1::Scene& scene, const std::vector<PlannedService>& 
       placed.controller = take(host, 0, spec.controller_port_offset, std::string(spec.name) + " controller socket");
     }
     plan.services.push_back(std::move(placed));
+  }
+  for (const v1::LinkImpairment& link : impaired_links) {
+    const PlacedService* a = plan.Find(link.a());
+    const PlacedService* b = plan.Find(link.b());
+    if (a == nullptr || b == nullptr || link.a() == link.b()) {
+      throw std::invalid_argument("an impaired link must join two services of the run, got " +
+                                  P::Service_Name(link.a()) + " and " + P::Service_Name(link.b()));
+    }
+    PlacedRelay relay{link.a(), link.b(), a->controller.has_value() && b->controller.has_value(), {}, {}};
+    const std::string host = a->haptex.host;
+    const int offset = RelayPortOffset(link.a(), link.b());
+    relay.listen = take(host, 0, offset, "relay " + relay.Name());
+    relay.upstream = take(host, 0, offset + 1, "relay " + relay.Name() + " upstream");
+    plan.relays.push_back(std::move(relay));
   }
   return plan;
 }

@@ -1,5 +1,6 @@
 #include "launch/run_summary.h"
 
+#include "launch/impair_option.h"
 #include "launch/json_writer.h"
 
 namespace haptex::launch {
@@ -56,6 +57,87 @@ bool IsWatchdogCounter(const std::string& name) {
          name.find("stale") != std::string::npos;
 }
 
+void WriteAskedDirection(JsonWriter& j, std::string_view key, const netsim::ImpairmentConfig& c, std::uint64_t seed) {
+  j.BeginObject(key)
+      .Field("delay_ms", c.delay_ms)
+      .Field("jitter_ms", c.jitter_ms)
+      .Field("jitter_distribution", netsim::JitterDistributionName(c.jitter_distribution))
+      .Field("loss", c.loss)
+      .BeginObject("burst_loss")
+      .Field("p", c.burst.p_good_to_bad)
+      .Field("r", c.burst.p_bad_to_good)
+      .Field("loss_bad", c.burst.loss_bad)
+      .Field("loss_good", c.burst.loss_good)
+      .EndObject()
+      .Field("reorder", c.reorder)
+      .Field("reorder_delay_ms", c.reorder_delay_ms)
+      .Field("duplicate", c.duplicate)
+      .Field("rate_kbps", c.rate_kbps)
+      .Field("seed", seed)
+      .EndObject();
+}
+
+void WriteAchievedDirection(JsonWriter& j, std::string_view key, const RelayDirectionResult& r) {
+  j.BeginObject(key)
+      .Field("received", r.received)
+      .Field("forwarded", r.forwarded)
+      .Field("duplicated", r.duplicated)
+      .Field("reordered", r.reordered)
+      .Field("held_back", r.held_back)
+      .Field("dropped_total", r.dropped_total)
+      .BeginObject("dropped");
+  for (const auto& [cause, count] : r.dropped) j.Field(cause, count);
+  j.EndObject()
+      .Field("in_flight", r.in_flight)
+      .BeginObject("delay_ms")
+      .Field("p50", r.delay_p50_ms)
+      .Field("p99", r.delay_p99_ms)
+      .Field("max", r.delay_max_ms)
+      .Field("mean", r.delay_mean_ms)
+      .EndObject()
+      .EndObject();
+}
+
+// Per impaired link: what was asked (per direction, as the relay was told) and what its relay's
+// report says it did.
+void WriteNetwork(JsonWriter& j, const std::vector<RelayRecord>& relays) {
+  j.BeginObject("network").BeginArray("links");
+  for (const RelayRecord& r : relays) {
+    const std::string a(Spec(r.placed.a).name), b(Spec(r.placed.b).name);
+    j.BeginObject()
+        .Field("link", r.placed.Name())
+        .Field("a", a)
+        .Field("b", b)
+        .Field("source", r.source)
+        .Field("carries", r.placed.device_link ? "the GRAB protocol" : "haptex datagrams")
+        .BeginObject("directions")
+        .Field("forward", a + " -> " + b)
+        .Field("back", b + " -> " + a)
+        .EndObject()
+        .Field("relay_host", r.placed.listen.host)
+        .Field("started_here", r.local)
+        .Field("listen", r.placed.listen.Peer())
+        .Field("upstream", r.placed.upstream.Peer());
+    if (r.local) {
+      j.Field("log", r.log_path).Field("report", r.report_path).Field("pid", r.pid).Field("exit", r.exit);
+    }
+    j.BeginObject("asked").Field("text", ImpairmentText(r.asked)).Field("rtt_ms", r.asked.rtt_ms());
+    WriteAskedDirection(j, "forward", r.directions.forward, r.directions.forward_seed);
+    WriteAskedDirection(j, "back", r.directions.back, r.directions.back_seed);
+    j.EndObject();
+    j.BeginObject("achieved");
+    if (r.achieved) {
+      j.Field("duration_s", r.achieved->duration_s);
+      WriteAchievedDirection(j, "forward", r.achieved->forward);
+      WriteAchievedDirection(j, "back", r.achieved->back);
+    } else {
+      j.Field("note", r.note);
+    }
+    j.EndObject().EndObject();
+  }
+  j.EndArray().EndObject();
+}
+
 }  // namespace
 
 std::string SummaryJson(const RunRecord& run, const std::vector<RecordingFiles>& recordings,
@@ -93,6 +175,7 @@ std::string SummaryJson(const RunRecord& run, const std::vector<RecordingFiles>&
     j.BeginObject().Field("name", name).Field("why", "--skip (started elsewhere)").EndObject();
   }
   j.EndArray();
+  WriteNetwork(j, run.relays);
 
   // motion-to-force latency (the bridge's clock)
   j.BeginObject("motion_to_force");

@@ -11,7 +11,9 @@
 
 #include "haptex/v1/health.pb.h"
 #include "launch/port_plan.h"
+#include "launch/relay_report_reader.h"
 #include "launch/run_report.h"
+#include "libs/scene/scene_network.h"
 
 namespace haptex::launch {
 
@@ -34,6 +36,22 @@ struct ServiceRecord {
   bool local = true;     // started by this launcher
 };
 
+/// One impaired link: what was asked, its relay, and what the relay's report says it achieved.
+struct RelayRecord {
+  PlacedRelay placed;
+  v1::LinkImpairment asked;
+  scene::LinkDirections directions;  // what `asked` means for each direction
+  std::string source;                // "scene" or "--impair"
+  bool local = true;                 // the relay is started by this launcher
+  std::vector<std::string> argv;
+  std::string log_path;
+  std::string report_path;
+  int pid = 0;
+  std::string exit;                     // how it ended ("exit 0", "signal 9", ...)
+  std::optional<RelayResult> achieved;  // from its JSON report
+  std::string note;                     // why there is no report
+};
+
 struct RunRecord {
   std::string scene_name;
   std::string scene_path;
@@ -43,6 +61,7 @@ struct RunRecord {
   std::string end_reason;  // "duration", "interrupted", "failed"
   int exit_code = 0;
   std::vector<ServiceRecord> services;
+  std::vector<RelayRecord> relays;         // one per impaired link
   std::vector<PlannedService> not_needed;  // with why
   std::vector<std::string> skipped;        // --skip: needed but started elsewhere
   std::vector<RunEvent> events;

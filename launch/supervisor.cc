@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
@@ -24,6 +25,14 @@ struct Supervisor::Live {
   std::int64_t last_health_ns = 0;
   bool ready = false;
   bool stopped = false;  // exited during the stop (not a failure)
+};
+
+struct Supervisor::LiveRelay {
+  SupervisedRelay relay;
+  std::string name;  // "relay A-B", in events and errors
+  std::size_t record_index = 0;
+  std::unique_ptr<ChildProcess> child;
+  bool died = false;
 };
 
 namespace {
@@ -59,6 +68,25 @@ std::vector<std::string> ArgvForStart(std::vector<std::string> argv, std::size_t
     path.insert(at, ".restart" + std::to_string(restarts));
   }
   return argv;
+}
+
+// What a relay prints once both its sockets are bound (cli/relay_command.cc).
+constexpr char kRelayListening[] = "relay: listening on";
+
+bool FileHasFrom(const std::string& path, std::uintmax_t offset, const std::string& text) {
+  std::ifstream in(path);
+  in.seekg(static_cast<std::streamoff>(offset));
+  const std::string content((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return content.find(text) != std::string::npos;
+}
+
+// A relay forwards bytes it cannot read: it gets no session key.
+std::vector<std::string> WithoutKey(const std::vector<std::string>& env) {
+  std::vector<std::string> out;
+  for (const std::string& e : env) {
+    if (e.rfind("HAPTEX_SESSION_KEY=", 0) != 0) out.push_back(e);
+  }
+  return out;
 }
 
 std::string ShortState(v1::Health::State state) {
@@ -210,6 +238,92 @@ bool Supervisor::Restart(Live& live, const std::string& how) {
   return false;
 }
 
+bool Supervisor::StartRelay(LiveRelay& relay) {
+  RelayRecord& record = record_->relays[relay.record_index];
+  const std::string& log_path = relay.relay.log_path;
+  std::error_code error;
+  const std::uintmax_t log_size = std::filesystem::file_size(log_path, error);  // an earlier run's lines
+  const std::uintmax_t from = error ? 0 : log_size;
+  try {
+    relay.child = std::make_unique<ChildProcess>(relay.relay.argv, WithoutKey(config_.child_env), log_path);
+  } catch (const std::exception& e) {
+    record_->errors.push_back(relay.name + ": " + e.what());
+    return false;
+  }
+  record.pid = relay.child->pid();
+  Event(relay.name, "started",
+        "pid " + std::to_string(record.pid) + ", " + std::string(Spec(relay.relay.placed.a).name) + " sends to " +
+            relay.relay.placed.listen.Peer() + ", " + std::string(Spec(relay.relay.placed.b).name) + " to " +
+            relay.relay.placed.upstream.Peer());
+  const std::int64_t deadline = base::SteadyNowNs() + static_cast<std::int64_t>(config_.ready_timeout_s * 1e9);
+  while (true) {
+    if (FileHasFrom(log_path, from, kRelayListening)) {
+      Event(relay.name, "ready", "");
+      return true;
+    }
+    if (relay.child->Poll()) {
+      record.exit = relay.child->exit_text();
+      record_->errors.push_back(relay.name + " ended while starting (" + record.exit + "): " + LastLine(log_path) +
+                                " [" + log_path + "]");
+      return false;
+    }
+    if (runtime::ShutdownRequested()) return false;
+    if (base::SteadyNowNs() > deadline) {
+      record_->errors.push_back(relay.name + " did not bind its sockets within " + Fixed(config_.ready_timeout_s, 0) +
+                                " s; see " + log_path);
+      relay.child->Signal(SIGKILL);
+      while (!relay.child->Poll()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      record.exit = relay.child->exit_text();
+      return false;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+}
+
+void Supervisor::CheckRelays() {
+  for (auto& relay : relays_) {
+    if (relay->died || !relay->child || !relay->child->Poll()) continue;
+    // Not restarted: its report would start again from zero. The services' watchdogs keep the
+    // device safe while the link is cut.
+    relay->died = true;
+    relay_died_ = true;
+    RelayRecord& record = record_->relays[relay->record_index];
+    record.exit = relay->child->exit_text();
+    Event(relay->name, "died", record.exit);
+    record_->errors.push_back(relay->name + " died (" + record.exit + "): the link is cut from then on; " +
+                              LastLine(relay->relay.log_path) + " [" + relay->relay.log_path + "]");
+  }
+}
+
+void Supervisor::StopRelays() {
+  for (auto& relay : relays_) {
+    if (!relay->child) continue;
+    RelayRecord& record = record_->relays[relay->record_index];
+    if (relay->child->Poll()) {
+      if (record.exit.empty()) record.exit = relay->child->exit_text();
+      continue;
+    }
+    // SIGTERM: the relay stops relaying and writes its report
+    relay->child->Signal(SIGTERM);
+    const auto wait_exit = [&](double seconds) {
+      const std::int64_t until = base::SteadyNowNs() + static_cast<std::int64_t>(seconds * 1e9);
+      while (base::SteadyNowNs() < until) {
+        if (relay->child->Poll()) return true;
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+      }
+      return relay->child->Poll();
+    };
+    std::string how = "after SIGTERM";
+    if (!wait_exit(config_.stop_timeout_s)) {
+      relay->child->Signal(SIGKILL);
+      how = "after SIGKILL";
+      wait_exit(5.0);
+    }
+    record.exit = relay->child->exit_text();
+    Event(relay->name, "stopped", record.exit + " " + how);
+  }
+}
+
 void Supervisor::PrintStatus(bool final_line) {
   std::ostringstream line;
   line << Fixed(Now(), 1) << " s";
@@ -287,6 +401,7 @@ void Supervisor::Stop() {
     record.exit = live->child->exit_text();
     Event(name, "stopped", record.exit + " " + how);
   }
+  StopRelays();
 }
 
 int Supervisor::Run(RunRecord* record) {
@@ -304,9 +419,35 @@ int Supervisor::Run(RunRecord* record) {
     record_->services.push_back(std::move(r));
     live_.push_back(std::move(live));
   }
+  for (const SupervisedRelay& s : config_.relays) {
+    auto relay = std::make_unique<LiveRelay>();
+    relay->relay = s;
+    relay->name = "relay " + s.placed.Name();
+    const auto same = std::find_if(record_->relays.begin(), record_->relays.end(),
+                                   [&](const RelayRecord& r) { return r.placed.Name() == s.placed.Name(); });
+    if (same == record_->relays.end()) {
+      record_->relays.push_back({});
+      record_->relays.back().placed = s.placed;
+    }
+    relay->record_index = same == record_->relays.end() ? record_->relays.size() - 1
+                                                        : static_cast<std::size_t>(same - record_->relays.begin());
+    RelayRecord& r = record_->relays[relay->record_index];
+    r.argv = s.argv;
+    r.log_path = s.log_path;
+    r.local = true;
+    relays_.push_back(std::move(relay));
+  }
 
+  // the relays first: a service's first datagram to its peer already goes through one
+  for (auto& relay : relays_) {
+    if (!StartRelay(*relay)) {
+      failed_ = !runtime::ShutdownRequested();
+      break;
+    }
+  }
   // start in order, each healthy before the next; the bridge holds zero force meanwhile
   for (auto& live : live_) {
+    if (failed_ || runtime::ShutdownRequested()) break;
     if (!Start(*live) || !WaitReady(*live)) {
       failed_ = !runtime::ShutdownRequested();
       break;
@@ -332,6 +473,7 @@ int Supervisor::Run(RunRecord* record) {
     // the device well inside 20 ms even when nothing else wakes the loop
     messenger_->WaitReadable(std::chrono::milliseconds(2));
     DrainHealth();
+    CheckRelays();
     for (auto& live : live_) {
       std::string how;
       if (live->child->Poll()) {
@@ -363,7 +505,7 @@ int Supervisor::Run(RunRecord* record) {
     const std::uint64_t count = messenger_->received().Get(reason);
     if (count > 0) record_->launcher_received[std::string(net::DropReasonName(reason))] = count;
   }
-  record_->exit_code = failed_ ? 1 : 0;
+  record_->exit_code = failed_ || relay_died_ ? 1 : 0;
   return record_->exit_code;
 }
 

@@ -3,7 +3,9 @@
 // healthy, holds the device at zero force while anything (re)starts, restarts a service that dies
 // or goes silent (bounded), prints a live status line, and stops in a safe order: Control
 // ZERO_FORCE to the bridge first, then SHUTDOWN to each service (the device bridge last of the
-// haptex services), then SIGTERM and SIGKILL for a service that does not exit.
+// haptex services), then SIGTERM and SIGKILL for a service that does not exit. The relays of
+// impaired links start before the services and stop (SIGTERM: each writes its report) after them;
+// they send no Health, and one that dies is an error of the run, not restarted.
 
 #include <iosfwd>
 #include <memory>
@@ -22,8 +24,15 @@ struct SupervisedService {
   std::string log_path;
 };
 
+struct SupervisedRelay {
+  PlacedRelay placed;
+  std::vector<std::string> argv;
+  std::string log_path;
+};
+
 struct SupervisorConfig {
   std::vector<SupervisedService> services;  // started here, in start order
+  std::vector<SupervisedRelay> relays;      // started here before the services, stopped after them
   HostPort launcher;                        // where this launcher receives Health
   std::string identity = "launcher";        // sender name of this launcher
   std::string bridge_address;               // where ZERO_FORCE / ENABLE_FORCE go; "" without a bridge
@@ -53,6 +62,7 @@ class Supervisor final {
 
  private:
   struct Live;
+  struct LiveRelay;
   double Now() const;
   void Event(const std::string& service, const std::string& kind, const std::string& detail);
   void DrainHealth();
@@ -63,16 +73,21 @@ class Supervisor final {
   bool WaitReady(Live& live);
   bool Restart(Live& live, const std::string& how);
   void Stop();
+  bool StartRelay(LiveRelay& relay);
+  void CheckRelays();
+  void StopRelays();
   void PrintStatus(bool final_line);
 
   SupervisorConfig config_;
   std::ostream& out_;
   std::unique_ptr<net::Messenger> messenger_;
   std::vector<std::unique_ptr<Live>> live_;
+  std::vector<std::unique_ptr<LiveRelay>> relays_;
   RunRecord* record_ = nullptr;
   std::int64_t start_ns_ = 0;
   std::int64_t next_status_ns_ = 0;
   bool failed_ = false;
+  bool relay_died_ = false;
 };
 
 }  // namespace haptex::launch

@@ -10,6 +10,7 @@
 #include "libs/net/session_key.h"
 #include "libs/net/udp_address.h"
 #include "libs/scene/scene_defaults.h"
+#include "libs/scene/scene_network.h"
 
 namespace haptex::scene {
 namespace {
@@ -337,6 +338,7 @@ std::vector<TextIssue> ValidateScene(const v1::Scene& scene, const FieldLocator&
   CheckRatesAndModel(scene, where, c);
   CheckPlacement(scene, where, c);
   CheckSessionKey(scene, where, c);
+  for (TextIssue& issue : ValidateNetwork(scene, where)) c.Add(std::move(issue));
   return issues;
 }
 

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 
+#include "launch/impair_option.h"
 #include "tests/launch/launch_test_support.h"
 
 namespace haptex::launch {
@@ -103,6 +104,103 @@ TEST_F(LaunchCommandLineTest, RemoteHostsGetTheirOwnLauncherAndWildcardBinds) {
   EXPECT_THAT(Peers(mock), Contains("launcher=192.0.2.10:47600"));
   EXPECT_THAT(Peers(tactile), Contains("launcher=192.0.2.20:47600"));
   EXPECT_THAT(Peers(tactile), Contains("display=192.0.2.10:47608"));  // the pins are at the lab
+}
+
+// --impair 'device_bridge-local_contact:...': the bridge sends to the relay's listen socket,
+// local_contact to its upstream socket; the relay forwards to each one's real address.
+class LaunchRelayCommandLineTest : public LaunchCommandLineTest {
+ protected:
+  void PlanWith(const v1::Scene& scene, const std::string& impair, std::uint16_t base_port = 40000) {
+    scene_ = scene;
+    link_ = ParseImpairOption(impair);
+    plan_ = AssignPorts(scene_, DeriveServices(scene_), base_port, nullptr, {link_});
+  }
+  std::vector<std::string> RelayArgv() {
+    return RelayCommandLine(plan_.relays.at(0), scene::ResolveLink(link_), plan_,
+                            {"/b", "/s/demo.textproto", "/run", "info"}, "/self/haptex");
+  }
+  v1::LinkImpairment link_;
+};
+
+TEST_F(LaunchRelayCommandLineTest, PeersOfAnImpairedLinkPointAtTheRelay) {
+  PlanWith(testing::ShippedScene("demo"), "device_bridge-local_contact:rtt_ms=20,loss=0.02,seed=1");
+  const int listen = 40000 + RelayPortOffset(P::SERVICE_DEVICE_BRIDGE, P::SERVICE_LOCAL_CONTACT);
+  const std::string relay_listen = "127.0.0.1:" + std::to_string(listen);
+  const std::string relay_upstream = "127.0.0.1:" + std::to_string(listen + 1);
+  EXPECT_THAT(Peers(Argv(P::SERVICE_DEVICE_BRIDGE)),
+              ::testing::ElementsAre("launcher=127.0.0.1:40000", "local_contact=" + relay_listen,
+                                     "global_sim=127.0.0.1:40001"));  // the bridge's other link stays direct
+  EXPECT_THAT(Peers(Argv(P::SERVICE_LOCAL_CONTACT)),
+              ::testing::ElementsAre("launcher=127.0.0.1:40000", "global_sim=127.0.0.1:40001",
+                                     "bridge=" + relay_upstream, "tactile=127.0.0.1:40005"));
+  EXPECT_THAT(Peers(Argv(P::SERVICE_GLOBAL_SIM)), Contains("local_contact=127.0.0.1:40002"));
+  EXPECT_EQ(After(Argv(P::SERVICE_DEVICE_BRIDGE), "--controller"), "127.0.0.1:40007");  // GRAB link direct
+
+  const auto relay = RelayArgv();
+  EXPECT_EQ(relay[0], "/self/haptex");
+  EXPECT_EQ(relay[1], "relay");
+  EXPECT_EQ(After(relay, "--listen"), relay_listen);
+  EXPECT_EQ(After(relay, "--upstream-bind"), relay_upstream);
+  EXPECT_EQ(After(relay, "--to"), "127.0.0.1:40002");       // local_contact's real address
+  EXPECT_EQ(After(relay, "--back-to"), "127.0.0.1:40003");  // the bridge's
+  EXPECT_EQ(After(relay, "--delay-ms"), "10");              // rtt_ms split evenly
+  EXPECT_EQ(After(relay, "--loss"), "0.02");
+  EXPECT_EQ(After(relay, "--seed"), "1,2");
+  EXPECT_EQ(After(relay, "--json"), "/run/network/device_bridge-local_contact.json");
+  // what the relay's defaults already say is left out
+  for (const char* flag : {"--jitter-ms", "--jitter-dist", "--reorder", "--duplicate", "--rate-kbps", "--burst-loss"}) {
+    EXPECT_THAT(relay, Not(Contains(flag))) << flag;
+  }
+}
+
+TEST_F(LaunchRelayCommandLineTest, EachDirectionGetsItsOwnValuesExactly) {
+  PlanWith(testing::ShippedScene("demo"),
+           "local_contact-device_bridge:delay_ms=0.1234567891234,jitter_ms=2,jitter_distribution=normal,"
+           "burst_loss=0.01/0.5,reorder=0.05,reorder_delay_ms=3,duplicate=0.001,rate_kbps=800,seed=9,"
+           "forward.loss=0.1,back.burst_loss=0.02/0.25/0.9/0.01,back.seed=4");
+  const auto relay = RelayArgv();
+  EXPECT_EQ(After(relay, "--to"), "127.0.0.1:40003");       // forward is local_contact -> bridge here
+  EXPECT_EQ(After(relay, "--back-to"), "127.0.0.1:40002");  // local_contact's real address
+  EXPECT_EQ(After(relay, "--delay-ms"), "0.1234567891234");
+  EXPECT_EQ(After(relay, "--jitter-ms"), "2");
+  EXPECT_EQ(After(relay, "--jitter-dist"), "normal");
+  EXPECT_EQ(After(relay, "--loss"), "0.1,0");
+  EXPECT_EQ(After(relay, "--burst-loss-forward"), "0.01,0.5,1,0");
+  EXPECT_EQ(After(relay, "--burst-loss-back"), "0.02,0.25,0.9,0.01");
+  EXPECT_EQ(After(relay, "--reorder"), "0.05");
+  EXPECT_EQ(After(relay, "--reorder-delay-ms"), "3");
+  EXPECT_EQ(After(relay, "--duplicate"), "0.001");
+  EXPECT_EQ(After(relay, "--rate-kbps"), "800");
+  EXPECT_EQ(After(relay, "--seed"), "9,4");
+  // the relay's peers: the bridge sends to the upstream socket now
+  const int listen = 40000 + RelayPortOffset(P::SERVICE_DEVICE_BRIDGE, P::SERVICE_LOCAL_CONTACT);
+  EXPECT_THAT(Peers(Argv(P::SERVICE_LOCAL_CONTACT)), Contains("bridge=127.0.0.1:" + std::to_string(listen)));
+  EXPECT_THAT(Peers(Argv(P::SERVICE_DEVICE_BRIDGE)), Contains("local_contact=127.0.0.1:" + std::to_string(listen + 1)));
+}
+
+TEST_F(LaunchRelayCommandLineTest, TheGrabLinkIsRelayedOnTheControllerSockets) {
+  PlanWith(testing::ShippedScene("demo"), "device_bridge-mock_grab:delay_ms=1");
+  const int listen = 40000 + RelayPortOffset(P::SERVICE_DEVICE_BRIDGE, P::SERVICE_MOCK_GRAB);
+  EXPECT_EQ(After(Argv(P::SERVICE_DEVICE_BRIDGE), "--controller"), "127.0.0.1:" + std::to_string(listen));
+  EXPECT_EQ(After(Argv(P::SERVICE_MOCK_GRAB), "--bridge"), "127.0.0.1:" + std::to_string(listen + 1));
+  EXPECT_EQ(After(Argv(P::SERVICE_DEVICE_BRIDGE), "--controller-bind"), "127.0.0.1:40004");  // binds stay
+  const auto relay = RelayArgv();
+  EXPECT_EQ(After(relay, "--to"), "127.0.0.1:40007");       // the mock's GRAB socket
+  EXPECT_EQ(After(relay, "--back-to"), "127.0.0.1:40004");  // the bridge's GRAB socket
+  EXPECT_THAT(Peers(Argv(P::SERVICE_DEVICE_BRIDGE)), Contains("local_contact=127.0.0.1:40002"));
+}
+
+TEST_F(LaunchRelayCommandLineTest, AcrossHostsTheRelayIsReachedAtItsHostsAddress) {
+  PlanWith(testing::ShippedScene("remote"), "device_bridge-local_contact:rtt_ms=40", 47600);
+  const int listen = 47600 + RelayPortOffset(P::SERVICE_DEVICE_BRIDGE, P::SERVICE_LOCAL_CONTACT);
+  // the relay on lab (the bridge's host); local_contact on compute sends to lab's address
+  EXPECT_THAT(Peers(Argv(P::SERVICE_DEVICE_BRIDGE)), Contains("local_contact=192.0.2.10:" + std::to_string(listen)));
+  EXPECT_THAT(Peers(Argv(P::SERVICE_LOCAL_CONTACT)), Contains("bridge=192.0.2.10:" + std::to_string(listen + 1)));
+  const auto relay = RelayArgv();
+  EXPECT_EQ(After(relay, "--listen"), "0.0.0.0:" + std::to_string(listen));
+  EXPECT_EQ(After(relay, "--upstream-bind"), "0.0.0.0:" + std::to_string(listen + 1));
+  EXPECT_EQ(After(relay, "--to"), "192.0.2.20:47602");
+  EXPECT_EQ(After(relay, "--back-to"), "192.0.2.10:47603");
 }
 
 TEST(LaunchJoinCommandLineTest, QuotesSpaces) { EXPECT_EQ(JoinCommandLine({"a", "b c", ""}), "a 'b c' ''"); }

@@ -87,6 +87,47 @@ TEST(LaunchCommandTest, HostsAndSkipsAreChecked) {
   EXPECT_THAT(r.err, HasSubstr("--skip tactile: the scene does not need a service of that name"));
 }
 
+TEST(LaunchCommandTest, ImpairShowsItsRelayAndTheRewiredPeers) {
+  const Result r = Haptex({"launch", testing::ShippedScenePath("pinch_stretch"), "--dry-run", "--base-port", "41000",
+                           "--impair", "device_bridge-local_contact:rtt_ms=20,loss=0.02,seed=1"});
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("impair device_bridge-local_contact (--impair): rtt_ms=20,loss=0.02,seed=1; through a "
+                               "relay on local (127.0.0.1:41024, 127.0.0.1:41025)"));
+  EXPECT_THAT(r.out, HasSubstr("relay device_bridge-local_contact (local): "));
+  EXPECT_THAT(r.out, HasSubstr(" relay --listen 127.0.0.1:41024 --to 127.0.0.1:41002 --upstream-bind 127.0.0.1:41025 "
+                               "--back-to 127.0.0.1:41003 --delay-ms 10 --loss 0.02 --seed 1,2 --json "));
+  EXPECT_THAT(r.out, HasSubstr("--peer local_contact=127.0.0.1:41024 --peer global_sim=127.0.0.1:41001"));
+  EXPECT_THAT(r.out, HasSubstr("--peer bridge=127.0.0.1:41025"));
+}
+
+TEST(LaunchCommandTest, BadImpairmentsAreRefusedWithExitCodeTwo) {
+  const std::string scene = testing::ShippedScenePath("pinch_stretch");
+  for (const auto& [impair, says] : std::vector<std::pair<std::string, std::string>>{
+           {"device_bridge-local_contact:loss=nan", "loss must be a finite number, got nan"},
+           {"device_bridge-local_contact:jitter=5", "unknown key 'jitter'"},
+           {"device_bridge-pins", "unknown service 'pins'"},
+           {"local_contact-tactile", "the scene does not run tactile"},
+           {"global_sim-mock_grab", "global_sim and mock_grab exchange no datagrams"}}) {
+    const Result r = Haptex({"launch", scene, "--dry-run", "--impair", impair});
+    EXPECT_EQ(r.code, 2) << impair;
+    EXPECT_THAT(r.err, HasSubstr("--impair '" + impair + "': " + says));
+  }
+}
+
+TEST(LaunchCommandTest, SceneNetworkErrorsAtFileLineColumn) {
+  const std::string path = testing::FreshDir("launch_network") + "/bad.textproto";
+  testing::WriteText(path,
+                     "name: \"bad\"\nfabric { database_name: \"wang2011_black_denim_11oz\" }\n"
+                     "fingers { finger: FINGER_INDEX }\ndevice { mock {} }\n"
+                     "network { links { a: SERVICE_DEVICE_BRIDGE b: SERVICE_LOCAL_CONTACT\n"
+                     "  rtt_ms: inf } }\n");
+  for (const char* command : {"launch", "scene"}) {
+    const Result r = std::string(command) == "launch" ? Haptex({"launch", path}) : Haptex({"scene", "check", path});
+    EXPECT_EQ(r.code, 2) << command;
+    EXPECT_THAT(r.err, HasSubstr(path + ":6:3: rtt_ms must be a finite number, got inf")) << command;
+  }
+}
+
 TEST(LaunchCommandTest, TraceExportNeedsARunFolder) {
   const Result r = Haptex({"trace", "export", "/no/such/run", "--csv"});
   EXPECT_EQ(r.code, 2);

@@ -17,6 +17,7 @@ namespace {
 using namespace std::chrono_literals;
 using ::testing::ContainsRegex;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 std::string IpTool() {
   for (const char* path : {"/usr/sbin/ip", "/sbin/ip", "/usr/bin/ip", "/bin/ip"}) {
@@ -127,6 +128,55 @@ session_key { hex: "00112233445566778899aabbccddeeff00112233445566778899aabbccdd
   EXPECT_THAT(b, ContainsRegex(R"("status_frames_accepted":[1-9])"));
   EXPECT_THAT(b, HasSubstr(R"("status_frames_from_strangers":0)"));
   EXPECT_THAT(b, ContainsRegex(R"("name":"mock_grab","reason":[^}]*"host":"a","address":"192.0.2.1:47606")"));
+}
+
+// An impaired link across hosts: the relay runs on the host of the link's first service (the
+// bridge's, a), local_contact on b sends to a's relay, and each launcher is given the same
+// --impair. The bridge gets local_contact's force models through the relay both ways.
+TEST(LaunchMultiHostTest, ARelayedLinkBetweenTwoHosts) {
+  TwoHosts hosts;
+  if (const std::string why = hosts.Create(); !why.empty()) {
+    GTEST_SKIP() << "two-host test skipped: " << why;
+  }
+  const std::string dir = testing::FreshDir("multi_host_relay");
+  const std::string scene = dir + "/two_hosts.textproto";
+  testing::WriteText(scene, R"(
+name: "two_hosts_relayed"
+fabric { database_name: "wang2011_black_denim_11oz" }
+cloth { particles_u: 21 particles_v: 21 }
+fingers { finger: FINGER_THUMB }
+fingers { finger: FINGER_INDEX }
+device { mock { user { kind: KIND_RUB } } }
+hosts { name: "a" address: "192.0.2.1" }
+hosts { name: "b" address: "192.0.2.2" }
+services { service: SERVICE_MOCK_GRAB host: "a" }
+services { service: SERVICE_DEVICE_BRIDGE host: "a" }
+services { service: SERVICE_GLOBAL_SIM host: "b" }
+services { service: SERVICE_LOCAL_CONTACT host: "b" }
+session_key { hex: "00112233445566778899aabbccddeeff00112233445566778899aabbccddeeff" }
+)");
+  const std::string haptex = haptex::testing::BuildDir() + "/cli/haptex";
+  const std::string impair = "device_bridge-local_contact:delay_ms=5";
+  haptex::testing::Subprocess host_a(hosts.In(hosts.a(), {haptex, "launch", scene, "--host", "a", "--duration", "4",
+                                                          "--out", dir + "/run_a", "--impair", impair}));
+  haptex::testing::Subprocess host_b(hosts.In(hosts.b(), {haptex, "launch", scene, "--host", "b", "--duration", "4",
+                                                          "--out", dir + "/run_b", "--impair", impair}));
+  const auto code_a = host_a.WaitFor(120s);
+  const auto code_b = host_b.WaitFor(120s);
+  EXPECT_EQ(code_a, 0) << host_a.Stdout() << host_a.Stderr();
+  EXPECT_EQ(code_b, 0) << host_b.Stdout() << host_b.Stderr();
+  EXPECT_THAT(host_a.Stdout(), HasSubstr("relay device_bridge-local_contact: started"));
+  EXPECT_THAT(host_b.Stdout(), Not(HasSubstr("relay device_bridge-local_contact: started")));
+  EXPECT_THAT(host_b.Stdout(), HasSubstr("through a relay on a (192.0.2.1:"));
+
+  const std::string a = testing::ReadText(dir + "/run_a/summary.json");
+  const std::string b = testing::ReadText(dir + "/run_b/summary.json");
+  EXPECT_THAT(a, ContainsRegex(R"("force_models":[1-9])")) << "the bridge on a got b's force models";
+  EXPECT_THAT(a, ContainsRegex(R"("link":"device_bridge-local_contact",.*"started_here":true)"));
+  EXPECT_THAT(a, ContainsRegex(R"("achieved":\{"duration_s":[0-9.]+,"forward":\{"received":[1-9][0-9]*,)"));
+  EXPECT_THAT(a, ContainsRegex(R"("back":\{"received":[1-9][0-9]*,)"));
+  EXPECT_THAT(b, ContainsRegex(R"("link":"device_bridge-local_contact",.*"started_here":false)"));
+  EXPECT_THAT(b, HasSubstr("its report is in that host's run folder"));
 }
 
 // The shipped remote scene as its comment tells a user to run it: the device, its bridge and the

@@ -76,5 +76,59 @@ TEST(LaunchRunSummaryTest, ContactStateHistogram) {
   EXPECT_THAT(json, HasSubstr(R"("mock_controller_commanded":{"note":"no mock controller force log"})"));
 }
 
+TEST(LaunchRunSummaryTest, NetworkSectionHasAskedAndAchievedPerLink) {
+  RunRecord run;
+  const std::string json_without = SummaryJson(run, {}, RecordingAnalysis{}, std::nullopt, {});
+  EXPECT_THAT(json_without, HasSubstr(R"("network":{"links":[]})"));
+
+  RelayRecord relay;
+  relay.placed = {P::SERVICE_DEVICE_BRIDGE,
+                  P::SERVICE_LOCAL_CONTACT,
+                  false,
+                  {"local", "127.0.0.1", 40040},
+                  {"local", "127.0.0.1", 40041}};
+  relay.asked.set_a(P::SERVICE_DEVICE_BRIDGE);
+  relay.asked.set_b(P::SERVICE_LOCAL_CONTACT);
+  relay.asked.set_rtt_ms(20);
+  relay.asked.set_loss(0.02);
+  relay.asked.set_seed(1);
+  relay.directions = scene::ResolveLink(relay.asked);
+  relay.source = "--impair";
+  relay.pid = 42;
+  relay.exit = "exit 0";
+  relay.report_path = "/run/network/device_bridge-local_contact.json";
+  RelayResult achieved;
+  achieved.duration_s = 5;
+  achieved.forward.received = 1000;
+  achieved.forward.forwarded = 980;
+  achieved.forward.dropped_total = 20;
+  achieved.forward.dropped = {{"loss", 20}, {"queue_overflow", 0}};
+  achieved.forward.delay_p50_ms = 10.02;
+  relay.achieved = achieved;
+  run.relays.push_back(relay);
+  RelayRecord remote = relay;
+  remote.local = false;
+  remote.achieved.reset();
+  remote.note = "the relay runs on host lab";
+  run.relays.push_back(remote);
+
+  const std::string json = SummaryJson(run, {}, RecordingAnalysis{}, std::nullopt, {});
+  EXPECT_THAT(json, HasSubstr(R"("network":{"links":[{"link":"device_bridge-local_contact","a":"device_bridge",)"
+                              R"("b":"local_contact","source":"--impair","carries":"haptex datagrams",)"
+                              R"("directions":{"forward":"device_bridge -> local_contact","back":"local_contact -> )"
+                              R"(device_bridge"},"relay_host":"local","started_here":true,)"
+                              R"("listen":"127.0.0.1:40040","upstream":"127.0.0.1:40041")"));
+  EXPECT_THAT(json, HasSubstr(R"("report":"/run/network/device_bridge-local_contact.json","pid":42,"exit":"exit 0")"));
+  EXPECT_THAT(json,
+              HasSubstr(R"("asked":{"text":"rtt_ms=20,loss=0.02,seed=1","rtt_ms":20,)"
+                        R"("forward":{"delay_ms":10,"jitter_ms":0,"jitter_distribution":"uniform","loss":0.02,)"));
+  EXPECT_THAT(json, HasSubstr(R"("rate_kbps":0,"seed":2})"));  // back's seed
+  EXPECT_THAT(json, HasSubstr(R"("achieved":{"duration_s":5,"forward":{"received":1000,"forwarded":980,)"
+                              R"("duplicated":0,"reordered":0,"held_back":0,"dropped_total":20,)"
+                              R"("dropped":{"loss":20,"queue_overflow":0},"in_flight":0,"delay_ms":{"p50":10.02,)"));
+  EXPECT_THAT(json, HasSubstr(R"("started_here":false)"));
+  EXPECT_THAT(json, HasSubstr(R"("achieved":{"note":"the relay runs on host lab"})"));
+}
+
 }  // namespace
 }  // namespace haptex::launch

@@ -4,6 +4,9 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
+#include "libs/scene/scene_network.h"
 #include "tests/launch/launch_test_support.h"
 
 namespace haptex::launch {
@@ -87,6 +90,26 @@ TEST(LaunchServiceSetTest, RealDevicesStartNoMocks) {
   const auto omitted = OmittedServices(scene);
   EXPECT_THAT(ReasonOf(omitted, P::SERVICE_MOCK_GRAB), HasSubstr("real GRAB controller at 127.0.0.1:7000"));
   EXPECT_THAT(ReasonOf(omitted, P::SERVICE_MOCK_PINS), HasSubstr("real pin display at 127.0.0.1:7001"));
+}
+
+// The scene layer's SceneRunsService (its network checks refuse a link to a service the scene does
+// not run) says what DeriveServices says.
+TEST(LaunchServiceSetTest, TheSceneLayerAgreesOnWhatASceneRuns) {
+  std::vector<v1::Scene> scenes;
+  for (const char* name : {"demo", "hanging", "rub_friction", "pinch_stretch", "one_finger", "remote", "cantilever"}) {
+    scenes.push_back(testing::ShippedScene(name));
+  }
+  scenes.push_back(testing::SceneFromText(R"(
+    name: "real" fabric { database_name: "wang2011_black_denim_11oz" }
+    fingers { finger: FINGER_THUMB } device { grab { controller_address: "127.0.0.1:7000" } }
+    tactile { enabled: true display_address: "127.0.0.1:7001" })"));
+  for (const v1::Scene& scene : scenes) {
+    const auto planned = Kinds(DeriveServices(scene));
+    for (const ServiceSpec& spec : ServiceTable()) {
+      const bool derived = std::find(planned.begin(), planned.end(), spec.kind) != planned.end();
+      EXPECT_EQ(scene::SceneRunsService(scene, spec.kind), derived) << scene.name() << ": " << spec.name;
+    }
+  }
 }
 
 TEST(LaunchServiceSetTest, StopOrderPutsModelsFirstAndTheBridgeAfterThem) {

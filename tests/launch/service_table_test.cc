@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "libs/scene/scene_network.h"
+
 #include <set>
 
 namespace haptex::launch {
@@ -47,6 +49,26 @@ TEST(LaunchServiceTableTest, SafeOrders) {
     EXPECT_LT(spec.stop_rank, Spec(P::SERVICE_DEVICE_BRIDGE).stop_rank) << spec.name;
   }
   EXPECT_GT(Spec(P::SERVICE_MOCK_GRAB).stop_rank, Spec(P::SERVICE_DEVICE_BRIDGE).stop_rank);
+}
+
+// Impaired links may join the pairs that send each other something: a peer in the table either
+// way, or the two ends of the GRAB protocol. The scene layer's list must be that.
+TEST(LaunchServiceTableTest, TheSceneLayerAgreesOnWhichServicesTalk) {
+  const auto lists = [](const ServiceSpec& from, ServiceKind to) {
+    for (const PeerSpec& peer : from.peers) {
+      if (peer.service == to) return true;
+    }
+    return false;
+  };
+  for (const ServiceSpec& x : ServiceTable()) {
+    for (const ServiceSpec& y : ServiceTable()) {
+      if (x.kind == y.kind) continue;
+      const bool grab = x.controller_port_offset >= 0 && y.controller_port_offset >= 0;
+      EXPECT_EQ(scene::ExchangeDatagrams(x.kind, y.kind), lists(x, y.kind) || lists(y, x.kind) || grab)
+          << x.name << " - " << y.name;
+    }
+  }
+  for (const ServiceSpec& spec : ServiceTable()) EXPECT_EQ(scene::ServiceName(spec.kind), spec.name);
 }
 
 TEST(LaunchServiceTableTest, LookUps) {

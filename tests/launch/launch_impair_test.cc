@@ -1,0 +1,200 @@
+// haptex launch with an impaired link: the launcher puts a `haptex relay` between the bridge and
+// local_contact (pinch_stretch's services as real processes over loopback), the run completes,
+// the relay's report is in the run folder and summary.json says what was asked and what the
+// relay did; a relay that dies is an error of the run. Assertions are about behaviour with
+// generous bands, not timing, so a loaded 2-core machine only makes them slower.
+#include <gmock/gmock.h>
+#include <google/protobuf/struct.pb.h>
+#include <google/protobuf/util/json_util.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "launch/relay_report_reader.h"
+#include "tests/launch/launch_test_support.h"
+#include "tests/support/subprocess.h"
+
+namespace haptex::launch {
+namespace {
+
+using namespace std::chrono_literals;
+using ::testing::HasSubstr;
+namespace pb = google::protobuf;
+
+constexpr char kLink[] = "device_bridge-local_contact";
+
+pb::Struct ParseJson(const std::string& text) {
+  pb::Struct json;
+  const auto status = pb::util::JsonStringToMessage(text, &json);
+  EXPECT_TRUE(status.ok()) << status.message();
+  return json;
+}
+
+const pb::Value& At(const pb::Struct& object, const std::string& key) {
+  static const pb::Value kNone;
+  const auto it = object.fields().find(key);
+  EXPECT_NE(it, object.fields().end()) << key;
+  return it == object.fields().end() ? kNone : it->second;
+}
+
+double Number(const pb::Struct& object, const std::string& key) { return At(object, key).number_value(); }
+const pb::Struct& Object(const pb::Struct& object, const std::string& key) { return At(object, key).struct_value(); }
+
+// The link's entry in summary.json's network section.
+pb::Struct NetworkLink(const pb::Struct& summary) {
+  const pb::Value& links = At(Object(summary, "network"), "links");
+  EXPECT_EQ(links.list_value().values_size(), 1);
+  return links.list_value().values_size() > 0 ? links.list_value().values(0).struct_value() : pb::Struct();
+}
+
+class LaunchImpairTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = testing::FreshDir(::testing::UnitTest::GetInstance()->current_test_info()->name());
+    run_ = dir_ + "/run";
+  }
+
+  std::unique_ptr<haptex::testing::Subprocess> Launch(const std::string& scene, const std::string& duration,
+                                                      const std::vector<std::string>& extra = {}) {
+    std::vector<std::string> argv{haptex::testing::BuildDir() + "/cli/haptex",
+                                  "launch",
+                                  scene,
+                                  "--duration",
+                                  duration,
+                                  "--out",
+                                  run_,
+                                  "--no-plots"};
+    argv.insert(argv.end(), extra.begin(), extra.end());
+    return std::make_unique<haptex::testing::Subprocess>(argv);
+  }
+
+  // The tail of the mock controller's force log: zero force on both fingers.
+  void ExpectEndsAtZeroForce() const {
+    const auto rows = testing::MockForceRows(run_ + "/mock_grab_forces.csv");
+    ASSERT_GT(rows.size(), 100u);
+    for (std::size_t i = rows.size() - 50; i < rows.size(); ++i) {
+      EXPECT_EQ(rows[i].thumb_N, 0.0) << "row " << i;
+      EXPECT_EQ(rows[i].index_N, 0.0) << "row " << i;
+    }
+  }
+
+  std::string dir_, run_;
+};
+
+// One direction of what the relay achieved: every datagram accounted for, the loss near what was
+// asked, the delay near half the round trip.
+void ExpectAchieved(const pb::Struct& direction, const std::string& name) {
+  SCOPED_TRACE(name);
+  const double received = Number(direction, "received");
+  const double forwarded = Number(direction, "forwarded");
+  const double duplicated = Number(direction, "duplicated");
+  const double dropped_total = Number(direction, "dropped_total");
+  const double lost = Number(Object(direction, "dropped"), "loss");
+  // FingerStates and ForceModels at 1 kHz for seconds; a starved machine sends fewer
+  EXPECT_GT(received, 500);
+  EXPECT_EQ(forwarded + dropped_total, received + duplicated);
+  EXPECT_EQ(duplicated, 0);
+  EXPECT_EQ(Number(direction, "in_flight"), 0);
+  EXPECT_LE(lost, dropped_total);
+  // loss 0.02 per datagram: within 5 binomial standard deviations
+  const double sd = std::sqrt(received * 0.02 * 0.98);
+  EXPECT_NEAR(lost, 0.02 * received, 5 * sd);
+  const pb::Struct& delay = Object(direction, "delay_ms");
+  EXPECT_GE(Number(delay, "p50"), 10.0 - 0.01);  // never early (less the receive stamp's conversion)
+  EXPECT_LE(Number(delay, "p50"), 10.0 + 15.0);  // a busy relay sends late, not this late at the median
+}
+
+TEST_F(LaunchImpairTest, ImpairedLinkRunsThroughARelayAndIsReported) {
+  auto launcher = Launch(testing::ShippedScenePath("pinch_stretch"), "4",
+                         {"--impair", std::string(kLink) + ":rtt_ms=20,loss=0.02,seed=1"});
+  const auto code = launcher->WaitFor(180s);
+  ASSERT_TRUE(code.has_value()) << launcher->Stdout();
+  EXPECT_EQ(*code, 0) << launcher->Stdout() << launcher->Stderr();
+  const std::string out = launcher->Stdout();
+  EXPECT_THAT(out, HasSubstr("impair device_bridge-local_contact (--impair): rtt_ms=20,loss=0.02,seed=1; through a "
+                             "relay on local"));
+  // the relay starts before the services and stops after them
+  const auto relay_started = out.find("relay device_bridge-local_contact: started");
+  const auto bridge_started = out.find("device_bridge: started");
+  const auto mock_stopped = out.find("mock_grab: stopped");
+  const auto relay_stopped = out.find("relay device_bridge-local_contact: stopped (exit 0 after SIGTERM)");
+  ASSERT_NE(relay_started, std::string::npos) << out;
+  ASSERT_NE(relay_stopped, std::string::npos) << out;
+  EXPECT_LT(relay_started, bridge_started);
+  EXPECT_LT(mock_stopped, relay_stopped);
+  EXPECT_THAT(out, HasSubstr("network device_bridge-local_contact: forward received "));
+
+  // the relay's own report, written on SIGTERM
+  const std::string report_path = run_ + "/network/device_bridge-local_contact.json";
+  ASSERT_TRUE(std::filesystem::exists(report_path)) << out;
+  const RelayResult report = ReadRelayReport(report_path);
+  EXPECT_GT(report.forward.received, 0u);
+  EXPECT_THAT(testing::ReadText(run_ + "/logs/relay_device_bridge-local_contact.log"),
+              HasSubstr("relay: listening on"));
+  EXPECT_THAT(testing::ReadText(run_ + "/commands.txt"), HasSubstr("relay device_bridge-local_contact (local): "));
+
+  const pb::Struct summary = ParseJson(testing::ReadText(run_ + "/summary.json"));
+  EXPECT_EQ(At(summary, "end_reason").string_value(), "duration");
+  EXPECT_EQ(At(summary, "errors").list_value().values_size(), 0) << testing::ReadText(run_ + "/summary.json");
+  const pb::Struct link = NetworkLink(summary);
+  EXPECT_EQ(At(link, "link").string_value(), kLink);
+  EXPECT_EQ(At(link, "source").string_value(), "--impair");
+  EXPECT_EQ(At(link, "exit").string_value(), "exit 0");
+  EXPECT_EQ(At(link, "report").string_value(), report_path);
+
+  // asked: the round trip split in two, the loss and the seeds
+  const pb::Struct& asked = Object(link, "asked");
+  EXPECT_EQ(At(asked, "text").string_value(), "rtt_ms=20,loss=0.02,seed=1");
+  EXPECT_EQ(Number(asked, "rtt_ms"), 20.0);
+  for (const char* direction : {"forward", "back"}) {
+    EXPECT_EQ(Number(Object(asked, direction), "delay_ms"), 10.0) << direction;
+    EXPECT_EQ(Number(Object(asked, direction), "loss"), 0.02) << direction;
+  }
+  EXPECT_EQ(Number(Object(asked, "forward"), "seed"), 1.0);
+  EXPECT_EQ(Number(Object(asked, "back"), "seed"), 2.0);
+
+  // achieved: the same numbers as the relay's report, consistent with what was asked
+  const pb::Struct& achieved = Object(link, "achieved");
+  EXPECT_EQ(Number(Object(achieved, "forward"), "received"), static_cast<double>(report.forward.received));
+  ExpectAchieved(Object(achieved, "forward"), "forward: FingerStates");
+  ExpectAchieved(Object(achieved, "back"), "back: ForceModels");
+
+  ExpectEndsAtZeroForce();
+}
+
+TEST_F(LaunchImpairTest, ARelayThatDiesIsAnErrorOfTheRun) {
+  // the same link from the scene's network section
+  const std::string scene = dir_ + "/scene.textproto";
+  testing::WriteText(scene,
+                     testing::ReadText(testing::ShippedScenePath("pinch_stretch")) +
+                         "network { links { a: SERVICE_DEVICE_BRIDGE b: SERVICE_LOCAL_CONTACT delay_ms: 2 } }\n");
+  auto launcher = Launch(scene, "0");
+  testing::WaitForOutput(*launcher, "running \\(until Ctrl-C\\)");
+  EXPECT_THAT(launcher->Stdout(), HasSubstr("impair device_bridge-local_contact (scene): delay_ms=2"));
+  const std::string pid =
+      testing::WaitForOutput(*launcher, "relay device_bridge-local_contact: started \\(pid ([0-9]+)");
+  ASSERT_FALSE(pid.empty());
+  ASSERT_EQ(kill(std::stoi(pid), SIGKILL), 0);
+  testing::WaitForOutput(*launcher, "relay device_bridge-local_contact: died \\(signal 9\\)");
+  std::this_thread::sleep_for(300ms);
+  launcher->Signal(SIGINT);
+  const auto code = launcher->WaitFor(90s);
+  ASSERT_TRUE(code.has_value()) << launcher->Stdout();
+  EXPECT_EQ(*code, 1) << launcher->Stdout() << launcher->Stderr();
+
+  const std::string text = testing::ReadText(run_ + "/summary.json");
+  EXPECT_THAT(text, HasSubstr("relay device_bridge-local_contact died (signal 9): the link is cut from then on"));
+  EXPECT_THAT(text, HasSubstr(R"("service":"relay device_bridge-local_contact","kind":"died","detail":"signal 9")"));
+  const pb::Struct link = NetworkLink(ParseJson(text));
+  EXPECT_EQ(At(link, "source").string_value(), "scene");
+  EXPECT_EQ(At(link, "exit").string_value(), "signal 9");
+  EXPECT_THAT(At(Object(link, "achieved"), "note").string_value(), HasSubstr("relay report"));  // none, or cut
+  // the services were stopped as ever, the device at zero force
+  EXPECT_THAT(launcher->Stdout(), HasSubstr("device_bridge: stopped (exit 0"));
+  ExpectEndsAtZeroForce();
+}
+
+}  // namespace
+}  // namespace haptex::launch
