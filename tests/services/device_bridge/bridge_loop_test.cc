@@ -50,7 +50,7 @@ class BridgeLoopTest : public ::testing::Test {
     if (model != nullptr) bridge_.Read(haptex::testing::WrapEnvelope(*model, ++sequence_), t);
     bridge_.Update(t, kDt);
     bridge_.Write(out);
-    mock_.ReadHost(bridge_.command(), t);
+    mock_.ReadHost(bridge_.command(), t, true);
     ++tick_;
   }
   double CommandedThumbZ() const {
@@ -136,7 +136,7 @@ TEST_F(BridgeLoopTest, WarmedUpTickDoesNotAllocate) {
     bridge_.Read(model, t);
     bridge_.Update(t, kDt);
     bridge_.Write(out);
-    mock_.ReadHost(bridge_.command(), t);
+    mock_.ReadHost(bridge_.command(), t, true);
     mock_.Write(out);
   }
   EXPECT_EQ(counter.count(), 0);
