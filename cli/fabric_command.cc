@@ -1,8 +1,5 @@
 #include "cli/fabric_command.h"
 
-#include <spawn.h>
-#include <sys/wait.h>
-
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -11,12 +8,12 @@
 #include <iostream>
 #include <memory>
 #include <sstream>
+#include <stdexcept>
 
+#include "launch/gnuplot.h"
 #include "libs/scene/fabric_conversion.h"
 #include "libs/scene/fabric_database.h"
 #include "libs/textile/kes_material.h"
-
-extern char** environ;
 
 namespace haptex::cli {
 namespace {
@@ -96,40 +93,34 @@ void PrintKes(const v1::Fabric& f) {
   }
 }
 
-std::string GnuplotQuoted(const std::string& text) {
-  std::string out = "'";
-  for (char c : text) out += c == '\'' ? std::string("''") : std::string(1, c);
-  return out + "'";
-}
-
+// Draws in a private folder with fixed file names, then copies the picture to `png`: neither the
+// user's path nor any other text reaches the script as code (the title goes through GnuplotLabel).
 void Plot(const CurveTables& t, const std::string& name, const std::string& png) {
-  const std::string data = png + ".dat";
+  std::string pattern = (std::filesystem::temp_directory_path() / "haptex-plot-XXXXXX").string();
+  if (mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("cannot create a folder for the plot");
+  const std::string dir = pattern;
   {
-    std::ofstream out(data);
+    std::ofstream out(dir + "/curves.dat");
     for (std::size_t i = 0; i < t.strain.size(); ++i) {
       out << t.strain[i] * 100 << ' ' << t.warp_N_per_m[i] << ' ' << t.weft_N_per_m[i] << ' ' << t.shear_deg[i] << ' '
           << t.shear_N_per_m[i] << '\n';
     }
   }
-  const std::string script = png + ".gp";
-  std::ofstream(script) << "set terminal pngcairo size 1200,450 noenhanced\nset output " << GnuplotQuoted(png) << "\n"
-                        << "set multiplot layout 1,2 title " << GnuplotQuoted(name) << "\nset grid\n"
-                        << "set xlabel 'strain [%]'\nset ylabel 'force per width [N/m]'\n"
-                        << "plot " << GnuplotQuoted(data) << " u 1:2 w lp t 'warp', '' u 1:3 w lp t 'weft'\n"
-                        << "set xlabel 'shear angle [deg]'\n"
-                        << "plot " << GnuplotQuoted(data) << " u 4:5 w lp t 'shear'\nunset multiplot\n";
-  // run gnuplot directly (no shell): paths with quotes or spaces stay intact
-  pid_t pid = 0;
-  std::string program = "gnuplot";
-  std::string argument = script;
-  char* argv[] = {program.data(), argument.data(), nullptr};
-  int status = 0;
-  if (posix_spawnp(&pid, "gnuplot", nullptr, nullptr, argv, environ) != 0 || waitpid(pid, &status, 0) < 0 ||
-      !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    throw std::runtime_error("gnuplot failed on " + script + " (is gnuplot installed? scripts/setup installs it)");
+  std::ofstream(dir + "/curves.gp") << "set terminal pngcairo size 1200,450 noenhanced\nset output 'curves.png'\n"
+                                    << "set multiplot layout 1,2 title " << launch::GnuplotLabel(name) << "\nset grid\n"
+                                    << "set xlabel 'strain [%]'\nset ylabel 'force per width [N/m]'\n"
+                                    << "plot 'curves.dat' u 1:2 w lp t 'warp', '' u 1:3 w lp t 'weft'\n"
+                                    << "set xlabel 'shear angle [deg]'\n"
+                                    << "plot 'curves.dat' u 4:5 w lp t 'shear'\nunset multiplot\n";
+  const std::string error = launch::RunGnuplot(dir, "curves.gp");
+  std::error_code copied;
+  if (error.empty()) {
+    std::filesystem::copy_file(dir + "/curves.png", png, std::filesystem::copy_options::overwrite_existing, copied);
   }
-  std::filesystem::remove(script);
-  std::filesystem::remove(data);
+  std::error_code ignored;
+  std::filesystem::remove_all(dir, ignored);
+  if (!error.empty()) throw std::runtime_error(error);
+  if (copied) throw std::runtime_error("cannot write " + png + ": " + copied.message());
   std::cout << "wrote " << png << "\n";
 }
 

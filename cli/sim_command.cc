@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "launch/json_writer.h"
+#include "launch/run_folder.h"
 #include "libs/base/clock.h"
 #include "libs/runtime/latency_histogram.h"
 #include "libs/scene/cloth_setup.h"
@@ -23,11 +24,13 @@ struct SimOptions {
   bool quiet = false;
 };
 
+// A new folder runs/sim-SLUG-TIME (the scene's name made one safe path component; -2, -3, ... when
+// taken), as for haptex launch.
 std::string DefaultOutDir(const std::string& scene_name) {
   const auto now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
   char stamp[32];
   std::strftime(stamp, sizeof(stamp), "%Y%m%d-%H%M%S", std::localtime(&now));
-  return "runs/sim-" + scene_name + "-" + stamp;
+  return launch::CreateUniqueRunFolder("runs", launch::RunFolderStem("sim-" + scene_name, stamp, ""));
 }
 
 void CheckWritten(const std::ofstream& out, const std::string& path) {

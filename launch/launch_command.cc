@@ -21,6 +21,7 @@
 #include "launch/impaired_links.h"
 #include "launch/port_plan.h"
 #include "launch/recording.h"
+#include "launch/run_folder.h"
 #include "launch/run_report.h"
 #include "launch/run_summary.h"
 #include "launch/service_set.h"
@@ -86,6 +87,15 @@ std::string TimeStamp() {
   char text[32];
   std::strftime(text, sizeof(text), "%Y%m%d-%H%M%S", &tm);
   return text;
+}
+
+// --out as given, else a new folder under runs/ named by the scene's slug (created here, so that
+// a launch in the same second gets its own; a dry run only shows the name).
+std::string RunDirectory(const LaunchOptions& o, const std::string& scene_name) {
+  if (!o.out.empty()) return fs::absolute(o.out).string();
+  const std::string parent = fs::absolute("runs").string();
+  const std::string stem = RunFolderStem(scene_name, TimeStamp(), o.host);
+  return o.dry_run ? parent + "/" + RunFolderSlug(stem) : CreateUniqueRunFolder(parent, stem);
 }
 
 std::vector<std::string> ChildEnvironment(const net::SessionKey& key) {
@@ -235,10 +245,10 @@ int Launch(const LaunchOptions& o) {
                                                              : IsMultiHost(scene) ? kDefaultMultiHostBasePort
                                                                                   : 0);
   const PortPlan plan = AssignPorts(scene, services, base_port, FreeUdpPort, LinksOf(impaired));
-  const std::string run_dir =
-      fs::absolute(o.out.empty() ? "runs/" + scene.name() + "-" + TimeStamp() + (o.host.empty() ? "" : "-" + o.host)
-                                 : o.out)
-          .string();
+  const bool starts_any = std::any_of(plan.services.begin(), plan.services.end(),
+                                      [&](const PlacedService& s) { return runs_here(s.service); });
+  if (!starts_any && !o.dry_run) throw std::invalid_argument("nothing to start on host " + here);
+  const std::string run_dir = RunDirectory(o, scene.name());
   CommandOptions command_options{build_dir, scene_path, run_dir, o.log_level};
   SupervisorConfig config;
   config.launcher = plan.launchers.at(here);
@@ -260,8 +270,6 @@ int Launch(const LaunchOptions& o) {
     std::cout << "launcher@" << here << " on " << config.launcher.Peer() << "\n" << plan_text;
     return 0;
   }
-  if (config.services.empty()) throw std::invalid_argument("nothing to start on host " + here);
-
   fs::create_directories(run_dir + "/logs");
   fs::create_directories(run_dir + "/recordings");
   if (!relays.empty()) fs::create_directories(run_dir + "/network");
@@ -342,7 +350,7 @@ void AddLaunchCommand(CLI::App& app, int* exit_code) {
   launch->add_option("SCENE", o->scene, "scene file (.textproto)")->required();
   launch->add_option("--duration", o->duration_s, "seconds to run (default: the scene's; 0: until Ctrl-C)")
       ->check(CLI::Range(0.0, 1e7));
-  launch->add_option("--out", o->out, "run folder (default: runs/SCENE-TIME)");
+  launch->add_option("--out", o->out, "run folder, used as given (default: a new runs/SCENE-TIME, SCENE made safe)");
   launch->add_option("--host", o->host, "start only the services the scene places on this host");
   launch->add_option("--skip", o->skip, "a needed service not to start here (started by hand elsewhere); repeatable");
   launch

@@ -1,19 +1,15 @@
 #include "launch/run_report.h"
 
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
-
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "launch/force_log_reader.h"
+#include "launch/gnuplot.h"
 #include "launch/trace_export.h"
-
-extern char** environ;
 
 namespace haptex::launch {
 namespace {
@@ -28,47 +24,30 @@ void Accumulate(FingerForceStats* s, double value) {
   s->final_n = value;
 }
 
-// gnuplot strings are single-quoted: double any quote in a path
-std::string Quoted(const std::string& text) {
-  std::string out = "'";
-  for (char c : text) out += c == '\'' ? std::string("''") : std::string(1, c);
-  return out + "'";
-}
-
-// Runs gnuplot on a script file, without a shell. Returns an error text, empty on success.
-std::string RunGnuplot(const std::string& script) {
-  pid_t pid = 0;
-  std::string program = "gnuplot";
-  std::string argument = script;
-  char* argv[] = {program.data(), argument.data(), nullptr};
-  int status = 0;
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  const std::string log = script + ".log";
-  posix_spawn_file_actions_addopen(&actions, 2, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  const int spawned = posix_spawnp(&pid, "gnuplot", &actions, nullptr, argv, environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (spawned != 0) return "gnuplot not found (scripts/setup installs gnuplot-nox)";
-  if (waitpid(pid, &status, 0) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    return "gnuplot failed (see " + log + ")";
-  }
-  std::filesystem::remove(log);
-  return "";
-}
-
+// Writes plots/data/NAME.gp and runs it inside plots/: the script names only fixed relative
+// files (NAME.png, data/*.dat), never the run folder, whose path holds user text.
 PlotResult Draw(const std::string& name, const std::string& dir, const std::string& commands) {
-  const std::string png = dir + "/" + name + ".png";
-  const std::string script = dir + "/data/" + name + ".gp";
+  const std::string script = "data/" + name + ".gp";
   {
-    std::ofstream out(script);
-    out << "set terminal pngcairo size 1000,600 noenhanced\nset output " << Quoted(png)
-        << "\nset grid\nset key outside\n"
+    std::ofstream out(dir + "/" + script);
+    out << "set terminal pngcairo size 1000,600 noenhanced\nset output '" << name
+        << ".png'\nset grid\nset key outside\n"
         << commands;
-    if (!out) return {name, "", "cannot write " + script};
+    if (!out) return {name, "", "cannot write " + dir + "/" + script};
   }
-  const std::string error = RunGnuplot(script);
+  const std::string error = RunGnuplot(dir, script);
   if (!error.empty()) return {name, "", error};
-  return {name, png, ""};
+  return {name, dir + "/" + name + ".png", ""};
+}
+
+// A data file's name as the scripts give it (relative to plots/).
+std::string DataFile(const std::string& file) { return "'data/" + file + "'"; }
+
+// Loop names come from other processes' Health: data, but kept to what a label may hold.
+std::string LoopLabel(const std::string& name) {
+  std::string label;
+  for (const char c : name.substr(0, 40)) label += std::isalnum(static_cast<unsigned char>(c)) || c == '_' ? c : '_';
+  return label.empty() ? "loop" : label;
 }
 
 struct Sample {
@@ -169,15 +148,14 @@ std::vector<PlotResult> MakePlots(const std::string& run_dir, const v1::Scene& s
   if (!model_force.empty()) {
     std::string plot = "set title 'Force per finger (ForceModel F0)'\nset xlabel 't [s]'\nset ylabel '|F0| [N]'\nplot ";
     for (const auto& [finger, samples] : model_force) {
-      const std::string data = dir + "/data/forces_" + FingerName(finger) + ".dat";
-      std::ofstream out(data);
+      const std::string file = "forces_" + FingerName(finger) + ".dat";
+      std::ofstream out(dir + "/data/" + file);
       for (const Sample& s : samples) out << s.t_s << ' ' << s.value << '\n';
-      plot += Quoted(data) + " using 1:2 with lines title '" + FingerName(finger) + "', ";
+      plot += DataFile(file) + " using 1:2 with lines title '" + FingerName(finger) + "', ";
     }
     plots.push_back(Draw("forces", dir, plot.substr(0, plot.size() - 2) + "\n"));
   } else if (force_log) {
-    const std::string data = dir + "/data/forces_felt.dat";
-    std::ofstream out(data);
+    std::ofstream out(dir + "/data/forces_felt.dat");
     const std::size_t step = std::max<std::size_t>(1, force_log->t_s.size() / 5000);
     for (std::size_t i = 0; i < force_log->t_s.size(); i += step) {
       out << force_log->t_s[i] << ' ' << force_log->commanded[0][i] << ' ' << force_log->commanded[1][i] << '\n';
@@ -186,8 +164,8 @@ std::vector<PlotResult> MakePlots(const std::string& run_dir, const v1::Scene& s
     plots.push_back(Draw("forces", dir,
                          "set title 'Force commanded to each finger (mock controller force log)'\nset xlabel 't [s]'\n"
                          "set ylabel '|F| [N]'\nplot " +
-                             Quoted(data) + " using 1:2 with lines title 'thumb', " + Quoted(data) +
-                             " using 1:3 with lines title 'index'\n"));
+                             DataFile("forces_felt.dat") + " using 1:2 with lines title 'thumb', " +
+                             DataFile("forces_felt.dat") + " using 1:3 with lines title 'index'\n"));
   } else {
     plots.push_back({"forces", "", "no ForceModel recorded and no mock controller force log"});
   }
@@ -198,8 +176,8 @@ std::vector<PlotResult> MakePlots(const std::string& run_dir, const v1::Scene& s
   for (const auto& [finger, normals] : normal_force) {
     const auto& forces = model_force[finger];
     if (forces.empty()) continue;
-    const std::string data = dir + "/data/friction_ratio_" + FingerName(finger) + ".dat";
-    std::ofstream out(data);
+    const std::string file = "friction_ratio_" + FingerName(finger) + ".dat";
+    std::ofstream out(dir + "/data/" + file);
     std::size_t k = 0, rows = 0;
     for (const Sample& n : normals) {
       while (k + 1 < forces.size() && forces[k + 1].t_s <= n.t_s) ++k;
@@ -209,7 +187,7 @@ std::vector<PlotResult> MakePlots(const std::string& run_dir, const v1::Scene& s
       out << n.t_s << ' ' << tangential / n.value << '\n';
       ++rows;
     }
-    if (rows > 0) ratio_plot += Quoted(data) + " using 1:2 with lines title '" + FingerName(finger) + "', ";
+    if (rows > 0) ratio_plot += DataFile(file) + " using 1:2 with lines title '" + FingerName(finger) + "', ";
   }
   if (!ratio_plot.empty()) {
     plots.push_back(Draw("friction_ratio", dir,
@@ -234,8 +212,8 @@ std::vector<PlotResult> MakePlots(const std::string& run_dir, const v1::Scene& s
       });
       const auto& pos = positions[finger];
       if (onset == finger_states.end() || pos.empty()) continue;
-      const std::string data = dir + "/data/force_vs_elongation_" + FingerName(finger) + ".dat";
-      std::ofstream out(data);
+      const std::string file = "force_vs_elongation_" + FingerName(finger) + ".dat";
+      std::ofstream out(dir + "/data/" + file);
       std::size_t p = 0;
       while (p + 1 < pos.size() && pos[p + 1].first <= onset->first) ++p;
       const v1::Vec3 start = pos[p].second;
@@ -247,7 +225,7 @@ std::vector<PlotResult> MakePlots(const std::string& run_dir, const v1::Scene& s
         out << Norm3(x.x() - start.x(), x.y() - start.y(), x.z() - start.z()) * 1e3 << ' ' << f.value << '\n';
         ++rows;
       }
-      if (rows > 0) plot += Quoted(data) + " using 1:2 with points pt 7 ps 0.3 title '" + FingerName(finger) + "', ";
+      if (rows > 0) plot += DataFile(file) + " using 1:2 with points pt 7 ps 0.3 title '" + FingerName(finger) + "', ";
     }
     if (plot.empty()) {
       plots.push_back({"force_vs_elongation", "",
@@ -262,13 +240,12 @@ std::vector<PlotResult> MakePlots(const std::string& run_dir, const v1::Scene& s
 
   // 4. loop periods: p50/p99/max of each loop from the last Health of each service
   {
-    const std::string data = dir + "/data/loop_periods.dat";
-    std::ofstream out(data);
+    std::ofstream out(dir + "/data/loop_periods.dat");
     std::size_t rows = 0;
     for (const auto& [sender, health] : last_health) {
       for (const v1::LoopStats& l : health.loops()) {
-        out << '"' << l.name() << "\" " << l.period_p50_us() << ' ' << l.period_p99_us() << ' ' << l.period_max_us()
-            << '\n';
+        out << '"' << LoopLabel(l.name()) << "\" " << l.period_p50_us() << ' ' << l.period_p99_us() << ' '
+            << l.period_max_us() << '\n';
         ++rows;
       }
     }
@@ -281,7 +258,7 @@ std::vector<PlotResult> MakePlots(const std::string& run_dir, const v1::Scene& s
                "set title 'Loop period per service (p50, p99, max; from Health)'\nset style data histogram\n"
                "set style histogram clustered\nset style fill solid 0.7\nset logscale y\n"
                "set ylabel 'period [us]'\nplot " +
-                   Quoted(data) +
+                   DataFile("loop_periods.dat") +
                    " using 2:xtic(1) title 'p50', '' using 3 title 'p99', "
                    "'' using 4 title 'max'\n"));
     }

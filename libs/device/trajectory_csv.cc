@@ -3,6 +3,7 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -88,6 +89,15 @@ std::vector<TrajectorySample> ParseTrajectoryCsv(std::string_view text) {
 }
 
 std::vector<TrajectorySample> LoadTrajectoryCsv(const std::string& path) {
+  // a device (/dev/zero) or a runaway file would be read until memory runs out
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error)) {
+    throw std::invalid_argument(path + ": the trajectory CSV must be a regular file");
+  }
+  if (std::filesystem::file_size(path, error) > kMaxTrajectoryCsvBytes || error) {
+    throw std::invalid_argument(path + ": the trajectory CSV has more than " +
+                                std::to_string(kMaxTrajectoryCsvBytes >> 20) + " MB");
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::invalid_argument(path + ": cannot open trajectory CSV");
   std::ostringstream buffer;

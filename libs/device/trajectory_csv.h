@@ -2,6 +2,7 @@
 // Recorded fingertip trajectories for the mock controller's playback script.
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -26,8 +27,11 @@ inline constexpr std::string_view kTrajectoryCsvHeader =
 ///         got 6").
 std::vector<TrajectorySample> ParseTrajectoryCsv(std::string_view text);
 
-/// Reads and parses a file. @throws std::invalid_argument (unreadable file or bad content; the
-/// message starts with the path).
+/// The largest trajectory file read (about 20 hours of samples at 1 kHz).
+inline constexpr std::uintmax_t kMaxTrajectoryCsvBytes = std::uintmax_t{64} << 20;
+
+/// Reads and parses a regular file of at most kMaxTrajectoryCsvBytes. @throws std::invalid_argument
+/// (not a regular file, too large, unreadable or bad content; the message starts with the path).
 std::vector<TrajectorySample> LoadTrajectoryCsv(const std::string& path);
 
 }  // namespace haptex::device

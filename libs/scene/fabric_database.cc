@@ -5,6 +5,8 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "libs/scene/field_checks.h"
+
 #ifndef HAPTEX_DEFAULT_DATA_DIR
 #error "HAPTEX_DEFAULT_DATA_DIR must be defined by the build"
 #endif
@@ -16,7 +18,7 @@ constexpr char kExtension[] = ".textproto";
 
 void RequireRange(const google::protobuf::Message& parent, const char* field, double value, double min_exclusive,
                   double max_inclusive, const char* unit, const FieldLocator& where, std::vector<TextIssue>* issues) {
-  if (!std::isfinite(value) || value <= min_exclusive || value > max_inclusive) {
+  if (std::isfinite(value) && (value <= min_exclusive || value > max_inclusive)) {
     issues->push_back(where.At(parent, field, -1,
                                std::string(field) + " must be in (" + std::to_string(min_exclusive) + ", " +
                                    std::to_string(max_inclusive) + "] " + unit + ", got " + std::to_string(value)));
@@ -27,6 +29,7 @@ void RequireRange(const google::protobuf::Message& parent, const char* field, do
 
 std::vector<TextIssue> ValidateFabric(const v1::Fabric& fabric, const FieldLocator& where) {
   std::vector<TextIssue> issues;
+  CheckEveryField(fabric, where, &issues);  // what is not a number is reported there, once
   if (fabric.name().empty()) issues.push_back(where.Here("fabric has no name"));
   const std::pair<const char*, const v1::KesTensile*> tensiles[] = {{"warp_tensile", &fabric.warp_tensile()},
                                                                     {"weft_tensile", &fabric.weft_tensile()}};
@@ -37,14 +40,15 @@ std::vector<TextIssue> ValidateFabric(const v1::Fabric& fabric, const FieldLocat
       RequireRange(tensile, "emt_percent", tensile.emt_percent(), 0.0, 300.0, "%", at, &issues);
       RequireRange(tensile, "lt", tensile.lt(), 0.0, 3.0, "(-)", at, &issues);
     }
-    if (tensile.fm_gf_per_cm() < 0.0 || !std::isfinite(tensile.fm_gf_per_cm())) {
+    if (tensile.fm_gf_per_cm() < 0.0) {
       issues.push_back(at.At(tensile, "fm_gf_per_cm", -1, "fm_gf_per_cm must be >= 0 (0: 500 gf/cm)"));
     }
     for (int i = 0; i < tensile.loading_curve_size(); ++i) {
       const auto& p = tensile.loading_curve(i);
       const bool increasing =
           i == 0 || (p.x() > tensile.loading_curve(i - 1).x() && p.y() >= tensile.loading_curve(i - 1).y());
-      if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || p.x() < 0 || p.y() < 0 || !increasing) {
+      if (!std::isfinite(p.x()) || !std::isfinite(p.y())) continue;
+      if (p.x() < 0 || p.y() < 0 || !increasing) {
         issues.push_back(
             at.At(tensile, "loading_curve", i, "loading_curve points must be finite, >= 0 and increasing"));
       }
@@ -61,7 +65,7 @@ std::vector<TextIssue> ValidateFabric(const v1::Fabric& fabric, const FieldLocat
                  where.Nested(fabric, direction), &issues);
   }
   // thickness 0: the source does not give it (contact uses a default offset)
-  if (!std::isfinite(fabric.thickness_mm()) || fabric.thickness_mm() < 0.0 || fabric.thickness_mm() > 20.0) {
+  if (fabric.thickness_mm() < 0.0 || fabric.thickness_mm() > 20.0) {
     issues.push_back(
         where.At(fabric, "thickness_mm", -1,
                  "thickness_mm must be in [0, 20] mm (0: not given), got " + std::to_string(fabric.thickness_mm())));
@@ -104,7 +108,10 @@ std::vector<std::string> FabricDatabase::Names() const {
   return names;
 }
 
-bool FabricDatabase::Contains(const std::string& name) const { return std::filesystem::is_regular_file(PathOf(name)); }
+// A name is a file in the database folder, never a path out of it.
+bool FabricDatabase::Contains(const std::string& name) const {
+  return IsPlainName(name, kMaxStringBytes) && std::filesystem::is_regular_file(PathOf(name));
+}
 
 std::string FabricDatabase::PathOf(const std::string& name) const { return directory_ + "/" + name + kExtension; }
 
@@ -123,6 +130,7 @@ v1::Fabric FabricDatabase::Load(const std::string& name) const {
     issues.push_back(
         where.At(fabric, "name", -1, "name '" + fabric.name() + "' differs from the file name '" + name + "'"));
   }
+  SortByLocation(&issues);
   if (!issues.empty()) throw TextProtoError(path, std::move(issues));
   return fabric;
 }

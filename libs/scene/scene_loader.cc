@@ -1,14 +1,17 @@
 #include "libs/scene/scene_loader.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
+#include <filesystem>
 #include <set>
 #include <sstream>
 
+#include "libs/device/trajectory_csv.h"
 #include "libs/net/session_key.h"
 #include "libs/net/udp_address.h"
+#include "libs/scene/field_checks.h"
 #include "libs/scene/scene_defaults.h"
 #include "libs/scene/scene_network.h"
 
@@ -30,7 +33,8 @@ class Checker {
   }
   void Range(const Message& m, const char* field, double value, double min, double max, const char* unit,
              const FieldLocator& at) {
-    if (!std::isfinite(value) || value < min || value > max) {
+    if (!std::isfinite(value)) return;  // CheckEveryField reports what is not a number
+    if (value < min || value > max) {
       Add(at.At(m, field, -1,
                 std::string(field) + " must be in [" + Number(min) + ", " + Number(max) + "] " + unit + ", got " +
                     Number(value)));
@@ -48,6 +52,18 @@ class Checker {
   std::vector<TextIssue>* issues_;
 };
 
+void CheckVec(const Message& parent, const char* field, const v1::Vec3& v, double max_norm, const char* unit,
+              const FieldLocator& at, Checker& c) {
+  // a component that is not a number is CheckEveryField's to report, at the component
+  if (!std::isfinite(v.x()) || !std::isfinite(v.y()) || !std::isfinite(v.z())) return;
+  const double norm = std::sqrt(v.x() * v.x() + v.y() * v.y() + v.z() * v.z());
+  if (!std::isfinite(norm) || norm > max_norm) {
+    c.Add(at.At(parent, field, -1,
+                std::string(field) + " must have a magnitude <= " + Checker::Number(max_norm) + " " + unit + ", got " +
+                    Checker::Number(norm)));
+  }
+}
+
 void CheckCloth(const v1::ClothGeometry& cloth, const FieldLocator& at, Checker& c) {
   c.ZeroOrRange(cloth, "width_m", cloth.width_m(), 0.01, 5.0, "m", at);
   c.ZeroOrRange(cloth, "height_m", cloth.height_m(), 0.01, 5.0, "m", at);
@@ -59,21 +75,13 @@ void CheckCloth(const v1::ClothGeometry& cloth, const FieldLocator& at, Checker&
   }
   const auto count =
       static_cast<std::uint64_t>(ClothParticlesU(cloth)) * static_cast<std::uint64_t>(ClothParticlesV(cloth));
+  CheckVec(cloth, "stand_position_w_m", cloth.stand_position_w_m(), kMaxWorldDistanceM, "m from W's origin", at, c);
   for (int i = 0; i < cloth.fixed_particles_size(); ++i) {
     if (cloth.fixed_particles(i) >= count) {
       c.Add(at.At(cloth, "fixed_particles", i,
                   "fixed particle " + std::to_string(cloth.fixed_particles(i)) + " does not exist (the grid has " +
                       std::to_string(count) + " particles)"));
     }
-  }
-}
-
-void CheckVec(const Message& parent, const char* field, const v1::Vec3& v, double max_norm, const char* unit,
-              const FieldLocator& at, Checker& c) {
-  const double norm = std::sqrt(v.x() * v.x() + v.y() * v.y() + v.z() * v.z());
-  if (!std::isfinite(norm) || norm > max_norm) {
-    c.Add(at.At(parent, field, -1,
-                std::string(field) + " must be finite with magnitude <= " + Checker::Number(max_norm) + " " + unit));
   }
 }
 
@@ -171,6 +179,7 @@ void CheckDevice(const v1::Scene& scene, const FieldLocator& where, Checker& c) 
     c.Range(user, "stretch_m", user.stretch_m(), 0.0, 0.1, "m", u);
     c.Range(user, "rub_amplitude_m", user.rub_amplitude_m(), 0.0, 0.1, "m", u);
     c.Range(user, "hold_s", user.hold_s(), 0.0, 60.0, "s", u);
+    CheckVec(user, "touch_point_w_m", user.touch_point_w_m(), kMaxWorldDistanceM, "m from W's origin", u, c);
     if (user.kind() == v1::MockUserScript::KIND_PLAYBACK && user.playback_csv().empty()) {
       c.Add(u.At(user, "kind", -1, "KIND_PLAYBACK needs playback_csv"));
     }
@@ -183,6 +192,7 @@ void CheckDevice(const v1::Scene& scene, const FieldLocator& where, Checker& c) 
   c.ZeroOrRange(d, "force_model_stale_s", d.force_model_stale_s(), 1e-4, 0.02, "s", at);
   c.ZeroOrRange(d, "watchdog_ramp_s", d.watchdog_ramp_s(), 1e-4, 0.02, "s", at);
   c.ZeroOrRange(d, "controller_lost_s", d.controller_lost_s(), 1e-3, 1.0, "s", at);
+  c.ZeroOrRange(d, "max_model_age_s", d.max_model_age_s(), 0.005, 0.5, "s (the longest round trip rendered)", at);
 }
 
 // A LocalPatch travels in one datagram (no fragmentation): the largest patch the fingers can cause,
@@ -287,18 +297,104 @@ void CheckSessionKey(const v1::Scene& scene, const FieldLocator& where, Checker&
   }
 }
 
+// Strings that become file names, identities or paths: the generic checks bound every string;
+// these are the rules of what each one names.
+void CheckSceneName(const v1::Scene& scene, const FieldLocator& where, Checker& c) {
+  const std::string& name = scene.name();
+  if (name.empty()) {
+    c.Add(where.Here("scene needs a name"));
+  } else if (IsWellFormedText(name) && name.find_first_of("\n\t") != std::string::npos) {
+    c.Add(where.At(scene, "name", -1, "name must be one line without tabs (it names the run folder)"));
+  }
+}
+
+void CheckNamesAndPaths(const v1::Scene& scene, const FieldLocator& where, Checker& c) {
+  if (scene.fabric().has_database_name() && IsWellFormedText(scene.fabric().database_name()) &&
+      !IsPlainName(scene.fabric().database_name(), kMaxStringBytes)) {
+    c.Add(where.Nested(scene, "fabric")
+              .At(scene.fabric(), "database_name", -1,
+                  "database_name must be a file name in the database (letters, digits, '_', '-', '.'; not a path)"));
+  }
+  for (int i = 0; i < scene.hosts_size(); ++i) {
+    const v1::Host& host = scene.hosts(i);
+    const FieldLocator at = where.Nested(scene, "hosts", i);
+    if (!host.name().empty() && IsWellFormedText(host.name()) && !IsPlainName(host.name(), kMaxStringBytes)) {
+      c.Add(at.At(host, "name", -1, "host name must be letters, digits, '_', '-' or '.' (not starting with '.')"));
+    }
+    if (IsWellFormedText(host.address()) && host.address().find_first_of(" \t\n") != std::string::npos) {
+      c.Add(at.At(host, "address", -1, "address must be an IP literal or a host name (no spaces)"));
+    }
+  }
+  const v1::SessionKey& key = scene.session_key();
+  if (key.has_env() && !key.env().empty() && IsWellFormedText(key.env())) {
+    const std::string& env = key.env();
+    const bool valid = (std::isalpha(static_cast<unsigned char>(env[0])) || env[0] == '_') &&
+                       std::all_of(env.begin(), env.end(),
+                                   [](char ch) { return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_'; });
+    if (!valid) {
+      c.Add(where.Nested(scene, "session_key")
+                .At(key, "env", -1, "env must name an environment variable (letters, digits and '_')"));
+    }
+  }
+  const v1::MockUserScript& user = scene.device().mock().user();
+  if (scene.device().has_mock() && user.kind() == v1::MockUserScript::KIND_PLAYBACK && !user.playback_csv().empty()) {
+    std::error_code error;
+    const bool regular = std::filesystem::is_regular_file(user.playback_csv(), error);
+    const std::uintmax_t bytes = regular ? std::filesystem::file_size(user.playback_csv(), error) : 0;
+    if (!regular || error || bytes > device::kMaxTrajectoryCsvBytes) {
+      const FieldLocator u =
+          where.Nested(scene, "device").Nested(scene.device(), "mock").Nested(scene.device().mock(), "user");
+      c.Add(u.At(user, "playback_csv", -1,
+                 "playback_csv must be a readable file of at most " +
+                     std::to_string(device::kMaxTrajectoryCsvBytes >> 20) + " MB (not a device or folder)"));
+    }
+  }
+}
+
+// The global loop steps the whole cloth once per period: more particles than it can step at the
+// scene's rate would run slower than real time (a 401 x 401 cloth ran at about 1 Hz).
+void CheckGlobalLoopBudget(const v1::Scene& scene, const FieldLocator& where, Checker& c) {
+  const v1::ClothGeometry& cloth = scene.cloth();
+  const double nu = ClothParticlesU(cloth), nv = ClothParticlesV(cloth);
+  const double rate_hz = GlobalRateHz(scene);
+  if (!std::isfinite(rate_hz) || nu * nv * rate_hz <= kMaxParticleStepsPerSecond) return;
+  const auto whole = [](double x) { return std::to_string(static_cast<long long>(std::floor(x))); };
+  const double max_rate_hz = kMaxParticleStepsPerSecond / (nu * nv);
+  const double max_side = std::sqrt(kMaxParticleStepsPerSecond / rate_hz);
+  const FieldLocator at = where.Nested(scene, "cloth");
+  const char* field = cloth.particles_u() != 0 ? "particles_u" : "particles_v";
+  c.Add(at.At(cloth, field, -1,
+              "a " + whole(nu) + " x " + whole(nv) + " cloth at " + Checker::Number(rate_hz) + " Hz needs " +
+                  whole(nu * nv * rate_hz) + " particle steps per second, over the " +
+                  whole(kMaxParticleStepsPerSecond) + " the global loop can take (docs/scenes.md): use at most " +
+                  whole(max_side) + " x " + whole(max_side) + " particles at this rate" +
+                  (max_rate_hz >= 1 ? ", or lower rates.global_hz to at most " + whole(max_rate_hz) + " Hz" : "")));
+}
+
 }  // namespace
 
 std::vector<TextIssue> ValidateScene(const v1::Scene& scene, const FieldLocator& where, const FabricDatabase& fabrics) {
   std::vector<TextIssue> issues;
+  {
+    // numbers, enums and strings by their kind; an inline fabric is ValidateFabric's
+    v1::Scene without_fabric = scene;
+    without_fabric.mutable_fabric()->clear_inline_fabric();
+    CheckEveryField(without_fabric, where, &issues,
+                    {{"haptex.v1.Scene.name", kMaxSceneNameBytes},
+                     {"haptex.v1.FabricChoice.database_name", kMaxSceneNameBytes},
+                     {"haptex.v1.Host.name", kMaxHostNameBytes},
+                     {"haptex.v1.Host.address", 253}});  // a DNS name's limit
+  }
   Checker c(&issues);
-  if (scene.name().empty()) c.Add(where.Here("scene needs a name"));
+  CheckSceneName(scene, where, c);
+  CheckNamesAndPaths(scene, where, c);
   c.Range(scene, "duration_s", scene.duration_s(), 0.0, 7 * 24 * 3600.0, "s", where);
 
   const FieldLocator fabric_at = where.Nested(scene, "fabric");
   switch (scene.fabric().choice_case()) {
     case v1::FabricChoice::kDatabaseName:
-      if (!fabrics.Contains(scene.fabric().database_name())) {
+      if (IsPlainName(scene.fabric().database_name(), kMaxSceneNameBytes) &&
+          !fabrics.Contains(scene.fabric().database_name())) {
         std::string known;
         for (const auto& n : fabrics.Names()) known += (known.empty() ? "" : ", ") + n;
         c.Add(fabric_at.At(scene.fabric(), "database_name", -1,
@@ -338,7 +434,15 @@ std::vector<TextIssue> ValidateScene(const v1::Scene& scene, const FieldLocator&
   CheckRatesAndModel(scene, where, c);
   CheckPlacement(scene, where, c);
   CheckSessionKey(scene, where, c);
-  for (TextIssue& issue : ValidateNetwork(scene, where)) c.Add(std::move(issue));
+  // one issue per field: a number CheckEveryField refused is not reported again by the network's checks
+  for (TextIssue& issue : ValidateNetwork(scene, where)) {
+    const bool reported = std::any_of(issues.begin(), issues.end(), [&](const TextIssue& i) {
+      return i.line == issue.line && i.column == issue.column;
+    });
+    if (!reported) c.Add(std::move(issue));
+  }
+  CheckGlobalLoopBudget(scene, where, c);
+  SortByLocation(&issues);
   return issues;
 }
 
@@ -358,11 +462,7 @@ LoadedScene ParseScene(const std::string& text, const std::string& name, const F
 }
 
 LoadedScene LoadScene(const std::string& path, const FabricDatabase& fabrics) {
-  std::ifstream in(path);
-  if (!in) throw TextProtoError(path, {{1, 1, "cannot open the scene file"}});
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return ParseScene(buffer.str(), path, fabrics);
+  return ParseScene(ReadTextFile(path), path, fabrics);
 }
 
 }  // namespace haptex::scene

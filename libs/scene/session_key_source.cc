@@ -1,9 +1,10 @@
 #include "libs/scene/session_key_source.h"
 
+#include <cstddef>
 #include <cstdlib>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
+
+#include "libs/scene/text_proto.h"
 
 namespace haptex::scene {
 namespace {
@@ -27,11 +28,13 @@ net::SessionKey ResolveSessionKey(const v1::SessionKey& source) {
         return net::SessionKey::FromHex(value);
       }
       case v1::SessionKey::kFile: {
-        std::ifstream in(source.file());
-        if (!in) throw std::runtime_error("cannot open the file");
-        std::stringstream text;
-        text << in.rdbuf();
-        return net::SessionKey::FromHex(text.str());
+        // 64 hex digits and a line end; the cap refuses /dev/zero and the like before reading
+        constexpr std::size_t kMaxKeyFileBytes = 4096;
+        try {
+          return net::SessionKey::FromHex(ReadTextFile(source.file(), kMaxKeyFileBytes));
+        } catch (const TextProtoError& e) {
+          throw std::runtime_error(e.issues().front().message);
+        }
       }
       default:
         return net::SessionKey::Generate();

@@ -3,8 +3,13 @@
 #include <google/protobuf/io/tokenizer.h>
 #include <google/protobuf/io/zero_copy_stream_impl_lite.h>
 
-#include <fstream>
-#include <sstream>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdint>
+#include <cstring>
 
 namespace haptex::scene {
 namespace {
@@ -63,12 +68,40 @@ ParsedText ParseTextProto(std::string_view text, const std::string& file, google
   return parsed;
 }
 
+std::string ReadTextFile(const std::string& path, std::size_t max_bytes) {
+  // O_NONBLOCK: opening a FIFO must not wait for a writer; it is refused below like any non-file
+  const int fd = open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+  if (fd < 0) throw TextProtoError(path, {{1, 1, std::string("cannot open the file: ") + std::strerror(errno)}});
+  const auto fail = [&](const std::string& what) {
+    close(fd);
+    throw TextProtoError(path, {{1, 1, what}});
+  };
+  struct stat info {};
+  if (fstat(fd, &info) != 0) fail(std::string("cannot read the file: ") + std::strerror(errno));
+  if (!S_ISREG(info.st_mode)) fail("not a regular file (a device, pipe, socket or folder): refused");
+  const auto too_large = [&](std::uint64_t bytes) {
+    fail("the file has " + std::to_string(bytes) + " bytes, over the " + std::to_string(max_bytes) +
+         " bytes a scene, fabric or key file may have");
+  };
+  if (static_cast<std::uint64_t>(info.st_size) > max_bytes) too_large(static_cast<std::uint64_t>(info.st_size));
+  std::string text;
+  text.resize(max_bytes + 1);  // one more: a file that grew since fstat is still caught
+  std::size_t got = 0;
+  while (got < text.size()) {
+    const ssize_t n = read(fd, text.data() + got, text.size() - got);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) fail(std::string("cannot read the file: ") + std::strerror(errno));
+    if (n == 0) break;
+    got += static_cast<std::size_t>(n);
+  }
+  if (got > max_bytes) too_large(got);
+  close(fd);
+  text.resize(got);
+  return text;
+}
+
 ParsedText ParseTextProtoFile(const std::string& path, google::protobuf::Message* message) {
-  std::ifstream in(path);
-  if (!in) throw TextProtoError(path, {{1, 1, "cannot open the file"}});
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return ParseTextProto(buffer.str(), path, message);
+  return ParseTextProto(ReadTextFile(path), path, message);
 }
 
 FieldLocator FieldLocator::Nested(const google::protobuf::Message& parent, std::string_view field, int index) const {

@@ -1,6 +1,7 @@
 #pragma once
 // Protobuf text-format files with errors that point at file:line:column, for scenes and fabrics.
 
+#include <cstddef>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -40,7 +41,16 @@ struct ParsedText {
 /// fields or bad values. The returned tree locates fields for later semantic errors.
 ParsedText ParseTextProto(std::string_view text, const std::string& file, google::protobuf::Message* message);
 
-/// Reads and parses a file; a missing or unreadable file is a TextProtoError at 1:1.
+/// The largest scene, fabric or key file read: a scene is a few kB, and the cap refuses a device
+/// such as /dev/zero, or a runaway file, before anything is read.
+inline constexpr std::size_t kMaxTextFileBytes = std::size_t{1} << 20;
+
+/// The whole of a regular file of at most `max_bytes`. A missing or unreadable file, anything but a
+/// regular file (a device, pipe, socket or folder) and a larger file are a TextProtoError at 1:1
+/// that says which, before more than max_bytes + 1 bytes are read.
+std::string ReadTextFile(const std::string& path, std::size_t max_bytes = kMaxTextFileBytes);
+
+/// Reads (ReadTextFile) and parses a file; a file that cannot be read is a TextProtoError at 1:1.
 ParsedText ParseTextProtoFile(const std::string& path, google::protobuf::Message* message);
 
 /// Finds where fields were written, for semantic errors. A field that was left out is located at

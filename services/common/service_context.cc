@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "libs/base/clock.h"
+#include "libs/flags/finite_number.h"
 #include "libs/net/udp_address.h"
 #include "libs/runtime/logging.h"
 #include "libs/runtime/shutdown_signal.h"
@@ -102,6 +103,7 @@ int RunService(int argc, char** argv, const std::string& name, const std::string
   ServiceOptions options;
   AddServiceOptions(app, &options);
   if (add_own_options) add_own_options(app);
+  flags::RefuseNonFiniteNumbers(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

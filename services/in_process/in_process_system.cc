@@ -191,7 +191,7 @@ void InProcessSystem::Step() {
   Deliver(Node::kBridge);
   bridge_->Update(t, dt_s_);
   bridge_->Write(*outboxes_[static_cast<std::size_t>(Node::kBridge)]);
-  mock_->ReadHost(bridge_->command(), t);
+  mock_->ReadHost(bridge_->command(), t, true);
   if (step_ % static_cast<std::uint64_t>(local_every_) == 0) {
     Deliver(Node::kLocal);
     while (builder_->RunOnce()) {

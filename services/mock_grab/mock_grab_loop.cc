@@ -15,9 +15,14 @@ MockGrabLoop::MockGrabLoop(const device::MockControllerConfig& config, device::S
   ids_.rejected = health_->AddCounter("commands_rejected");
   ids_.timeouts = health_->AddCounter("host_timeouts");
   ids_.log_dropped = health_->AddCounter("force_log_dropped");
+  ids_.strangers = health_->AddCounter("commands_from_strangers");
 }
 
-void MockGrabLoop::ReadHost(std::span<const std::byte> datagram, double t_s) {
+void MockGrabLoop::ReadHost(std::span<const std::byte> datagram, double t_s, bool from_host) {
+  if (!from_host) {
+    ++strangers_;
+    return;
+  }
   controller_->OnCommandDatagram(datagram, t_s);
 }
 
@@ -46,6 +51,7 @@ void MockGrabLoop::Write(services::Outbox& /*out*/) {
   health_->SetCounter(ids_.accepted, controller_->frame_counters().accepted());
   health_->SetCounter(ids_.rejected, controller_->frame_counters().TotalRejected());
   health_->SetCounter(ids_.timeouts, controller_->counters().host_timeouts);
+  health_->SetCounter(ids_.strangers, strangers_);
   if (log_ != nullptr) health_->SetCounter(ids_.log_dropped, log_->dropped());
 }
 

@@ -25,8 +25,10 @@ class MockGrabLoop final {
   MockGrabLoop(const device::MockControllerConfig& config, device::ScriptParams script, ForceLog* log,
                std::int64_t log_origin_ns, runtime::HealthReporter* health);
 
-  /// One datagram from the GRAB socket, read at `t_s`.
-  void ReadHost(std::span<const std::byte> datagram, double t_s);
+  /// One datagram from the GRAB socket, read at `t_s`. Only the configured host (`from_host`: it
+  /// came from the address status goes to) commands the fingers, as a real controller configured
+  /// with its host; anything else is dropped unread and counted (commands_from_strangers).
+  void ReadHost(std::span<const std::byte> datagram, double t_s, bool from_host);
   void Read(const v1::Envelope& /*envelope*/, double /*t_s*/) {}  // Control only (the context's)
 
   void Update(double t_s, double dt_s);
@@ -35,6 +37,7 @@ class MockGrabLoop final {
   void Write(services::Outbox& out);
 
   const device::MockGrabController& controller() const { return *controller_; }
+  std::uint64_t commands_from_strangers() const { return strangers_; }
 
  private:
   std::unique_ptr<device::MockGrabController> controller_;
@@ -42,9 +45,10 @@ class MockGrabLoop final {
   std::int64_t log_origin_ns_;
   runtime::HealthReporter* health_;
   double t_s_ = 0.0;
+  std::uint64_t strangers_ = 0;
   std::array<std::byte, device::kStatusFrameSize> status_{};
   struct CounterIds {
-    runtime::HealthReporter::CounterId steps, accepted, rejected, timeouts, log_dropped;
+    runtime::HealthReporter::CounterId steps, accepted, rejected, timeouts, log_dropped, strangers;
   } ids_{};
 };
 

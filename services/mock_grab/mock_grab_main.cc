@@ -4,7 +4,8 @@
 // the real controller's quantisation, sensor noise, workspace limits and host watchdog
 // (MockGrabLoop).
 //
-// GRAB socket: receives CommandFrames, sends StatusFrames to --bridge.
+// GRAB socket: receives CommandFrames from --bridge only (others are counted as
+// commands_from_strangers), sends StatusFrames to --bridge.
 // haptex socket: receives Control; sends Health to the launcher.
 
 #include <spdlog/spdlog.h>
@@ -50,7 +51,9 @@ int Run(services::ServiceContext& context, const Options& options) {
       [&](const runtime::TickInfo& tick) {
         now_ns = tick.now_ns;
         const double t_s = context.SecondsSinceStart(tick.now_ns);
-        bridge.Drain([&](std::span<const std::byte> bytes, std::int64_t, bool) { work.ReadHost(bytes, t_s); });
+        bridge.Drain([&](std::span<const std::byte> bytes, std::int64_t, bool from_bridge) {
+          work.ReadHost(bytes, t_s, from_bridge);
+        });
         services::ReadMessages(context, work, t_s, 8);
         work.Update(t_s, tick.dt_s);
         bridge.Send(work.status());
@@ -76,7 +79,9 @@ int main(int argc, char** argv) {
       [options](CLI::App& app) {
         app.add_option("--controller-bind", options->controller_bind, "GRAB protocol socket, HOST:PORT")
             ->capture_default_str();
-        app.add_option("--bridge", options->bridge, "where StatusFrames go: the bridge's GRAB socket")->required();
+        app.add_option("--bridge", options->bridge,
+                       "the bridge's GRAB socket: StatusFrames go there, commands count only from there")
+            ->required();
         app.add_option("--script", options->script,
                        "idle, approach, grasp, pinch, rub, lift, playback or demo (default: the scene's)");
         app.add_option("--playback-csv", options->playback_csv, "trajectory for the playback script");

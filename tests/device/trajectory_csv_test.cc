@@ -47,6 +47,8 @@ TEST(TrajectoryCsvTest, BadInputNamesTheLine) {
 
 TEST(TrajectoryCsvTest, LoadReportsThePath) {
   EXPECT_THROW(LoadTrajectoryCsv("/nonexistent/trajectory.csv"), std::invalid_argument);
+  EXPECT_THROW(LoadTrajectoryCsv("/dev/zero"), std::invalid_argument);  // refused, not read
+  EXPECT_THROW(LoadTrajectoryCsv(::testing::TempDir()), std::invalid_argument);
   const std::string path = ::testing::TempDir() + "/haptex_device_trajectory.csv";
   {
     std::ofstream out(path);

@@ -3,6 +3,9 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <regex>
+
 #include "tests/launch/launch_test_support.h"
 #include "tests/support/subprocess.h"
 
@@ -124,8 +127,22 @@ TEST(LaunchCommandTest, SceneNetworkErrorsAtFileLineColumn) {
   for (const char* command : {"launch", "scene"}) {
     const Result r = std::string(command) == "launch" ? Haptex({"launch", path}) : Haptex({"scene", "check", path});
     EXPECT_EQ(r.code, 2) << command;
-    EXPECT_THAT(r.err, HasSubstr(path + ":6:3: rtt_ms must be a finite number, got inf")) << command;
+    EXPECT_THAT(r.err, HasSubstr(path + ":6:3: network.links[0].rtt_ms must be a finite number, got inf")) << command;
   }
+}
+
+TEST(LaunchCommandTest, ASceneNameThatClimbsStillGetsAFolderInsideRuns) {
+  const std::string path = testing::FreshDir("launch_climb") + "/climb.textproto";
+  std::string scene = testing::ReadText(testing::ShippedScenePath("hanging"));
+  scene.replace(scene.find("name: \"hanging\""), 16, "name: \"../../x\"");
+  testing::WriteText(path, scene);
+  const Result r = Haptex({"launch", path, "--dry-run", "--base-port", "41000"});
+  EXPECT_EQ(r.code, 0) << r.err;
+  std::smatch record;
+  ASSERT_TRUE(std::regex_search(r.out, record, std::regex("--record (\\S+)/recordings/"))) << r.out;
+  const std::filesystem::path run_dir = record[1].str();
+  EXPECT_EQ(run_dir.parent_path().filename(), "runs");
+  EXPECT_EQ(run_dir.filename().string().rfind("_._.._x-", 0), 0u) << run_dir;
 }
 
 TEST(LaunchCommandTest, TraceExportNeedsARunFolder) {

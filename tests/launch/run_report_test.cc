@@ -4,6 +4,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "launch/run_folder.h"
+#include "tests/launch/hostile_names.h"
 #include "tests/launch/launch_test_support.h"
 
 namespace haptex::launch {
@@ -73,6 +75,83 @@ TEST(LaunchRunReportTest, LoopPeriodPlotFromHealth) {
   EXPECT_EQ(plots[3].name, "loop_periods");
   EXPECT_EQ(plots[3].file, dir + "/plots/loop_periods.png") << plots[3].skipped;
   EXPECT_TRUE(std::filesystem::exists(dir + "/plots/loop_periods.png"));
+}
+
+// A recording from which every plot is drawn: a pinch (state VIII) with forces, normal forces,
+// positions and a loop's Health.
+Recording EveryPlotsData() {
+  Recording r;
+  for (int k = 0; k < 20; ++k) {
+    const std::int64_t t_ns = k * 10'000'000;
+    v1::Envelope model;
+    model.set_send_time_ns(t_ns);
+    auto* m = model.mutable_force_model()->add_fingers();
+    m->set_finger(v1::FINGER_THUMB);
+    m->set_contact_state(v1::CONTACT_STATE_VIII);
+    m->mutable_f0_w_n()->set_z(1.0 + 0.1 * k);
+    r.envelopes.push_back(model);
+    v1::Envelope touch;
+    touch.set_send_time_ns(t_ns);
+    auto* f = touch.mutable_touch_trace()->add_fingers();
+    f->set_finger(v1::FINGER_THUMB);
+    f->set_normal_force_n(1.0);
+    r.envelopes.push_back(touch);
+    v1::Envelope states;
+    states.set_send_time_ns(t_ns);
+    auto* s = states.mutable_finger_states()->add_fingers();
+    s->set_finger(v1::FINGER_THUMB);
+    s->mutable_position_w_m()->set_x(0.001 * k);
+    r.envelopes.push_back(states);
+  }
+  v1::Envelope health;
+  health.set_sender("device_bridge\n!touch x");
+  auto* loop = health.mutable_health()->add_loops();
+  loop->set_name("bridge\"\n!touch x");
+  loop->set_period_p50_us(200);
+  loop->set_period_p99_us(260);
+  loop->set_period_max_us(900);
+  r.envelopes.push_back(health);
+  return r;
+}
+
+// A run folder named by an attacker (as --out may be): its path never reaches a script as code.
+TEST(LaunchRunReportTest, HostileRunFolderNamesNeverBecomeGnuplotCode) {
+  const std::string base = testing::FreshDir("plots_hostile");
+  const std::string marker = base + "/injected";
+  for (const std::string& name : testing::HostileNames(marker)) {
+    if (name.size() > 200 || name.find('/') != std::string::npos || name.empty() || name == "." || name == "..") {
+      continue;  // not a folder name a file system takes (those go through the slug, below)
+    }
+    const std::string run_dir = base + "/" + name;
+    std::filesystem::create_directories(run_dir);
+    const auto plots = MakePlots(run_dir, testing::ShippedScene("demo"), {EveryPlotsData()}, std::nullopt);
+    ASSERT_EQ(plots.size(), 4u);
+    for (const PlotResult& p : plots) {
+      EXPECT_EQ(p.file, run_dir + "/plots/" + p.name + ".png") << p.skipped;
+      EXPECT_TRUE(std::filesystem::exists(p.file)) << p.name;
+    }
+    EXPECT_FALSE(std::filesystem::exists(marker)) << "gnuplot ran the folder's name";
+  }
+}
+
+// The whole path of a default run folder: a hostile scene name becomes a slug, the folder is made
+// inside runs/, and its plots create nothing else.
+TEST(LaunchRunReportTest, HostileSceneNamesMakeNoFileOutsideTheRunFolder) {
+  const std::string base = testing::FreshDir("plots_hostile_scene");
+  const std::string runs = base + "/runs";
+  const std::string marker = base + "/injected";
+  for (const std::string& name : testing::HostileNames(marker)) {
+    v1::Scene scene = testing::ShippedScene("demo");
+    scene.set_name(name);
+    const std::string run_dir = CreateUniqueRunFolder(runs, RunFolderStem(name, "20260101-120000", ""));
+    EXPECT_EQ(std::filesystem::path(run_dir).parent_path(), std::filesystem::path(runs));
+    const auto plots = MakePlots(run_dir, scene, {EveryPlotsData()}, std::nullopt);
+    for (const PlotResult& p : plots) EXPECT_FALSE(p.file.empty()) << p.name << ": " << p.skipped;
+  }
+  EXPECT_FALSE(std::filesystem::exists(marker));
+  std::size_t beside_runs = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(base)) beside_runs += entry.path() != runs;
+  EXPECT_EQ(beside_runs, 0u);
 }
 
 }  // namespace

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <functional>
+
 #include "tests/scene/scene_test_support.h"
 
 namespace haptex::scene {
@@ -190,6 +193,176 @@ model { patch_refinement: REFINE }
 
 TEST_F(SceneLoaderTest, MissingSceneFileIsAnError) {
   EXPECT_THROW(LoadScene("/nonexistent.textproto", db_), TextProtoError);
+}
+
+// Every float and enum field the schema has, at any depth: found by reflection, so a field added
+// later is covered too. `visit(path)` gets the field names from Scene down to each leaf.
+void ForEachLeaf(const google::protobuf::Descriptor& d, std::vector<const google::protobuf::FieldDescriptor*>* path,
+                 const std::function<void(const std::vector<const google::protobuf::FieldDescriptor*>&)>& visit) {
+  if (path->size() > 6) return;
+  for (int i = 0; i < d.field_count(); ++i) {
+    const google::protobuf::FieldDescriptor* f = d.field(i);
+    path->push_back(f);
+    if (f->cpp_type() == google::protobuf::FieldDescriptor::CPPTYPE_MESSAGE) {
+      ForEachLeaf(*f->message_type(), path, visit);
+    } else {
+      visit(*path);
+    }
+    path->pop_back();
+  }
+}
+
+// A scene whose line 3 sets the leaf at `path` to `value` (the rest minimal and valid).
+std::string SceneSetting(const std::vector<const google::protobuf::FieldDescriptor*>& path, const std::string& value) {
+  std::string leaf, close;
+  for (std::size_t i = 0; i + 1 < path.size(); ++i) {
+    leaf += std::string(path[i]->name()) + " { ";
+    close += " }";
+  }
+  leaf += std::string(path.back()->name()) + ": " + value + close;
+  const bool in_fabric = path.front()->name() == "fabric";
+  return std::string("name: \"x\"\n") + (in_fabric ? "\n" : "fabric { database_name: \"test_cotton\" }\n") + leaf +
+         "\n";
+}
+
+std::string PathName(const std::vector<const google::protobuf::FieldDescriptor*>& path) {
+  std::string name;
+  for (const auto* f : path) name += (name.empty() ? "" : ".") + std::string(f->name());
+  return name;
+}
+
+TEST_F(SceneLoaderTest, EveryNumberFieldRefusesNanAndInfAtItsLine) {
+  std::vector<const google::protobuf::FieldDescriptor*> path;
+  int checked = 0;
+  ForEachLeaf(*v1::Scene::descriptor(), &path, [&](const auto& leaf) {
+    const auto type = leaf.back()->cpp_type();
+    if (type != google::protobuf::FieldDescriptor::CPPTYPE_DOUBLE &&
+        type != google::protobuf::FieldDescriptor::CPPTYPE_FLOAT) {
+      return;
+    }
+    for (const char* value : {"nan", "inf", "-inf"}) {
+      const auto issues = Refused(SceneSetting(leaf, value));
+      const bool located = std::any_of(issues.begin(), issues.end(), [&](const TextIssue& issue) {
+        return issue.line == 3 &&
+               issue.message.find(std::string(leaf.back()->name()) + " must be a finite number") != std::string::npos;
+      });
+      EXPECT_TRUE(located) << PathName(leaf) << ": " << value;
+    }
+    ++checked;
+  });
+  EXPECT_GT(checked, 60) << "the walk found the schema's numbers";
+  // the named ones, with their whole path
+  const auto stand = Refused(SceneSetting({v1::Scene::descriptor()->FindFieldByName("cloth"),
+                                           v1::ClothGeometry::descriptor()->FindFieldByName("stand_position_w_m"),
+                                           v1::Vec3::descriptor()->FindFieldByName("x")},
+                                          "nan"));
+  ASSERT_EQ(stand.size(), 1u) << "one issue per field";
+  EXPECT_EQ(stand[0].message, "cloth.stand_position_w_m.x must be a finite number, got nan");
+  EXPECT_EQ(stand[0].column, 30);
+}
+
+TEST_F(SceneLoaderTest, EveryEnumFieldRefusesValuesItDoesNotDefine) {
+  std::vector<const google::protobuf::FieldDescriptor*> path;
+  int checked = 0;
+  ForEachLeaf(*v1::Scene::descriptor(), &path, [&](const auto& leaf) {
+    if (leaf.back()->cpp_type() != google::protobuf::FieldDescriptor::CPPTYPE_ENUM) return;
+    const auto issues = Refused(SceneSetting(leaf, "99"));
+    const bool located = std::any_of(issues.begin(), issues.end(), [&](const TextIssue& issue) {
+      return issue.line == 3 && issue.message.find("99 is not a value of") != std::string::npos;
+    });
+    EXPECT_TRUE(located) << PathName(leaf);
+    ++checked;
+  });
+  EXPECT_GT(checked, 8);
+  const auto finger = Refused(std::string(kMinimal) + "fingers { finger: 99 }\ndevice { mock {} }\n");
+  ASSERT_EQ(finger.size(), 1u);
+  EXPECT_EQ(finger[0].line, 3);
+  EXPECT_EQ(finger[0].column, 11);
+  EXPECT_EQ(finger[0].message, "fingers[0].finger: 99 is not a value of Finger (FINGER_THUMB, FINGER_INDEX)");
+}
+
+TEST_F(SceneLoaderTest, PositionsLieNearTheOrigin) {
+  EXPECT_TRUE(Mentions(Refused(std::string(kMinimal) + "cloth { stand_position_w_m { z: 1e6 } }\n"),
+                       "stand_position_w_m must have a magnitude <= 10 m"));
+  EXPECT_TRUE(Mentions(Refused(std::string(kMinimal) + "fingers { finger: FINGER_THUMB }\n"
+                                                       "device { mock { user { touch_point_w_m { x: -40 } } } }\n"),
+                       "touch_point_w_m must have a magnitude <= 10 m"));
+}
+
+// A 401 x 401 cloth ran at about 1 Hz and exited 0: particles x global rate is capped.
+TEST_F(SceneLoaderTest, ClothsTheGlobalLoopCannotStepInTimeAreRefused) {
+  const auto cloth = [&](int side, int rate_hz) {
+    return std::string(kMinimal) + "cloth { particles_u: " + std::to_string(side) +
+           " particles_v: " + std::to_string(side) + " }\nrates { global_hz: " + std::to_string(rate_hz) + " }\n";
+  };
+  const auto huge = Refused(cloth(401, 100));
+  ASSERT_EQ(huge.size(), 1u);
+  EXPECT_EQ(huge[0].line, 3);
+  EXPECT_EQ(huge[0].column, 9);
+  EXPECT_NE(huge[0].message.find("a 401 x 401 cloth at 100 Hz needs 16080100 particle steps per second"),
+            std::string::npos)
+      << huge[0].message;
+  EXPECT_NE(
+      huge[0].message.find("use at most 44 x 44 particles at this rate, or lower rates.global_hz to at most 1 Hz"),
+      std::string::npos)
+      << huge[0].message;
+  EXPECT_TRUE(Mentions(Refused(cloth(81, 100)), "lower rates.global_hz to at most 30 Hz"));
+  EXPECT_NO_THROW(ParseScene(cloth(81, 30), "ok", db_));
+  EXPECT_NO_THROW(ParseScene(cloth(41, 100), "ok", db_));
+  EXPECT_NO_THROW(ParseScene(kMinimal, "ok", db_));
+  EXPECT_EQ(kMaxParticleStepsPerSecond, 200000.0);
+}
+
+TEST_F(SceneLoaderTest, NamesAreBoundedOneLineAndNotPaths) {
+  const auto long_name =
+      Refused("name: \"" + std::string(1 << 20, 'a') + "\"\nfabric { database_name: \"test_cotton\" }\n");
+  ASSERT_EQ(long_name.size(), 1u);
+  EXPECT_EQ(long_name[0].line, 1);
+  EXPECT_EQ(long_name[0].column, 1);
+  EXPECT_EQ(long_name[0].message, "name has 1048576 bytes, at most 100");
+  EXPECT_NO_THROW(
+      ParseScene("name: \"" + std::string(kMaxSceneNameBytes, 'a') + "\"\nfabric { database_name: \"test_cotton\" }\n",
+                 "ok", db_));
+  const auto two_lines = Refused("name: \"a\\n!touch x\"\nfabric { database_name: \"test_cotton\" }\n");
+  ASSERT_EQ(two_lines.size(), 1u);
+  EXPECT_NE(two_lines[0].message.find("one line"), std::string::npos);
+  EXPECT_TRUE(Mentions(Refused("name: \"a\\001b\"\nfabric { database_name: \"test_cotton\" }\n"),
+                       "name holds a control character"));
+  EXPECT_TRUE(Mentions(Refused("name: \"\\377\\376\"\nfabric { database_name: \"test_cotton\" }\n"),
+                       "name is not valid UTF-8"));
+  const auto climb = Refused("name: \"x\"\nfabric { database_name: \"../fabrics/test_cotton\" }\n");
+  ASSERT_EQ(climb.size(), 1u) << "not also 'no fabric'";
+  EXPECT_EQ(climb[0].line, 2);
+  EXPECT_NE(climb[0].message.find("not a path"), std::string::npos);
+  EXPECT_TRUE(Mentions(Refused(std::string(kMinimal) + "hosts { name: \"a/b\" address: \"192.0.2.1\" }\n"),
+                       "host name must be letters"));
+  EXPECT_TRUE(Mentions(
+      Refused(std::string(kMinimal) + "hosts { name: \"" + std::string(65, 'h') + "\" address: \"192.0.2.1\" }\n"),
+      "hosts[0].name has 65 bytes, at most 64"));
+  EXPECT_TRUE(Mentions(Refused(std::string(kMinimal) + "hosts { name: \"lab\" address: \"a b\" }\n"), "no spaces"));
+  EXPECT_TRUE(Mentions(Refused(std::string(kMinimal) + "session_key { env: \"A-B\" }\n"), "env must name"));
+}
+
+TEST_F(SceneLoaderTest, OtherStringsAreBoundedAndClean) {
+  EXPECT_TRUE(Mentions(Refused(std::string(kMinimal) + "description: \"" + std::string(5000, 'd') + "\"\n"),
+                       "description has 5000 bytes, at most 4096"));
+  EXPECT_TRUE(Mentions(Refused(std::string(kMinimal) + "description: \"a\\033[2Jb\"\n"), "control character"));
+  EXPECT_NO_THROW(ParseScene(std::string(kMinimal) + "description: \"two\\nlines\\tand a tab\"\n", "ok", db_));
+  EXPECT_TRUE(Mentions(
+      Refused(std::string(kMinimal) + "fingers { finger: FINGER_THUMB }\n"
+                                      "device { mock { user { kind: KIND_PLAYBACK playback_csv: \"/dev/zero\" } } }\n"),
+      "playback_csv must be a readable file"));
+}
+
+TEST_F(SceneLoaderTest, SceneFilesAreCheckedBeforeTheyAreRead) {
+  for (const std::string path : {"/dev/zero", "/dev/urandom", "/"}) {
+    try {
+      LoadScene(path, db_);
+      ADD_FAILURE() << path;
+    } catch (const TextProtoError& e) {
+      EXPECT_NE(std::string(e.what()).find(path + ":1:1: not a regular file"), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace

@@ -45,6 +45,14 @@ TEST(SessionKeySourceTest, FailuresNameTheSource) {
   }
   source.set_file("/nonexistent/key");
   EXPECT_THROW(ResolveSessionKey(source), std::runtime_error);
+  // a device is refused before it is read (it would never end)
+  source.set_file("/dev/zero");
+  try {
+    ResolveSessionKey(source);
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("not a regular file"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

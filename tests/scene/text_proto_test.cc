@@ -1,6 +1,11 @@
 #include "libs/scene/text_proto.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
 
 #include "haptex/v1/scene.pb.h"
 
@@ -45,6 +50,39 @@ TEST(TextProtoTest, MissingFileIsAnError) {
   } catch (const TextProtoError& e) {
     EXPECT_NE(std::string(e.what()).find("/nonexistent/scene.textproto:1:1: cannot open"), std::string::npos);
   }
+}
+
+// A scene path of /dev/zero read until memory ran out: the size and kind are checked before reading.
+TEST(TextProtoTest, FilesAreCappedBeforeTheyAreRead) {
+  const auto refused = [](const std::string& path) -> std::string {
+    try {
+      ReadTextFile(path);
+    } catch (const TextProtoError& e) {
+      EXPECT_EQ(e.issues().size(), 1u);
+      EXPECT_EQ(e.issues()[0].line, 1);
+      return e.issues()[0].message;
+    }
+    ADD_FAILURE() << "read " << path;
+    return "";
+  };
+  EXPECT_NE(refused("/dev/zero").find("not a regular file"), std::string::npos);
+  EXPECT_NE(refused("/dev/urandom").find("not a regular file"), std::string::npos);
+  const std::string dir = ::testing::TempDir() + "/haptex_text_proto_caps_" + std::to_string(getpid());
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  EXPECT_NE(refused(dir).find("not a regular file"), std::string::npos);
+  const std::string fifo = dir + "/fifo";
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_NE(refused(fifo).find("not a regular file"), std::string::npos) << "and opening it did not wait";
+  const std::string big = dir + "/big.textproto";
+  std::ofstream(big) << std::string(kMaxTextFileBytes + 1, '#');
+  EXPECT_NE(refused(big).find("the file has 1048577 bytes, over the 1048576"), std::string::npos);
+  const std::string full = dir + "/full.textproto";
+  std::ofstream(full) << std::string(kMaxTextFileBytes, '#');
+  EXPECT_EQ(ReadTextFile(full).size(), kMaxTextFileBytes);
+  EXPECT_NE(refused(full + ".missing").find("cannot open"), std::string::npos);
+  EXPECT_THROW(ReadTextFile(full, 100), TextProtoError);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(TextProtoTest, LocatorFindsNestedAndRepeatedFields) {

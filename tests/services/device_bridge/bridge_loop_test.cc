@@ -64,7 +64,7 @@ class BridgeLoopTest : public ::testing::Test {
     }
     bridge_.Update(t, kDt);
     bridge_.Write(out);
-    mock_.ReadHost(bridge_.command(), t);
+    mock_.ReadHost(bridge_.command(), t, true);
     ++tick_;
   }
   double CommandedThumbZ() const {
@@ -153,7 +153,7 @@ TEST_F(BridgeLoopTest, WarmedUpTickDoesNotAllocate) {
     bridge_.Read(model, t);
     bridge_.Update(t, kDt);
     bridge_.Write(out);
-    mock_.ReadHost(bridge_.command(), t);
+    mock_.ReadHost(bridge_.command(), t, true);
     mock_.Write(out);
   }
   EXPECT_EQ(counter.count(), 0);

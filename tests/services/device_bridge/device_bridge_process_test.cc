@@ -65,19 +65,26 @@ class DeviceBridgeProcessTest : public ::testing::Test {
   // The tests command constant forces: a constant force field does work on the finger it moves,
   // which the bridge's passivity controller damps; these tests check the plumbing and the limits
   // (the controller has its own tests), so it is off.
-  void Start(const std::string& script) {
+  void Start(const std::string& script, const std::vector<std::string>& mock_extra = {}) {
     // the bridge's GRAB port must be known before the mock starts: reserve one
     int bridge_port = 0;
     {
       net::UdpEndpoint reserve("127.0.0.1:0");
       bridge_port = reserve.local_port();
     }
-    mock_ = std::make_unique<testing::Subprocess>(
-        std::vector<std::string>{Bin("mock_grab/haptex-mock-grab"), "--script", script, "--bridge",
-                                 "127.0.0.1:" + std::to_string(bridge_port), "--force-log", log_, "--session-id",
-                                 std::to_string(kSession)},
-        Env());
+    std::vector<std::string> mock_argv{Bin("mock_grab/haptex-mock-grab"),
+                                       "--script",
+                                       script,
+                                       "--bridge",
+                                       "127.0.0.1:" + std::to_string(bridge_port),
+                                       "--force-log",
+                                       log_,
+                                       "--session-id",
+                                       std::to_string(kSession)};
+    mock_argv.insert(mock_argv.end(), mock_extra.begin(), mock_extra.end());
+    mock_ = std::make_unique<testing::Subprocess>(mock_argv, Env());
     const std::string mock_port = WaitForLine(*mock_, "listening on 127\\.0\\.0\\.1:([0-9]+)");
+    mock_port_ = mock_port;
     bridge_ = std::make_unique<testing::Subprocess>(
         std::vector<std::string>{Bin("device_bridge/haptex-device-bridge"), "--controller-bind",
                                  "127.0.0.1:" + std::to_string(bridge_port), "--controller", "127.0.0.1:" + mock_port,
@@ -166,6 +173,7 @@ class DeviceBridgeProcessTest : public ::testing::Test {
   std::unique_ptr<testing::Subprocess> mock_;
   std::unique_ptr<testing::Subprocess> bridge_;
   std::string log_;
+  std::string mock_port_;  // the mock controller's GRAB socket
   bool have_bridge_ = false;
   net::Messenger::Endpoint bridge_endpoint_;
   net::Messenger::PeerId to_bridge_ = 0;
@@ -270,6 +278,35 @@ TEST_F(DeviceBridgeProcessTest, ValidFramesFromAStrangerAreIgnoredAndCounted) {
   EXPECT_EQ(WaitForCounter("status_frames_from_strangers", 200), 200u);
   EXPECT_EQ(Stop(*bridge_), 0);
   EXPECT_EQ(Stop(*mock_), 0);
+}
+
+// The mock controller, like a real one configured with its host, takes commands from the bridge
+// only: forged CommandFrames from another socket (valid, newer sequences, 15 N) change nothing it
+// applies, and are counted in its Health.
+TEST_F(DeviceBridgeProcessTest, ForgedCommandsFromAStrangerChangeNothingTheMockApplies) {
+  Start("grasp", {"--peer", "launcher=" + net::FormatUdpAddress(launcher_->local_endpoint()), "--health-hz", "20"});
+  device::CommandFrame forged;
+  forged.sequence = 1u << 30;
+  forged.manipulators[0].force_D_N = {0.0f, 0.0f, 15.0f};
+  forged.manipulators[0].flags = device::command_flags::kForceEnable;
+  std::array<std::byte, device::kCommandFrameSize> bytes{};
+  net::UdpEndpoint stranger("127.0.0.1:0");
+  const auto target = net::ResolveUdpAddress("127.0.0.1:" + mock_port_);
+  for (int i = 0; i < 300; ++i) {  // no ForceModel: the bridge commands zero all along
+    forged.sequence++;
+    device::EncodeCommandFrame(forged, bytes);
+    stranger.SendTo(std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()), target);
+    std::this_thread::sleep_for(1ms);
+  }
+  EXPECT_GE(WaitForCounter("commands_from_strangers", 300), 300u);
+  EXPECT_EQ(Stop(*bridge_), 0);
+  EXPECT_EQ(Stop(*mock_), 0);
+  const auto rows = ReadForceLogRows(log_);
+  ASSERT_GT(rows.size(), 1000u);
+  for (const auto& r : rows) {
+    ASSERT_EQ(r.CommandedNormN(0), 0.0) << "a forged command reached the finger";
+    ASSERT_LT(r.host_sequence, 1u << 30) << "a forged command was in force";
+  }
 }
 
 TEST_F(DeviceBridgeProcessTest, WatchdogZeroesTheForceWithin20msOfTheLastModel) {
