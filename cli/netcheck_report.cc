@@ -85,13 +85,14 @@ void ClassifyLink(const LinkVerdictLimits& limits, NetcheckReport* report) {
   } else if (report->rtt_p99_us <= limits.usable_p99_us && report->loss_fraction <= limits.usable_loss) {
     report->verdict = "usable";
     report->advice =
-        "keep device_bridge and local_contact on one machine; global_sim, tactile "
-        "and viewers may run across this link";
+        "the simulation may run across this link (device_bridge here, local_contact and global_sim there: the "
+        "bridge renders their delayed force models passively); do not split local_contact from global_sim across "
+        "it (a late global layer makes a pressing finger's force jump)";
   } else {
     report->verdict = "poor";
     report->advice =
-        "too slow or lossy for haptic use: run device_bridge and local_contact "
-        "next to the device, and expect late cloth updates from the far side";
+        "too slow or lossy for haptic use: run every service next to the device, and expect late cloth updates "
+        "from anything on the far side";
   }
 }
 

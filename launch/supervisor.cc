@@ -24,7 +24,9 @@ struct Supervisor::Live {
   std::unique_ptr<ChildProcess> child;
   std::int64_t last_health_ns = 0;
   bool ready = false;
-  bool stopped = false;  // exited during the stop (not a failure)
+  bool was_ready = false;          // has reported STATE_READY at least once
+  bool degraded_reported = false;  // a "degraded" event is out, its "recovered" not yet
+  bool stopped = false;            // exited during the stop (not a failure)
 };
 
 struct Supervisor::LiveRelay {
@@ -89,6 +91,16 @@ std::vector<std::string> WithoutKey(const std::vector<std::string>& env) {
   return out;
 }
 
+// A service's text for the terminal: at most one line of 200 bytes, without control characters
+// (which would move the cursor or rewrite the status line).
+std::string Printable(const std::string& text) {
+  std::string out = text.substr(0, 200);
+  for (char& c : out) {
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+  }
+  return out;
+}
+
 std::string ShortState(v1::Health::State state) {
   switch (state) {
     case v1::Health::STATE_STARTING:
@@ -135,7 +147,19 @@ void Supervisor::DrainHealth() {
       // Health of an earlier instance (before a restart) is not this one's
       if (!live->child || static_cast<pid_t>(e.health().pid()) != live->child->pid()) return;
       live->last_health_ns = base::SteadyNowNs();
-      record_->services[live->record_index].last_health = e.health();
+      auto& last = record_->services[live->record_index].last_health;
+      // a service that degrades after it was ready (not while it waits for its device at start-up), or
+      // recovers from that, says so in the event log, with its reason
+      const v1::Health::State state = e.health().state();
+      if (state == v1::Health::STATE_DEGRADED && live->was_ready && !live->degraded_reported) {
+        Event(e.health().service(), "degraded", Printable(e.health().last_error()));
+        live->degraded_reported = true;
+      } else if (state == v1::Health::STATE_READY) {
+        if (live->degraded_reported) Event(e.health().service(), "recovered", "");
+        live->was_ready = true;
+        live->degraded_reported = false;
+      }
+      last = e.health();
       if (e.health().state() == v1::Health::STATE_READY || e.health().state() == v1::Health::STATE_DEGRADED) {
         live->ready = true;
       }
@@ -342,6 +366,8 @@ void Supervisor::PrintStatus(bool final_line) {
     }
     for (const v1::LatencyStats& l : h.latencies()) {
       if (l.name() == "motion_to_force" && l.samples() > 0) line << " m2f p99 " << Fixed(l.p99_us(), 0) << " us";
+      if (l.name() == "haptic_round_trip" && l.samples() > 0)
+        line << " link rtt p50 " << Fixed(l.p50_us() * 1e-3, 1) << " ms";
     }
     for (const v1::Counter& c : h.counters()) {
       if ((c.name() == "frames_played" || c.name() == "force_models" || c.name() == "touch_traces") && c.value() > 0) {
@@ -349,6 +375,8 @@ void Supervisor::PrintStatus(bool final_line) {
       }
     }
     if (record.restarts > 0) line << " restarts " << record.restarts;
+    if (h.state() == v1::Health::STATE_DEGRADED && !h.last_error().empty())
+      line << " (" << Printable(h.last_error()) << ")";
   }
   if (config_.status_in_place && !final_line) {
     out_ << "\r\x1b[K" << line.str() << std::flush;

@@ -5,7 +5,8 @@
 //
 //   time_ns (CLOCK_MONOTONIC, comparable across processes on one machine), then per finger
 //   (thumb, index) the commanded and the applied force in frame D [N], then host_timed_out and
-//   the sequence of the host command in force (0 before the first).
+//   the sequence of the host command in force (0 before the first), then each finger's position in
+//   D [m] (so the energy the device put into a finger can be summed from the log).
 
 #include <array>
 #include <cstddef>
@@ -22,6 +23,8 @@ struct ForceLogRow {
   std::array<std::array<double, 3>, 2> applied_D_N{};
   bool host_timed_out = false;
   std::uint32_t host_sequence = 0;
+  /// [finger][axis]; frame D [m].
+  std::array<std::array<double, 3>, 2> position_D_m{};
 
   /// |commanded force| of finger 0 (thumb) or 1 (index) [N].
   double CommandedNormN(int finger) const;
@@ -30,8 +33,8 @@ struct ForceLogRow {
 inline constexpr std::string_view kForceLogHeader =
     "time_ns,thumb_cmd_x,thumb_cmd_y,thumb_cmd_z,thumb_applied_x,thumb_applied_y,thumb_applied_z,"
     "index_cmd_x,index_cmd_y,index_cmd_z,index_applied_x,index_applied_y,index_applied_z,"
-    "host_timed_out,host_sequence";
-inline constexpr int kForceLogColumns = 15;
+    "host_timed_out,host_sequence,thumb_x,thumb_y,thumb_z,index_x,index_y,index_z";
+inline constexpr int kForceLogColumns = 21;
 /// Longest line FormatForceLogRow writes, with its newline.
 inline constexpr std::size_t kForceLogLineBytes = 512;
 

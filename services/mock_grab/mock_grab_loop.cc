@@ -41,6 +41,7 @@ void MockGrabLoop::Write(services::Outbox& /*out*/) {
         // the log keeps what a float carries, as the real controller's sensors do
         row.commanded_D_N[f][static_cast<std::size_t>(k)] = static_cast<float>(finger.commanded_force_D_N(k));
         row.applied_D_N[f][static_cast<std::size_t>(k)] = static_cast<float>(finger.applied_force_D_N(k));
+        row.position_D_m[f][static_cast<std::size_t>(k)] = finger.p_D_m(k);
       }
     }
     row.host_timed_out = controller_->host_timed_out();

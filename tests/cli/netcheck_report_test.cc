@@ -39,16 +39,31 @@ TEST(ClassifyLinkTest, VerdictFollowsLatencyAndLoss) {
   ClassifyLink(limits, &r);
   EXPECT_EQ(r.verdict, "usable");
   r.rtt_p99_us = 150;
-  r.loss_fraction = 0.005;
+  r.loss_fraction = 0.05;
   ClassifyLink(limits, &r);
   EXPECT_EQ(r.verdict, "usable");
-  r.loss_fraction = 0.05;
+  // a campus or continental link: the haptic link renders through 100 ms
+  r.rtt_p99_us = 100000;
+  ClassifyLink(limits, &r);
+  EXPECT_EQ(r.verdict, "usable");
+  EXPECT_NE(r.advice.find("local_contact and global_sim there"), std::string::npos);
+  r.rtt_p99_us = 150000;  // beyond the bridge's model age limit
+  ClassifyLink(limits, &r);
+  EXPECT_EQ(r.verdict, "poor");
+  r.rtt_p99_us = 150;
+  r.loss_fraction = 0.2;
   ClassifyLink(limits, &r);
   EXPECT_EQ(r.verdict, "poor");
   r.received = 0;
   ClassifyLink(limits, &r);
   EXPECT_EQ(r.verdict, "unreachable");
   EXPECT_NE(r.advice.find("session key"), std::string::npos);
+}
+
+TEST(ClassifyLinkTest, TheHapticLimitIsTheBridgesOwn) {
+  // one source: the bridge's model age limit, less its recovery margin
+  const device::DeviceBridgeConfig bridge;
+  EXPECT_DOUBLE_EQ(LinkVerdictLimits{}.usable_p99_us, 1e6 * bridge.recover_fraction * bridge.max_model_age_s);
 }
 
 TEST(ReportToJsonTest, HasEveryFigure) {

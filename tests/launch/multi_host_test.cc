@@ -213,4 +213,36 @@ TEST(LaunchMultiHostTest, ShippedRemoteSceneOnLabAndCompute) {
 }
 
 }  // namespace
+// The other placement (remote_global): only global_sim on "compute"; the bridge, local_contact and
+// tactile on "lab". Patches from compute reach local_contact on lab, whose force models drive the
+// controller there.
+TEST(LaunchMultiHostTest, ShippedRemoteGlobalSceneOnLabAndCompute) {
+  TwoHosts hosts("192.0.2.10", "192.0.2.20");
+  if (const std::string why = hosts.Create(); !why.empty()) {
+    GTEST_SKIP() << "two-host test skipped: " << why;
+  }
+  const std::string dir = testing::FreshDir("multi_host_remote_global");
+  const std::string scene = testing::ShippedScenePath("remote_global");
+  const std::string haptex = haptex::testing::BuildDir() + "/cli/haptex";
+  const std::vector<std::string> key{
+      "HAPTEX_SESSION_KEY=00112233445566778899aabbccddeeff00112233445566778899aabbccddeeff"};
+  haptex::testing::Subprocess lab(
+      hosts.In(hosts.a(), {haptex, "launch", scene, "--host", "lab", "--duration", "6", "--out", dir + "/lab"}), key);
+  haptex::testing::Subprocess compute(
+      hosts.In(hosts.b(), {haptex, "launch", scene, "--host", "compute", "--duration", "6", "--out", dir + "/compute"}),
+      key);
+  const auto code_lab = lab.WaitFor(150s);
+  const auto code_compute = compute.WaitFor(150s);
+  EXPECT_EQ(code_lab, 0) << lab.Stdout() << lab.Stderr();
+  EXPECT_EQ(code_compute, 0) << compute.Stdout() << compute.Stderr();
+
+  const std::string l = testing::ReadText(dir + "/lab/summary.json");
+  const std::string c = testing::ReadText(dir + "/compute/summary.json");
+  EXPECT_THAT(l, ContainsRegex(R"("name":"local_contact",[^}]*"started_here":true[^}]*"health_received":true)"));
+  EXPECT_THAT(c, ContainsRegex(R"("name":"global_sim",[^}]*"started_here":true[^}]*"health_received":true)"));
+  EXPECT_THAT(l, ContainsRegex(R"("patches_received":[1-9])")) << "local_contact on lab got compute's patches";
+  EXPECT_THAT(l, ContainsRegex(R"("force_models":[1-9])"));
+  EXPECT_THAT(c, ContainsRegex(R"("patches_sent":[1-9])"));
+}
+
 }  // namespace haptex::launch

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "launch/run_folder.h"
+#include "libs/device/force_log_row.h"
 #include "tests/launch/hostile_names.h"
 #include "tests/launch/launch_test_support.h"
 
@@ -16,10 +17,11 @@ using ::testing::HasSubstr;
 TEST(LaunchRunReportTest, ForceLogStatsPerFinger) {
   const std::string path = testing::FreshDir("force_log") + "/f.csv";
   testing::WriteText(path,
-                     "time_ns,tcx,tcy,tcz,tax,tay,taz,icx,icy,icz,iax,iay,iaz,host_timed_out,host_sequence\n"
-                     "1000000000,3,4,0,0,0,0,0,0,1,0,0,0,0,17\n"
-                     "1500000000,0,0,0,0,0,0,0,0,3,0,0,0,0,18\n"
-                     "2000000000,0,0");  // cut by a kill: ignored
+                     std::string(device::kForceLogHeader) +
+                         "\n"
+                         "1000000000,3,4,0,0,0,0,0,0,1,0,0,0,0,17,0,0,0,0,0,0\n"
+                         "1500000000,0,0,0,0,0,0,0,0,3,0,0,0,0,18,0,0,0,0,0,0\n"
+                         "2000000000,0,0");  // cut by a kill: ignored
   const auto log = ReadForceLog(path);
   ASSERT_TRUE(log.has_value());
   ASSERT_EQ(log->t_s.size(), 2u);
