@@ -1,6 +1,7 @@
 #include "launch/child_process.h"
 
 #include <fcntl.h>
+#include <sched.h>
 #include <signal.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>
@@ -22,7 +23,7 @@ std::vector<char*> Pointers(std::vector<std::string>& strings) {
 }  // namespace
 
 ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::vector<std::string>& env,
-                           const std::string& log_path) {
+                           const std::string& log_path, int fifo_priority) {
   // everything the child needs is prepared before fork: after it only async-signal-safe calls
   std::vector<std::string> args = argv, envs = env;
   std::vector<char*> arg_pointers = Pointers(args), env_pointers = Pointers(envs);
@@ -48,6 +49,11 @@ ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::vect
     // and whatever else it holds stay behind, close-on-exec or not.
     if (close_range(3, ~0U, 0) != 0) {
       for (int fd = 3; fd < max_fd; ++fd) close(fd);
+    }
+    if (fifo_priority > 0) {
+      sched_param param{};
+      param.sched_priority = fifo_priority;
+      sched_setscheduler(0, SCHED_FIFO, &param);  // refused: the launcher's policy stays
     }
     // the launcher's signal dispositions are not the service's
     signal(SIGINT, SIG_DFL);

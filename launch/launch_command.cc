@@ -285,11 +285,14 @@ int Launch(const LaunchOptions& o) {
             << "launcher receiving Health on " << config.launcher.Peer() << "; Ctrl-C stops the run" << std::endl;
 
   if (o.rt_priority > 0) {
-    // Services inherit the policy through fork: one setting for the whole run, as measured.
+    // Services run below the launcher by their rate (ServiceSpec::rt_rank), relays at the haptic link's.
     const runtime::RtSetupResult rt = runtime::TrySetFifoPriority(o.rt_priority);
-    std::cout << (rt.ok ? "real-time: " + rt.message + " for the launcher and every service it starts"
+    std::cout << (rt.ok ? "real-time: " + rt.message +
+                              " for the launcher; the services below it by rate (5 kHz loops at the same, "
+                              "local_contact and relays 1 lower, tactile 2, global_sim 3)"
                         : "real-time refused (" + rt.message + "): normal scheduling")
               << std::endl;
+    if (rt.ok) config.rt_priority = o.rt_priority;
   }
 
   RunRecord record;

@@ -22,6 +22,7 @@ const std::vector<ServiceSpec>& ServiceTable() {
        4,
        3,
        4,
+       0,  // rt_rank: 5 kHz
        {{peer::kLauncher, P::SERVICE_LAUNCHER},
         {peer::kLocalContact, P::SERVICE_LOCAL_CONTACT},
         {peer::kGlobalSim, P::SERVICE_GLOBAL_SIM}}},
@@ -33,6 +34,7 @@ const std::vector<ServiceSpec>& ServiceTable() {
        5,
        6,
        7,
+       0,  // rt_rank: 5 kHz
        {{peer::kLauncher, P::SERVICE_LAUNCHER}}},
       {P::SERVICE_MOCK_PINS,
        "mock_pins",
@@ -42,6 +44,7 @@ const std::vector<ServiceSpec>& ServiceTable() {
        3,
        8,
        -1,
+       2,  // rt_rank: 40 Hz frames, 320 Hz pins
        {{peer::kLauncher, P::SERVICE_LAUNCHER}}},
       {P::SERVICE_TACTILE,
        "tactile",
@@ -51,6 +54,7 @@ const std::vector<ServiceSpec>& ServiceTable() {
        2,
        5,
        -1,
+       2,  // rt_rank: 320 Hz
        {{peer::kLauncher, P::SERVICE_LAUNCHER}, {peer::kDisplay, P::SERVICE_MOCK_PINS}}},
       {P::SERVICE_GLOBAL_SIM,
        "global_sim",
@@ -60,6 +64,7 @@ const std::vector<ServiceSpec>& ServiceTable() {
        1,
        1,
        -1,
+       3,  // rt_rank: 100 Hz
        {{peer::kLauncher, P::SERVICE_LAUNCHER}, {peer::kLocalContact, P::SERVICE_LOCAL_CONTACT}}},
       {P::SERVICE_LOCAL_CONTACT,
        "local_contact",
@@ -69,6 +74,7 @@ const std::vector<ServiceSpec>& ServiceTable() {
        0,
        2,
        -1,
+       1,  // rt_rank: 1 kHz
        {{peer::kLauncher, P::SERVICE_LAUNCHER},
         {peer::kGlobalSim, P::SERVICE_GLOBAL_SIM},
         {peer::kBridge, P::SERVICE_DEVICE_BRIDGE},

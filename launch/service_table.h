@@ -29,8 +29,19 @@ struct ServiceSpec {
   int stop_rank;                // lower stops first
   int port_offset;              // its UDP port = base port + offset (unless the scene places it)
   int controller_port_offset;   // the GRAB protocol socket's offset; -1: none
+  /// Under `--rt-priority P` it runs at SCHED_FIFO P - rt_rank (at least 1): rate-monotonic, so the
+  /// 5 kHz loops preempt the 1 kHz contact loop, which preempts tactile, which preempts global_sim's
+  /// multi-millisecond steps (at one priority those held the bridge off both cores).
+  int rt_rank;
   std::vector<PeerSpec> peers;  // peers it is given, when that peer is in the run
 };
+
+/// The SCHED_FIFO priority of a service of `rt_rank` under the launcher's `launcher_priority`.
+inline int FifoPriorityFor(int launcher_priority, int rt_rank) {
+  return launcher_priority - rt_rank >= 1 ? launcher_priority - rt_rank : 1;
+}
+/// Relays carry the haptic link at 1 kHz: local_contact's rank.
+inline constexpr int kRelayRtRank = 1;
 
 /// Every service, in start order. The launcher's own port is base port + kLauncherPortOffset.
 const std::vector<ServiceSpec>& ServiceTable();

@@ -198,8 +198,11 @@ bool Supervisor::Start(Live& live) {
   live.ready = false;
   live.child.reset();
   try {
+    const int priority = config_.rt_priority > 0
+                             ? FifoPriorityFor(config_.rt_priority, Spec(live.service.placed.service.kind).rt_rank)
+                             : 0;
     live.child = std::make_unique<ChildProcess>(ArgvForStart(live.service.argv, record.pids.size()), config_.child_env,
-                                                live.service.log_path);
+                                                live.service.log_path, priority);
   } catch (const std::exception& e) {
     record_->errors.push_back(std::string(Spec(live.service.placed.service.kind).name) + ": " + e.what());
     return false;
@@ -269,7 +272,8 @@ bool Supervisor::StartRelay(LiveRelay& relay) {
   const std::uintmax_t log_size = std::filesystem::file_size(log_path, error);  // an earlier run's lines
   const std::uintmax_t from = error ? 0 : log_size;
   try {
-    relay.child = std::make_unique<ChildProcess>(relay.relay.argv, WithoutKey(config_.child_env), log_path);
+    const int priority = config_.rt_priority > 0 ? FifoPriorityFor(config_.rt_priority, kRelayRtRank) : 0;
+    relay.child = std::make_unique<ChildProcess>(relay.relay.argv, WithoutKey(config_.child_env), log_path, priority);
   } catch (const std::exception& e) {
     record_->errors.push_back(relay.name + ": " + e.what());
     return false;

@@ -45,6 +45,7 @@ struct SupervisorConfig {
   double zero_force_settle_s = 0.06;        // between ZERO_FORCE and the first SHUTDOWN
   double status_period_s = 1;
   bool status_in_place = false;  // rewrite one line (a terminal) instead of printing lines
+  int rt_priority = 0;           // > 0: the launcher's SCHED_FIFO priority; services run below it by rt_rank
 };
 
 class Supervisor final {

@@ -71,6 +71,18 @@ TEST(LaunchServiceTableTest, TheSceneLayerAgreesOnWhichServicesTalk) {
   for (const ServiceSpec& spec : ServiceTable()) EXPECT_EQ(scene::ServiceName(spec.kind), spec.name);
 }
 
+TEST(LaunchServiceTableTest, RealTimeRanksFollowTheRates) {
+  const auto rank = [](ServiceKind kind) { return Spec(kind).rt_rank; };
+  EXPECT_EQ(rank(P::SERVICE_DEVICE_BRIDGE), 0);
+  EXPECT_EQ(rank(P::SERVICE_MOCK_GRAB), 0);
+  EXPECT_LT(rank(P::SERVICE_DEVICE_BRIDGE), rank(P::SERVICE_LOCAL_CONTACT));
+  EXPECT_LT(rank(P::SERVICE_LOCAL_CONTACT), rank(P::SERVICE_TACTILE));
+  EXPECT_LT(rank(P::SERVICE_TACTILE), rank(P::SERVICE_GLOBAL_SIM));
+  EXPECT_EQ(kRelayRtRank, rank(P::SERVICE_LOCAL_CONTACT)) << "relays carry the haptic link";
+  EXPECT_EQ(FifoPriorityFor(50, 3), 47);
+  EXPECT_EQ(FifoPriorityFor(2, 3), 1) << "never below SCHED_FIFO's lowest";
+}
+
 TEST(LaunchServiceTableTest, LookUps) {
   EXPECT_EQ(FindSpec("mock_grab")->kind, P::SERVICE_MOCK_GRAB);
   EXPECT_EQ(FindSpec("nope"), nullptr);
