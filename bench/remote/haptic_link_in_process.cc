@@ -5,15 +5,15 @@
 //   build/bench/remote/haptic_link_in_process SCENE [--seconds S] [--rtt-ms R ...] [--loss L ...]
 //       [--placement haptic|global] [--csv FILE]
 
+#include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <fstream>
 #include <string>
 #include <vector>
 
+#include "libs/flags/finite_number.h"
 #include "libs/scene/scene_loader.h"
 #include "services/in_process/in_process_system.h"
 
@@ -73,29 +73,30 @@ Result Run(const haptex::scene::LoadedScene& scene, double seconds, double rtt_m
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 2) {
-    std::fprintf(
-        stderr,
-        "usage: %s SCENE [--seconds S] [--rtt-ms R ...] [--loss L ...] [--placement haptic|global] [--csv FILE]\n",
-        argv[0]);
+  std::string scene_path, csv_path, placement = "haptic";
+  double seconds = 8;
+  std::vector<double> rtts{0, 10, 20, 50, 100, 200}, losses{0};
+  CLI::App app{"The haptic link under delay and loss, every service loop in one process"};
+  app.add_option("scene", scene_path, "the scene")->required()->check(CLI::ExistingFile);
+  app.add_option("--seconds", seconds, "simulated seconds per setting")->check(CLI::Range(0.1, 600.0));
+  app.add_option("--rtt-ms", rtts, "round trips [ms] (repeat the flag)")->check(CLI::Range(0.0, 1000.0));
+  app.add_option("--loss", losses, "loss each way (repeat the flag)")->check(CLI::Range(0.0, 1.0));
+  app.add_option("--placement", placement, "haptic: bridge | simulation; global: global_sim far")
+      ->check(CLI::IsMember({"haptic", "global"}));
+  app.add_option("--csv", csv_path, "also write a trace here");
+  haptex::flags::RefuseNonFiniteNumbers(app);
+  CLI11_PARSE(app, argc, argv);
+  const bool haptic = placement == "haptic";
+  haptex::scene::LoadedScene scene;
+  try {
+    scene = haptex::scene::LoadScene(scene_path,
+                                     haptex::scene::FabricDatabase(haptex::scene::FabricDatabase::DefaultDirectory()));
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s\n", e.what());
     return 2;
   }
-  const haptex::scene::FabricDatabase db(haptex::scene::FabricDatabase::DefaultDirectory());
-  const haptex::scene::LoadedScene scene = haptex::scene::LoadScene(argv[1], db);
-  double seconds = 8;
-  std::vector<double> rtts, losses;
-  bool haptic = true;
   std::ofstream csv;
-  for (int i = 2; i + 1 < argc; i += 2) {
-    const std::string flag = argv[i];
-    if (flag == "--seconds") seconds = std::atof(argv[i + 1]);
-    if (flag == "--rtt-ms") rtts.push_back(std::atof(argv[i + 1]));
-    if (flag == "--loss") losses.push_back(std::atof(argv[i + 1]));
-    if (flag == "--placement") haptic = std::strcmp(argv[i + 1], "haptic") == 0;
-    if (flag == "--csv") csv.open(argv[i + 1]);
-  }
-  if (rtts.empty()) rtts = {0, 10, 20, 50, 100, 200};
-  if (losses.empty()) losses = {0};
+  if (!csv_path.empty()) csv.open(csv_path);
   std::printf("rtt_ms loss peak_N hold_mean_N hold_sd_N max_step_N energy_J damped_ticks slow_link_ticks\n");
   for (double loss : losses) {
     for (double rtt : rtts) {

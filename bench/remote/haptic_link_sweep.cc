@@ -33,6 +33,7 @@
 
 #include "launch/child_process.h"
 #include "launch/force_log_reader.h"
+#include "libs/flags/finite_number.h"
 
 namespace {
 
@@ -205,6 +206,7 @@ int main(int argc, char** argv) {
   app.add_option("--csv", o.csv, "also write the table here");
   app.add_option("--rt-priority", o.rt_priority, "haptex launch --rt-priority (0: normal scheduling)")
       ->check(CLI::Range(0, 99));
+  haptex::flags::RefuseNonFiniteNumbers(app);
   CLI11_PARSE(app, argc, argv);
 
   std::vector<Row> rows;
