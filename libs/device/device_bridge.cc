@@ -128,7 +128,6 @@ void DeviceBridge::SetForceModel(Manipulator finger, const ForceModel& model, do
   f.has_model = true;
   f.model_rx_s = t_rx_s;
   f.model_basis_s = FrameArrivalS(based_on_controller_sequence);
-  f.model_basis_sequence = based_on_controller_sequence;
   ++counters_.force_models;
   if (!std::isfinite(f.model_basis_s)) {
     ++counters_.models_unknown_basis;

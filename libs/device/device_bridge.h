@@ -152,7 +152,6 @@ class DeviceBridge {
     bool observed = false;       ///< observed_p_W_m holds a measured pose
     Eigen::Vector3d observed_p_W_m{Eigen::Vector3d::Zero()};  ///< where the passivity observer saw the finger
     Eigen::Vector3d last_command_W_N{Eigen::Vector3d::Zero()};
-    std::uint64_t model_basis_sequence = 0;
   };
   struct FrameArrival {
     std::uint64_t sequence = 0;

@@ -17,20 +17,26 @@ v1::Finger ToFinger(device::Manipulator manipulator) {
   return codec::FingerOfSlot(manipulator == device::Manipulator::kThumb ? codec::kThumbSlot : codec::kIndexSlot);
 }
 
+namespace {
+
+// A 3 x 3 matrix sent row by row; an empty field is zero (IsWellFormed refuses other sizes).
+Eigen::Matrix3d Matrix3FromRowMajor(const google::protobuf::RepeatedField<double>& values) {
+  Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
+  if (values.size() != 9) return m;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) m(r, c) = values.Get(3 * r + c);
+  }
+  return m;
+}
+
+}  // namespace
+
 device::ForceModel ToForceModel(const v1::FingerForceModel& in) {
   device::ForceModel model;
   model.force0_W_N = codec::ToEigen(in.f0_w_n());
   model.x0_W_m = codec::ToEigen(in.x0_w_m());
-  if (in.stiffness_w_n_per_m_size() == 9) {
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 3; ++c) model.stiffness_W_N_per_m(r, c) = in.stiffness_w_n_per_m(3 * r + c);
-    }
-  }
-  if (in.cross_stiffness_w_n_per_m_size() == 9) {
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 3; ++c) model.cross_stiffness_W_N_per_m(r, c) = in.cross_stiffness_w_n_per_m(3 * r + c);
-    }
-  }
+  model.stiffness_W_N_per_m = Matrix3FromRowMajor(in.stiffness_w_n_per_m());
+  model.cross_stiffness_W_N_per_m = Matrix3FromRowMajor(in.cross_stiffness_w_n_per_m());
   model.ttl_s = in.ttl_s();
   return model;
 }

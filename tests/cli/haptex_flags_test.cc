@@ -16,19 +16,13 @@
 namespace haptex {
 namespace {
 
-using namespace std::chrono_literals;
 using ::testing::HasSubstr;
 
-struct Result {
-  int code;
-  std::string out, err;
-};
+using Result = haptex::testing::Finished;
 
 Result Haptex(std::vector<std::string> args) {
   args.insert(args.begin(), testing::BuildDir() + "/cli/haptex");
-  testing::Subprocess p(args);
-  const auto code = p.WaitFor(60s);
-  return {code.value_or(-1), p.Stdout(), p.Stderr()};
+  return testing::RunToEnd(std::move(args));
 }
 
 std::string Scene() { return testing::SourceDir() + "/launch/scenes/hanging.textproto"; }

@@ -12,19 +12,13 @@
 namespace haptex::launch {
 namespace {
 
-using namespace std::chrono_literals;
 using ::testing::HasSubstr;
 
-struct Result {
-  int code;
-  std::string out, err;
-};
+using Result = haptex::testing::Finished;
 
 Result Haptex(std::vector<std::string> args) {
   args.insert(args.begin(), haptex::testing::BuildDir() + "/cli/haptex");
-  haptex::testing::Subprocess p(args);
-  const auto code = p.WaitFor(60s);
-  return {code.value_or(-1), p.Stdout(), p.Stderr()};
+  return haptex::testing::RunToEnd(std::move(args));
 }
 
 TEST(LaunchCommandTest, SyntaxErrorsAtFileLineColumn) {

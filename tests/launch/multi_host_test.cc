@@ -179,17 +179,15 @@ session_key { hex: "00112233445566778899aabbccddeeff00112233445566778899aabbccdd
   EXPECT_THAT(b, HasSubstr("its report is in that host's run folder"));
 }
 
-// The shipped remote scene as its comment tells a user to run it: the device, its bridge and the
-// mock pin display on "lab", the simulation and tactile rendering on "compute", one key in
-// HAPTEX_SESSION_KEY. Forces from compute reach the controller on lab; pin frames from compute
-// reach the display on lab.
-TEST(LaunchMultiHostTest, ShippedRemoteSceneOnLabAndCompute) {
-  TwoHosts hosts("192.0.2.10", "192.0.2.20");
-  if (const std::string why = hosts.Create(); !why.empty()) {
-    GTEST_SKIP() << "two-host test skipped: " << why;
-  }
-  const std::string dir = testing::FreshDir("multi_host_remote");
-  const std::string scene = testing::ShippedScenePath("remote");
+// The shipped scene `name` as its comment tells a user to run it: `--host lab` in one namespace,
+// `--host compute` in the other, one key in HAPTEX_SESSION_KEY; both must exit 0 after 6 s.
+// Returns the two summary.json texts.
+struct Summaries {
+  std::string lab, compute;
+};
+Summaries RunOnLabAndCompute(TwoHosts& hosts, const std::string& name) {
+  const std::string dir = testing::FreshDir("multi_host_" + name);
+  const std::string scene = testing::ShippedScenePath(name);
   const std::string haptex = haptex::testing::BuildDir() + "/cli/haptex";
   const std::vector<std::string> key{
       "HAPTEX_SESSION_KEY=00112233445566778899aabbccddeeff00112233445566778899aabbccddeeff"};
@@ -202,17 +200,26 @@ TEST(LaunchMultiHostTest, ShippedRemoteSceneOnLabAndCompute) {
   const auto code_compute = compute.WaitFor(150s);
   EXPECT_EQ(code_lab, 0) << lab.Stdout() << lab.Stderr();
   EXPECT_EQ(code_compute, 0) << compute.Stdout() << compute.Stderr();
-
-  const std::string l = testing::ReadText(dir + "/lab/summary.json");
-  const std::string c = testing::ReadText(dir + "/compute/summary.json");
-  EXPECT_THAT(c, ContainsRegex(R"("name":"local_contact",[^}]*"started_here":true[^}]*"health_received":true)"));
-  EXPECT_THAT(c, ContainsRegex(R"("name":"tactile",[^}]*"started_here":true[^}]*"health_received":true)"));
-  EXPECT_THAT(l, ContainsRegex(R"("force_models":[1-9])")) << "the bridge on lab got compute's force models";
-  EXPECT_THAT(l, ContainsRegex(R"("frames_played":[1-9])")) << "the display on lab got compute's pin frames";
-  EXPECT_THAT(c, ContainsRegex(R"("patches_sent":[1-9])"));
+  return {testing::ReadText(dir + "/lab/summary.json"), testing::ReadText(dir + "/compute/summary.json")};
 }
 
-}  // namespace
+// The remote scene: the device, its bridge and the mock pin display on "lab", the simulation and
+// tactile rendering on "compute". Forces from compute reach the controller on lab; pin frames from
+// compute reach the display on lab.
+TEST(LaunchMultiHostTest, ShippedRemoteSceneOnLabAndCompute) {
+  TwoHosts hosts("192.0.2.10", "192.0.2.20");
+  if (const std::string why = hosts.Create(); !why.empty()) {
+    GTEST_SKIP() << "two-host test skipped: " << why;
+  }
+  const Summaries s = RunOnLabAndCompute(hosts, "remote");
+  EXPECT_THAT(s.compute,
+              ContainsRegex(R"("name":"local_contact",[^}]*"started_here":true[^}]*"health_received":true)"));
+  EXPECT_THAT(s.compute, ContainsRegex(R"("name":"tactile",[^}]*"started_here":true[^}]*"health_received":true)"));
+  EXPECT_THAT(s.lab, ContainsRegex(R"("force_models":[1-9])")) << "the bridge on lab got compute's force models";
+  EXPECT_THAT(s.lab, ContainsRegex(R"("frames_played":[1-9])")) << "the display on lab got compute's pin frames";
+  EXPECT_THAT(s.compute, ContainsRegex(R"("patches_sent":[1-9])"));
+}
+
 // The other placement (remote_global): only global_sim on "compute"; the bridge, local_contact and
 // tactile on "lab". Patches from compute reach local_contact on lab, whose force models drive the
 // controller there.
@@ -221,28 +228,13 @@ TEST(LaunchMultiHostTest, ShippedRemoteGlobalSceneOnLabAndCompute) {
   if (const std::string why = hosts.Create(); !why.empty()) {
     GTEST_SKIP() << "two-host test skipped: " << why;
   }
-  const std::string dir = testing::FreshDir("multi_host_remote_global");
-  const std::string scene = testing::ShippedScenePath("remote_global");
-  const std::string haptex = haptex::testing::BuildDir() + "/cli/haptex";
-  const std::vector<std::string> key{
-      "HAPTEX_SESSION_KEY=00112233445566778899aabbccddeeff00112233445566778899aabbccddeeff"};
-  haptex::testing::Subprocess lab(
-      hosts.In(hosts.a(), {haptex, "launch", scene, "--host", "lab", "--duration", "6", "--out", dir + "/lab"}), key);
-  haptex::testing::Subprocess compute(
-      hosts.In(hosts.b(), {haptex, "launch", scene, "--host", "compute", "--duration", "6", "--out", dir + "/compute"}),
-      key);
-  const auto code_lab = lab.WaitFor(150s);
-  const auto code_compute = compute.WaitFor(150s);
-  EXPECT_EQ(code_lab, 0) << lab.Stdout() << lab.Stderr();
-  EXPECT_EQ(code_compute, 0) << compute.Stdout() << compute.Stderr();
-
-  const std::string l = testing::ReadText(dir + "/lab/summary.json");
-  const std::string c = testing::ReadText(dir + "/compute/summary.json");
-  EXPECT_THAT(l, ContainsRegex(R"("name":"local_contact",[^}]*"started_here":true[^}]*"health_received":true)"));
-  EXPECT_THAT(c, ContainsRegex(R"("name":"global_sim",[^}]*"started_here":true[^}]*"health_received":true)"));
-  EXPECT_THAT(l, ContainsRegex(R"("patches_received":[1-9])")) << "local_contact on lab got compute's patches";
-  EXPECT_THAT(l, ContainsRegex(R"("force_models":[1-9])"));
-  EXPECT_THAT(c, ContainsRegex(R"("patches_sent":[1-9])"));
+  const Summaries s = RunOnLabAndCompute(hosts, "remote_global");
+  EXPECT_THAT(s.lab, ContainsRegex(R"("name":"local_contact",[^}]*"started_here":true[^}]*"health_received":true)"));
+  EXPECT_THAT(s.compute, ContainsRegex(R"("name":"global_sim",[^}]*"started_here":true[^}]*"health_received":true)"));
+  EXPECT_THAT(s.lab, ContainsRegex(R"("patches_received":[1-9])")) << "local_contact on lab got compute's patches";
+  EXPECT_THAT(s.lab, ContainsRegex(R"("force_models":[1-9])"));
+  EXPECT_THAT(s.compute, ContainsRegex(R"("patches_sent":[1-9])"));
 }
 
+}  // namespace
 }  // namespace haptex::launch

@@ -87,4 +87,10 @@ std::string ReadFileOrEmpty(const std::string& path) {
   return text.str();
 }
 
+Finished RunToEnd(std::vector<std::string> argv, std::chrono::milliseconds timeout) {
+  Subprocess p(std::move(argv));
+  const auto code = p.WaitFor(timeout);
+  return {code.value_or(-1), p.Stdout(), p.Stderr()};
+}
+
 }  // namespace haptex::testing

@@ -34,6 +34,15 @@ class Subprocess final {
   std::string stderr_path_;
 };
 
+/// How a process that was run to its end ended: exit code (-1: still running after the timeout,
+/// then killed) and its output.
+struct Finished {
+  int code;
+  std::string out, err;
+};
+/// Runs argv to its end (at most `timeout`).
+Finished RunToEnd(std::vector<std::string> argv, std::chrono::milliseconds timeout = std::chrono::milliseconds(60000));
+
 /// Contents of a file ("" when missing).
 std::string ReadFileOrEmpty(const std::string& path);
 

@@ -15,19 +15,11 @@
 namespace haptex {
 namespace {
 
-using namespace std::chrono_literals;
 using ::testing::HasSubstr;
 
-struct Result {
-  int code;
-  std::string out, err;
-};
+using Result = haptex::testing::Finished;
 
-Result RunService(std::vector<std::string> args) {
-  testing::Subprocess p(args);
-  const auto code = p.WaitFor(60s);
-  return {code.value_or(-1), p.Stdout(), p.Stderr()};
-}
+Result RunService(std::vector<std::string> args) { return testing::RunToEnd(std::move(args)); }
 
 // Each service binary with its required options.
 std::vector<std::vector<std::string>> Services() {
