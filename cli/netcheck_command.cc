@@ -138,7 +138,7 @@ int Probe(const ProbeOptions& options) {
   recorder.OnRejected(messenger.received().TotalDropped());
   recorder.Summarise(sent, LinkVerdictLimits{}, &report);
   std::cout << (options.json ? ReportToJson(report) + "\n" : ReportToText(report));
-  return report.verdict == "good" || report.verdict == "usable" ? 0 : 3;
+  return report.verdict == "good" || report.verdict == "usable" || report.verdict == "global_only" ? 0 : 3;
 }
 
 }  // namespace

@@ -86,8 +86,13 @@ void ClassifyLink(const LinkVerdictLimits& limits, NetcheckReport* report) {
     report->verdict = "usable";
     report->advice =
         "the simulation may run across this link (device_bridge here, local_contact and global_sim there: the "
-        "bridge renders their delayed force models passively); do not split local_contact from global_sim across "
-        "it (a late global layer makes a pressing finger's force jump)";
+        "bridge renders their delayed force models passively); or only global_sim (remote_global), which keeps the "
+        "contact here but renders a finger pressing loose cloth stiffer the longer the round trip";
+  } else if (report->rtt_p99_us <= limits.global_only_p99_us && report->loss_fraction <= limits.global_only_loss) {
+    report->verdict = "global_only";
+    report->advice =
+        "too slow for the haptic link: keep device_bridge and local_contact here; only global_sim may run there "
+        "(remote_global: the cloth far from the fingers moves late, a finger pressing loose cloth feels it stiffer)";
   } else {
     report->verdict = "poor";
     report->advice =

@@ -19,6 +19,10 @@ struct LinkVerdictLimits {
   double usable_p99_us =
       1e6 * device::DeviceBridgeConfig{}.recover_fraction * device::DeviceBridgeConfig{}.max_model_age_s;
   double usable_loss = 0.10;  // the pinch held within 2 % at 10 % loss each way
+  /// Only the global link may cross (remote_global): measured to a 200 ms round trip with 10 % loss
+  /// each way, passive throughout, a pressing finger's force growing with the delay (docs/remote.md).
+  double global_only_p99_us = 200e3;
+  double global_only_loss = 0.10;
 };
 
 struct NetcheckReport {

@@ -30,12 +30,19 @@ DualLayerSim::DualLayerSim(const textile::FabricMaterial& material, textile::Fab
 void DualLayerSim::GlobalStep(const contact::FingerInput& thumb, const contact::FingerInput& index) {
   // Merge the local result as global_sim does: the patch's interior is the local layer's (newer,
   // finer, held by the fingers); it is held where the local layer put it through the global step,
-  // the rest of the fabric relaxes against it.
+  // the rest of the fabric relaxes against it. Results (and patches) travel link_delay_steps_
+  // global steps.
   if (patch_) {
-    FillPatchResult(0, patch_.get(), &result_);
-    MergePatchResult(result_, static_cast<int>(refined_.id_space()), &global_state_, &merged_);
+    results_in_flight_.emplace_back();
+    FillPatchResult(patch_step_, patch_.get(), &results_in_flight_.back());
+  }
+  if (static_cast<int>(results_in_flight_.size()) > link_delay_steps_) {
+    MergePatchResult(results_in_flight_.front(), static_cast<int>(refined_.id_space()), &global_state_, &merged_);
+    link_delay_.OnResultMerged(steps_, results_in_flight_.front().global_step);
+    results_in_flight_.pop_front();
   }
   global_stepper_.Step(&global_state_);
+  ++steps_;
   ReleaseMerged(&global_state_, &merged_);
   const Eigen::VectorXd& cut_v = cut_velocity_.Update(global_state_.v_W_m_per_s);
 
@@ -50,24 +57,35 @@ void DualLayerSim::GlobalStep(const contact::FingerInput& thumb, const contact::
   const PatchRect rect = FindPatchRect(global_model_, global_state_, spheres);
   if (rect.empty()) return;
   rect_ = rect;
-  CutPatch(global_model_, global_state_, cut_v, rect, ++patch_id_, 0, global_dt_s_, refined_, &patch_data_);
+  CutPatch(global_model_, global_state_, cut_v, rect, ++patch_id_, steps_, global_dt_s_, refined_, &patch_data_);
+  patch_data_.link_round_trip_steps = extrapolate_border_in_full_ ? 0 : link_delay_.round_trip_steps();
   if (!IsBuildable(patch_data_, refined_.id_space())) return;
   textile::StepOptions local_step;
   local_step.dt_s = local_dt_s_;
   local_step.cg_tolerance = 1e-3;
   local_step.cg_max_iterations = 100;
   local_step.preconditioner = textile::Preconditioner::kBlockJacobi;
-  auto fresh = BuildLocalPatch(patch_data_, material_, global_model_.options, local_step, contact_,
-                               static_cast<int>(refined_.id_space()));
+  patches_in_flight_.push_back(BuildLocalPatch(patch_data_, material_, global_model_.options, local_step, contact_,
+                                               static_cast<int>(refined_.id_space())));
+}
+
+void DualLayerSim::HandOffArrived() {
+  if (static_cast<int>(patches_in_flight_.size()) <= link_delay_steps_) return;
+  std::unique_ptr<LocalPatch> fresh = std::move(patches_in_flight_.front());
+  patches_in_flight_.pop_front();
   if (patch_) {
     if (carry_over_) HandOff(*patch_, fresh.get());
     ++handoffs_;
   }
+  patch_step_ = fresh->global_step;
   patch_ = std::move(fresh);
 }
 
 const contact::ContactOutput& DualLayerSim::Tick(const contact::FingerInput& thumb, const contact::FingerInput& index) {
-  if (tick_ % ticks_per_global_ == 0) GlobalStep(thumb, index);
+  if (tick_ % ticks_per_global_ == 0) {
+    GlobalStep(thumb, index);
+    HandOffArrived();
+  }
   ++tick_;
   if (!patch_) return idle_;
   return patch_->Tick(thumb, index);

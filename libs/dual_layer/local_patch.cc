@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "libs/dual_layer/global_link_delay.h"
 #include "libs/textile/fabric_model.h"
 
 namespace haptex::dual_layer {
@@ -46,18 +47,20 @@ std::unique_ptr<LocalPatch> BuildLocalPatch(const PatchData& data, const textile
   textile::FabricModel model =
       textile::BuildFabricModel(material, {(nu - 1) * du, (nv - 1) * dv, nu, nv}, model_options);
   textile::FabricState state = textile::MakeRestState(model);
+  const double border_velocity_weight = BorderVelocityWeight(data.link_round_trip_steps);
   for (int p = 0; p < n; ++p) {
     for (int k = 0; k < 3; ++k) {
       state.x_W_m[3 * p + k] = data.x_W_m[3 * static_cast<std::size_t>(p) + static_cast<std::size_t>(k)];
       state.v_W_m_per_s[3 * p + k] = data.v_W_m_per_s[3 * static_cast<std::size_t>(p) + static_cast<std::size_t>(k)];
     }
     state.anchor_W_m.segment<3>(3 * p) = state.x(p);
-    if (data.border[static_cast<std::size_t>(p)]) state.Prescribe(p, state.v(p));
+    if (data.border[static_cast<std::size_t>(p)]) state.Prescribe(p, border_velocity_weight * state.v(p));
   }
   auto rt = std::make_unique<LocalPatch>();
   rt->sim = std::make_unique<contact::PatchSimulation>(std::move(model), std::move(state), step, contact_options,
                                                        Eigen::Vector2d(u0, v0));
   rt->patch_id = data.patch_id;
+  rt->global_step = data.global_step;
   rt->global_dt_s = data.global_dt_s;
   rt->global_id = data.ids;
   rt->local_of_global.assign(static_cast<std::size_t>(particle_id_space), -1);

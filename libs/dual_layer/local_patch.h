@@ -19,6 +19,7 @@ namespace haptex::dual_layer {
 struct LocalPatch {
   std::unique_ptr<contact::PatchSimulation> sim;
   std::uint64_t patch_id = 0;
+  std::uint64_t global_step = 0;  ///< the global step the patch was cut at
   double global_dt_s = 0.0;
   std::vector<std::uint32_t> global_id;          ///< per patch particle
   std::vector<int> local_of_global;              ///< per particle id (fabric and refined): patch index or -1
@@ -36,7 +37,8 @@ struct LocalPatch {
 
 /// Builds a patch from received data: checks it is a grid rectangle (ids, rest coordinates),
 /// makes the fabric model of that rectangle, sets positions and velocities, holds the border
-/// particles with their velocities. @throws std::invalid_argument naming what is inconsistent.
+/// particles and moves them with their velocities, extrapolated only as far as the global link's
+/// round trip allows (BorderVelocityWeight). @throws std::invalid_argument naming what is inconsistent.
 std::unique_ptr<LocalPatch> BuildLocalPatch(const PatchData& data, const textile::FabricMaterial& material,
                                             const textile::ModelOptions& model_options,
                                             const textile::StepOptions& step,

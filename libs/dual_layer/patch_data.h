@@ -18,6 +18,9 @@ struct PatchData {
   std::uint64_t global_step = 0;  ///< the global step the patch was cut at
   double global_time_s = 0.0;     ///< simulated time of that step
   double global_dt_s = 0.0;       ///< the global step; the local layer reports once per step
+  /// The global link's round trip in global steps as global_sim measured it (global_link_delay.h):
+  /// how far the local layer may extrapolate the border.
+  std::uint32_t link_round_trip_steps = 0;
   int num_particles = 0;
   std::vector<std::uint32_t> ids;        ///< fabric ids (refined particles above the fabric's count)
   std::vector<double> rest_uv_m;         ///< 2 per particle (u warp, v weft)

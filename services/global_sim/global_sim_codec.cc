@@ -25,6 +25,7 @@ void ToMessage(const dual_layer::PatchData& patch, v1::LocalPatch* out) {
   out->set_global_step(patch.global_step);
   out->set_global_time_s(patch.global_time_s);
   out->set_global_dt_s(patch.global_dt_s);
+  out->set_link_round_trip_steps(patch.link_round_trip_steps);
   out->mutable_particle_ids()->Assign(patch.ids.begin(), patch.ids.end());
   out->mutable_rest_uv_m()->Assign(patch.rest_uv_m.begin(), patch.rest_uv_m.end());
   out->mutable_position_w_m()->Assign(patch.x_W_m.begin(), patch.x_W_m.end());

@@ -61,6 +61,7 @@ void GlobalSimLoop::Read(const v1::Envelope& envelope, double /*t_s*/) {
       }
       counters_.results_rejected += static_cast<std::uint64_t>(rejected);
       ++counters_.results_merged;
+      link_delay_.OnResultMerged(counters_.steps, result_.global_step);
       return;
     }
     default:
@@ -81,6 +82,7 @@ void GlobalSimLoop::Update(double t_s, double /*dt_s*/) {
   if (rect.empty()) return;
   dual_layer::CutPatch(cloth_.model, cloth_.state, cut_v, rect, ++patch_id_, counters_.steps, setup_.step_options.dt_s,
                        refined_, &patch_);
+  patch_.link_round_trip_steps = link_delay_.round_trip_steps();
   patch_ready_ = true;
 }
 

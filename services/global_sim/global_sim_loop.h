@@ -13,6 +13,7 @@
 #include "haptex/v1/cloth_frame.pb.h"
 #include "haptex/v1/envelope.pb.h"
 #include "haptex/v1/local_patch.pb.h"
+#include "libs/dual_layer/global_link_delay.h"
 #include "libs/dual_layer/patch_cut.h"
 #include "libs/dual_layer/patch_data.h"
 #include "libs/dual_layer/patch_merge.h"
@@ -65,6 +66,7 @@ class GlobalSimLoop final {
   dual_layer::RefinedGrid refined_;
   std::vector<int> merged_;  ///< patch interior held through the next step
   dual_layer::TwoStepVelocity cut_velocity_;
+  dual_layer::GlobalLinkDelay link_delay_;
   std::array<dual_layer::FingerSphere, 2> spheres_{};
   net::NewestWins newest_states_;
   dual_layer::PatchData patch_;

@@ -104,6 +104,7 @@ PatchCopy CopyPatch(const v1::LocalPatch& patch, std::uint32_t max_particle_id, 
   out->global_step = patch.global_step();
   out->global_time_s = patch.global_time_s();
   out->global_dt_s = patch.global_dt_s();
+  out->link_round_trip_steps = patch.link_round_trip_steps();
   out->num_particles = static_cast<int>(n);
   out->ids.assign(patch.particle_ids().begin(), patch.particle_ids().end());
   out->rest_uv_m.assign(patch.rest_uv_m().begin(), patch.rest_uv_m().end());

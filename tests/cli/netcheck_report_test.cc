@@ -47,7 +47,11 @@ TEST(ClassifyLinkTest, VerdictFollowsLatencyAndLoss) {
   ClassifyLink(limits, &r);
   EXPECT_EQ(r.verdict, "usable");
   EXPECT_NE(r.advice.find("local_contact and global_sim there"), std::string::npos);
-  r.rtt_p99_us = 150000;  // beyond the bridge's model age limit
+  r.rtt_p99_us = 150000;  // beyond the bridge's model age limit: only the global link may cross
+  ClassifyLink(limits, &r);
+  EXPECT_EQ(r.verdict, "global_only");
+  EXPECT_NE(r.advice.find("remote_global"), std::string::npos);
+  r.rtt_p99_us = 250000;  // beyond what was measured
   ClassifyLink(limits, &r);
   EXPECT_EQ(r.verdict, "poor");
   r.rtt_p99_us = 150;

@@ -107,6 +107,35 @@ TEST_F(GlobalSimLoopTest, ClothFramesAtTheirRateAndPatchesOnlyNearAFinger) {
   EXPECT_EQ(Counter("patches_sent"), 3u);
 }
 
+// The global link's round trip, counted in global_sim's own steps from a patch's cut to the merge
+// of a result computed on it, travels with every patch to local_contact.
+TEST_F(GlobalSimLoopTest, PatchesCarryTheGlobalLinksRoundTrip) {
+  haptex::testing::CapturedOutbox out;
+  loop_.Read(haptex::testing::WrapEnvelope(ThumbAt(V(0, 0.009, -0.05)), ++sequence_), step_ * kDt);
+  for (int s = 0; s < 6; ++s) Step(out);
+  ASSERT_FALSE(out.Of<v1::LocalPatch>(kLocal).empty());
+  EXPECT_EQ(out.Of<v1::LocalPatch>(kLocal).back().link_round_trip_steps(), 0u) << "no result yet: immediate";
+  const int p = 10 + 21 * 10;
+  v1::PatchResult result;
+  result.set_patch_id(1);
+  result.set_global_step(static_cast<std::uint64_t>(step_) - 3);  // computed on the patch cut 3 steps ago
+  result.add_particle_ids(static_cast<std::uint32_t>(p));
+  for (int k = 0; k < 3; ++k) {
+    result.add_position_w_m(loop_.state().x(p)[k]);
+    result.add_velocity_w_m_per_s(0.0);
+    result.add_external_force_w_n(0.0);
+  }
+  loop_.Read(haptex::testing::WrapEnvelope(result, ++sequence_), step_ * kDt);
+  out.Clear();
+  Step(out);
+  const auto patches = out.Of<v1::LocalPatch>(kLocal);
+  ASSERT_EQ(patches.size(), 1u);
+  EXPECT_EQ(patches.back().link_round_trip_steps(), 3u);
+  dual_layer::PatchData copy(4096);
+  ASSERT_EQ(local_contact::CopyPatch(patches.back(), 441, &copy), local_contact::PatchCopy::kOk);
+  EXPECT_EQ(copy.link_round_trip_steps, 3u) << "local_contact reads it";
+}
+
 TEST_F(GlobalSimLoopTest, ResultsAreHeldThroughTheStepAndBadOnesCounted) {
   haptex::testing::CapturedOutbox out;
   for (int s = 0; s < 5; ++s) Step(out);
