@@ -37,6 +37,8 @@ struct RelayOptions {
   std::string reorder_delay_ms = "10";
   std::string duplicate = "0";
   std::string rate_kbps = "0";
+  std::string outage_after_s = "0";
+  std::string outage_s = "0";
   std::string queue_bytes = std::to_string(ImpairmentConfig{}.queue_bytes);
   std::string max_datagram_bytes = std::to_string(ImpairmentConfig{}.max_datagram_bytes);
   std::string seed = "1";
@@ -101,6 +103,11 @@ net::UdpRelayConfig BuildConfig(const RelayOptions& options) {
       "--duplicate", options.duplicate, probability, [](C* c, double v) { c->duplicate = v; }, &config);
   ApplyNumber(
       "--rate-kbps", options.rate_kbps, range(0, C::kMaxRate_kbps), [](C* c, double v) { c->rate_kbps = v; }, &config);
+  ApplyNumber(
+      "--outage-after-s", options.outage_after_s, range(0, C::kMaxOutage_s),
+      [](C* c, double v) { c->outage_after_s = v; }, &config);
+  ApplyNumber(
+      "--outage-s", options.outage_s, range(0, C::kMaxOutage_s), [](C* c, double v) { c->outage_s = v; }, &config);
   ApplyNumber(
       "--queue-bytes", options.queue_bytes, whole(1, static_cast<double>(C::kMaxQueue_bytes)),
       [](C* c, double v) { c->queue_bytes = static_cast<std::size_t>(v); }, &config);
@@ -207,6 +214,11 @@ void AddRelayCommand(CLI::App& app, int* exit_code) {
       ->capture_default_str();
   relay->add_option("--duplicate", options->duplicate, "duplication probability")->capture_default_str();
   relay->add_option("--rate-kbps", options->rate_kbps, "rate limit [kbit/s] (0: none)")->capture_default_str();
+  relay->add_option("--outage-after-s", options->outage_after_s,
+                    "a dead link from this long after the first datagram [s]")
+      ->capture_default_str();
+  relay->add_option("--outage-s", options->outage_s, "for this long: every datagram dropped [s] (0: none)")
+      ->capture_default_str();
   relay
       ->add_option("--queue-bytes", options->queue_bytes,
                    "bytes that may wait for the rate limit; beyond: queue overflow")

@@ -29,6 +29,8 @@ void WriteConfig(const netsim::ImpairmentConfig& config, launch::JsonWriter* jso
       .Field("reorder", config.reorder)
       .Field("reorder_delay_ms", config.reorder_delay_ms)
       .Field("rate_kbps", config.rate_kbps)
+      .Field("outage_after_s", config.outage_after_s)
+      .Field("outage_s", config.outage_s)
       .Field("queue_bytes", std::uint64_t{config.queue_bytes})
       .Field("max_datagram_bytes", std::uint64_t{config.max_datagram_bytes})
       .EndObject();
@@ -51,6 +53,7 @@ void WriteDirection(std::string_view key, const RelayDirectionReport& direction,
   }
   json->EndObject()
       .Field("in_flight", stats.in_flight())
+      .Field("outage_from_steady_ns", stats.outage_from_ns)
       .BeginObject("delay_ms")
       .Field("p50", stats.delay.Quantile_ns(0.50) * kMsPerNs)
       .Field("p99", stats.delay.Quantile_ns(0.99) * kMsPerNs)

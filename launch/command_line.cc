@@ -152,6 +152,8 @@ std::vector<std::string> RelayCommandLine(const PlacedRelay& relay, const scene:
   number("--reorder-delay-ms", f.reorder_delay_ms, b.reorder_delay_ms, none.reorder_delay_ms);
   number("--duplicate", f.duplicate, b.duplicate, none.duplicate);
   number("--rate-kbps", f.rate_kbps, b.rate_kbps, none.rate_kbps);
+  number("--outage-after-s", f.outage_after_s, b.outage_after_s, none.outage_after_s);
+  number("--outage-s", f.outage_s, b.outage_s, none.outage_s);
   argv.insert(argv.end(),
               {"--seed", std::to_string(directions.forward_seed) + "," + std::to_string(directions.back_seed)});
   argv.insert(argv.end(), {"--json", RelayReportPath(options.run_dir, relay)});

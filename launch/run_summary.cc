@@ -73,6 +73,8 @@ void WriteAskedDirection(JsonWriter& j, std::string_view key, const netsim::Impa
       .Field("reorder_delay_ms", c.reorder_delay_ms)
       .Field("duplicate", c.duplicate)
       .Field("rate_kbps", c.rate_kbps)
+      .Field("outage_after_s", c.outage_after_s)
+      .Field("outage_s", c.outage_s)
       .Field("seed", seed)
       .EndObject();
 }

@@ -18,6 +18,8 @@ std::string_view DropCauseName(DropCause cause) {
       return "no_destination";
     case DropCause::kUnsentAtStop:
       return "unsent_at_stop";
+    case DropCause::kOutage:
+      return "outage";
   }
   return "unknown";
 }

@@ -16,9 +16,10 @@ enum class DropCause : std::uint8_t {
   kSendFailed,     // the kernel refused to send it (relay runtime)
   kNoDestination,  // nobody to send it to yet: no client seen (relay runtime)
   kUnsentAtStop,   // still held when the relay stopped (relay runtime)
+  kOutage,         // arrived while the link was dead (ImpairmentConfig::outage_s)
 };
 
-inline constexpr std::size_t kDropCauseCount = 7;
+inline constexpr std::size_t kDropCauseCount = 8;
 
 /// snake_case name, as in reports: "loss", "burst_loss", ...
 std::string_view DropCauseName(DropCause cause);

@@ -39,6 +39,8 @@ void Validate(const ImpairmentConfig& config) {
   CheckRange("rate_kbps", config.rate_kbps, 0.0, C::kMaxRate_kbps);
   CheckWholeNumber("queue_bytes", static_cast<double>(config.queue_bytes), 1.0,
                    static_cast<double>(C::kMaxQueue_bytes));
+  CheckRange("outage_after_s", config.outage_after_s, 0.0, C::kMaxOutage_s);
+  CheckRange("outage_s", config.outage_s, 0.0, C::kMaxOutage_s);
   CheckWholeNumber("max_datagram_bytes", static_cast<double>(config.max_datagram_bytes), 1.0,
                    static_cast<double>(C::kMaxDatagram_bytes));
 }

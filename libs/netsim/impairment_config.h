@@ -24,6 +24,7 @@ struct ImpairmentConfig {
   static constexpr double kMaxRate_kbps = 100'000'000.0;  // 100 Gbit/s
   static constexpr std::size_t kMaxQueue_bytes = std::size_t{1} << 30;
   static constexpr std::size_t kMaxDatagram_bytes = 65'535;
+  static constexpr double kMaxOutage_s = 86'400.0;
 
   double delay_ms = 0.0;  // added to every datagram
   // Each datagram's delay moves by a draw from the distribution; draws that would make the
@@ -42,6 +43,10 @@ struct ImpairmentConfig {
   double rate_kbps = 0.0;
   std::size_t queue_bytes = 256 * 1024;
   std::size_t max_datagram_bytes = 65'507;  // larger ones are dropped as oversize
+  // A dead link: every datagram arriving in [outage_after_s, outage_after_s + outage_s) after the
+  // first one this direction saw is dropped (cause "outage"); 0 s: none.
+  double outage_after_s = 0.0;
+  double outage_s = 0.0;
 };
 
 /// Throws std::invalid_argument naming the first bad parameter (NaN, infinite, negative,

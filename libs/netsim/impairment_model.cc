@@ -29,6 +29,8 @@ ImpairmentModel::ImpairmentModel(const ImpairmentConfig& config, std::uint64_t s
     : config_(Validated(config)),
       delay_ns_(ToNs(config.delay_ms)),
       reorder_delay_ns_(ToNs(config.reorder_delay_ms)),
+      outage_from_ns_(ToNs(config.outage_after_s * 1e3)),
+      outage_ns_(ToNs(config.outage_s * 1e3)),
       burst_(config.burst),
       loss_draws_(seed, kLossStream),
       burst_loss_draws_(seed, kBurstLossStream),
@@ -51,6 +53,15 @@ Decision ImpairmentModel::Decide(std::int64_t arrival_ns, std::size_t size_bytes
   const bool burst_lost = burst_.Step(u_burst_loss, burst_state_draws_.Uniform01());
   const bool duplicated = duplicate_draws_.Uniform01() < config_.duplicate;
 
+  if (first_arrival_ns_ == std::numeric_limits<std::int64_t>::min()) {
+    first_arrival_ns_ = decision.arrival_ns;
+    if (config_.outage_s > 0.0) stats_.outage_from_ns = first_arrival_ns_ + outage_from_ns_;
+  }
+  if (config_.outage_s > 0.0 && decision.arrival_ns >= first_arrival_ns_ + outage_from_ns_ &&
+      decision.arrival_ns < first_arrival_ns_ + outage_from_ns_ + outage_ns_) {
+    stats_.dropped.Add(DropCause::kOutage);
+    return decision;
+  }
   if (size_bytes > config_.max_datagram_bytes) {
     stats_.dropped.Add(DropCause::kOversize);
     return decision;

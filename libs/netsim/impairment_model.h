@@ -27,6 +27,9 @@ struct ImpairmentStats {
   std::uint64_t reordered = 0;
   DropCounts dropped;
   DelayHistogram delay;  // delivered - arrived
+  // When the configured dead spell begins (the first arrival plus outage_after_s), on the arrival
+  // clock; 0: no outage configured or nothing arrived yet.
+  std::int64_t outage_from_ns = 0;
 
   /// Copies scheduled and not yet delivered or dropped.
   std::uint64_t in_flight() const { return received + duplicated - forwarded - dropped.Total(); }
@@ -66,6 +69,7 @@ class ImpairmentModel final {
   ImpairmentConfig config_;
   std::int64_t delay_ns_;
   std::int64_t reorder_delay_ns_;
+  std::int64_t outage_from_ns_, outage_ns_;
   GilbertElliott burst_;
   RandomStream loss_draws_;
   RandomStream burst_loss_draws_;
@@ -76,6 +80,7 @@ class ImpairmentModel final {
 
   std::uint64_t next_sequence_ = 0;
   std::int64_t last_arrival_ns_ = std::numeric_limits<std::int64_t>::min();
+  std::int64_t first_arrival_ns_ = std::numeric_limits<std::int64_t>::min();  // the outage's origin
   std::int64_t link_free_ns_ = std::numeric_limits<std::int64_t>::min();  // rate limiter idle from
   bool delivered_any_ = false;
   std::uint64_t highest_delivered_ = 0;

@@ -132,6 +132,8 @@ void CheckDirection(const char* direction, const v1::LinkDirection& d, std::vect
   if (d.has_reorder_delay_ms()) Range(at, "reorder_delay_ms", d.reorder_delay_ms(), C::kMaxDelay_ms, issues);
   if (d.has_duplicate()) Probability(at, "duplicate", d.duplicate(), issues);
   if (d.has_rate_kbps()) Range(at, "rate_kbps", d.rate_kbps(), C::kMaxRate_kbps, issues);
+  if (d.has_outage_after_s()) Range(at, "outage_after_s", d.outage_after_s(), C::kMaxOutage_s, issues);
+  if (d.has_outage_s()) Range(at, "outage_s", d.outage_s(), C::kMaxOutage_s, issues);
 }
 
 // Where an issue's field was written: the path walked down the link's nested messages.
@@ -158,6 +160,8 @@ void ApplyDirection(const v1::LinkDirection& d, netsim::ImpairmentConfig* config
   if (d.has_reorder_delay_ms()) config->reorder_delay_ms = d.reorder_delay_ms();
   if (d.has_duplicate()) config->duplicate = d.duplicate();
   if (d.has_rate_kbps()) config->rate_kbps = d.rate_kbps();
+  if (d.has_outage_after_s()) config->outage_after_s = d.outage_after_s();
+  if (d.has_outage_s()) config->outage_s = d.outage_s();
   if (d.has_seed()) *seed = d.seed();
 }
 
@@ -199,6 +203,8 @@ std::vector<LinkIssue> CheckLinkValues(const v1::LinkImpairment& link) {
   if (link.has_reorder_delay_ms()) Range(at, "reorder_delay_ms", link.reorder_delay_ms(), C::kMaxDelay_ms, &issues);
   Probability(at, "duplicate", link.duplicate(), &issues);
   Range(at, "rate_kbps", link.rate_kbps(), C::kMaxRate_kbps, &issues);
+  Range(at, "outage_after_s", link.outage_after_s(), C::kMaxOutage_s, &issues);
+  Range(at, "outage_s", link.outage_s(), C::kMaxOutage_s, &issues);
   CheckDirection("forward", link.forward(), &issues);
   CheckDirection("back", link.back(), &issues);
   if (link.rtt_ms() != 0.0 && (link.delay_ms() != 0.0 || link.forward().has_delay_ms() || link.back().has_delay_ms())) {
@@ -282,6 +288,8 @@ LinkDirections ResolveLink(const v1::LinkImpairment& link) {
   if (link.has_reorder_delay_ms()) both.reorder_delay_ms = link.reorder_delay_ms();
   both.duplicate = link.duplicate();
   both.rate_kbps = link.rate_kbps();
+  both.outage_after_s = link.outage_after_s();
+  both.outage_s = link.outage_s();
   LinkDirections directions;
   directions.forward = directions.back = both;
   directions.forward_seed = link.has_seed() ? link.seed() : 1;

@@ -67,7 +67,7 @@ TEST(RelayReportTest, JsonHasConfigCountsAndDelaysPerDirection) {
   EXPECT_THAT(f, HasSubstr("\"burst_loss\":{\"p\":0,\"r\":1,\"loss_bad\":1,\"loss_good\":0}"));
   EXPECT_THAT(f, HasSubstr("\"seed\":5"));
   EXPECT_THAT(f, HasSubstr("\"forwarded\":1,"));
-  EXPECT_THAT(f, HasSubstr("\"send_failed\":1,\"no_destination\":0,\"unsent_at_stop\":1}"));
+  EXPECT_THAT(f, HasSubstr("\"send_failed\":1,\"no_destination\":0,\"unsent_at_stop\":1,\"outage\":0}"));
   EXPECT_THAT(f, HasSubstr("\"in_flight\":0"));
   EXPECT_THAT(f, HasSubstr("\"delay_ms\":{\"p50\":20,\"p99\":20,\"max\":20,\"mean\":20}"));
   const std::string b = json.substr(back);

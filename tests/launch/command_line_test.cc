@@ -148,7 +148,8 @@ TEST_F(LaunchRelayCommandLineTest, PeersOfAnImpairedLinkPointAtTheRelay) {
   EXPECT_EQ(After(relay, "--seed"), "1,2");
   EXPECT_EQ(After(relay, "--json"), "/run/network/device_bridge-local_contact.json");
   // what the relay's defaults already say is left out
-  for (const char* flag : {"--jitter-ms", "--jitter-dist", "--reorder", "--duplicate", "--rate-kbps", "--burst-loss"}) {
+  for (const char* flag : {"--jitter-ms", "--jitter-dist", "--reorder", "--duplicate", "--rate-kbps", "--burst-loss",
+                           "--outage-after-s", "--outage-s"}) {
     EXPECT_THAT(relay, Not(Contains(flag))) << flag;
   }
 }
@@ -157,6 +158,7 @@ TEST_F(LaunchRelayCommandLineTest, EachDirectionGetsItsOwnValuesExactly) {
   PlanWith(testing::ShippedScene("demo"),
            "local_contact-device_bridge:delay_ms=0.1234567891234,jitter_ms=2,jitter_distribution=normal,"
            "burst_loss=0.01/0.5,reorder=0.05,reorder_delay_ms=3,duplicate=0.001,rate_kbps=800,seed=9,"
+           "outage_after_s=4.5,outage_s=1,back.outage_s=2,"
            "forward.loss=0.1,back.burst_loss=0.02/0.25/0.9/0.01,back.seed=4");
   const auto relay = RelayArgv();
   EXPECT_EQ(After(relay, "--to"), "127.0.0.1:40003");       // forward is local_contact -> bridge here
@@ -171,6 +173,8 @@ TEST_F(LaunchRelayCommandLineTest, EachDirectionGetsItsOwnValuesExactly) {
   EXPECT_EQ(After(relay, "--reorder-delay-ms"), "3");
   EXPECT_EQ(After(relay, "--duplicate"), "0.001");
   EXPECT_EQ(After(relay, "--rate-kbps"), "800");
+  EXPECT_EQ(After(relay, "--outage-after-s"), "4.5");
+  EXPECT_EQ(After(relay, "--outage-s"), "1,2");
   EXPECT_EQ(After(relay, "--seed"), "9,4");
   // the relay's peers: the bridge sends to the upstream socket now
   const int listen = 40000 + RelayPortOffset(P::SERVICE_DEVICE_BRIDGE, P::SERVICE_LOCAL_CONTACT);

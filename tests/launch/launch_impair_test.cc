@@ -288,36 +288,44 @@ TEST_F(LaunchImpairTest, ALinkTooSlowGivesNoForceAndTheLauncherSaysWhy) {
   EXPECT_GE(Number(Object(bridge, "counters"), "slow_link_events"), 1.0);
 }
 
-// The link goes dead for a second (the relay stopped: nothing crosses), then comes back. The force
-// goes within the bridge's model lifetime and ramp (plus a loaded host's margin) and the bridge
-// renders models again afterwards.
+// The link goes dead for a second (the relay drops every datagram both ways: 100 % loss), then
+// comes back. The force goes within the bridge's staleness limit and ramp (plus a loaded host's
+// margin) of the last model's arrival, and the bridge renders models again afterwards.
 TEST_F(LaunchImpairTest, ADeadLinkTakesTheForceAwayAndTheBridgeRendersAgainAfterIt) {
-  auto launcher =
-      Launch(testing::ShippedScenePath("pinch_stretch"), "8", {"--impair", std::string(kLink) + ":rtt_ms=20,seed=1"});
-  const std::string pid =
-      testing::WaitForOutput(*launcher, "relay device_bridge-local_contact: started \\(pid ([0-9]+)");
-  ASSERT_FALSE(pid.empty());
-  std::this_thread::sleep_for(4500ms);  // the pinch holds from about 3.5 s after the mock starts
-  const std::int64_t dead_ns = base::SteadyNowNs();
-  ASSERT_EQ(kill(std::stoi(pid), SIGSTOP), 0);
-  std::this_thread::sleep_for(1000ms);
-  const std::int64_t back_ns = base::SteadyNowNs();
-  ASSERT_EQ(kill(std::stoi(pid), SIGCONT), 0);
+  // the pinch holds from about 3.5 s after the mock starts
+  auto launcher = Launch(testing::ShippedScenePath("pinch_stretch"), "8",
+                         {"--impair", std::string(kLink) + ":rtt_ms=20,seed=1,outage_after_s=4.5,outage_s=1"});
   const auto code = launcher->WaitFor(180s);
   ASSERT_TRUE(code.has_value()) << launcher->Stdout();
   EXPECT_EQ(*code, 0) << launcher->Stdout() << launcher->Stderr();
 
+  // when each direction died, on the steady clock the force log uses
+  const pb::Struct relay = ParseJson(testing::ReadText(run_ + "/network/" + kLink + ".json"));
+  const pb::Struct& forward = Object(relay, "forward");
+  const pb::Struct& back = Object(relay, "back");
+  EXPECT_GT(Number(Object(forward, "dropped"), "outage"), 500) << "FingerStates at 1 kHz for a second";
+  // ForceModels stop when their direction dies, or before: local_contact sends none once its
+  // newest FingerStates are 50 ms old (10 ms on the way, then the staleness limit)
+  const double dead_ns = Number(forward, "outage_from_steady_ns");
+  const double models_stop_ns = std::min(Number(back, "outage_from_steady_ns"), dead_ns + (10.0 + 50.0) * 1e6);
+  const double back_ns = dead_ns + 1e9;
+  ASSERT_GT(dead_ns, 0.0);
+
   const auto rows = testing::MockForceRows(run_ + "/mock_grab_forces.csv");
   double before_N = 0.0;
   int late_nonzero = 0;
-  // half the round trip for what is in flight, the 10 ms model lifetime and 10 ms ramp, and 30 ms
-  // for a loaded machine's scheduling
-  const double zero_after_ns = static_cast<double>(dead_ns) + (10.0 + 20.0 + 30.0) * 1e6;
+  // the models in flight (half the round trip and the jitter), the 10 ms model lifetime and 10 ms
+  // ramp, and 30 ms for a loaded machine's scheduling
+  const double zero_after_ns = models_stop_ns + (10.0 + 2.0 + 20.0 + 30.0) * 1e6;
+  double first_zero_ns = -1.0;
   for (const auto& r : rows) {
     const double f = std::max(r.thumb_N, r.index_N);
-    if (r.t_ns < static_cast<double>(dead_ns)) before_N = f;
-    if (r.t_ns > zero_after_ns && r.t_ns < static_cast<double>(back_ns)) late_nonzero += f > 0.0;
+    if (r.t_ns < dead_ns) before_N = f;
+    if (r.t_ns >= dead_ns && first_zero_ns < 0.0 && f == 0.0) first_zero_ns = r.t_ns;
+    if (r.t_ns > zero_after_ns && r.t_ns < back_ns) late_nonzero += f > 0.0;
   }
+  std::cout << "[measured] dead link: force zero " << (first_zero_ns - models_stop_ns) * 1e-6
+            << " ms after the models stopped (held " << before_N << " N)\n";
   EXPECT_GT(before_N, 1.0) << "not pinching when the link died: the test would prove nothing";
   EXPECT_EQ(late_nonzero, 0) << "force while the link was dead";
   const pb::Struct bridge = BridgeSummary(ParseJson(testing::ReadText(run_ + "/summary.json")));

@@ -122,7 +122,7 @@ TEST(LaunchRunSummaryTest, NetworkSectionHasAskedAndAchievedPerLink) {
   EXPECT_THAT(json,
               HasSubstr(R"("asked":{"text":"rtt_ms=20,loss=0.02,seed=1","rtt_ms":20,)"
                         R"("forward":{"delay_ms":10,"jitter_ms":0,"jitter_distribution":"uniform","loss":0.02,)"));
-  EXPECT_THAT(json, HasSubstr(R"("rate_kbps":0,"seed":2})"));  // back's seed
+  EXPECT_THAT(json, HasSubstr(R"("rate_kbps":0,"outage_after_s":0,"outage_s":0,"seed":2})"));  // back's seed
   EXPECT_THAT(json, HasSubstr(R"("achieved":{"duration_s":5,"forward":{"received":1000,"forwarded":980,)"
                               R"("duplicated":0,"reordered":0,"held_back":0,"dropped_total":20,)"
                               R"("dropped":{"loss":20,"queue_overflow":0},"in_flight":0,"delay_ms":{"p50":10.02,)"));

@@ -55,6 +55,9 @@ TEST(ImpairmentConfigTest, EachBadParameterIsNamed) {
   EXPECT_THAT(ValidationMessage([](auto* c) { c->reorder_delay_ms = -5; }), HasSubstr("reorder_delay_ms"));
   EXPECT_THAT(ValidationMessage([](auto* c) { c->rate_kbps = -1; }), HasSubstr("rate_kbps"));
   EXPECT_THAT(ValidationMessage([](auto* c) { c->rate_kbps = kInf; }), HasSubstr("rate_kbps"));
+  EXPECT_THAT(ValidationMessage([](auto* c) { c->outage_after_s = kNan; }), HasSubstr("outage_after_s"));
+  EXPECT_THAT(ValidationMessage([](auto* c) { c->outage_s = -1; }), HasSubstr("outage_s"));
+  EXPECT_THAT(ValidationMessage([](auto* c) { c->outage_s = 1e6; }), HasSubstr("outage_s"));
   EXPECT_THAT(ValidationMessage([](auto* c) { c->queue_bytes = 0; }), HasSubstr("queue_bytes"));
   EXPECT_THAT(ValidationMessage([](auto* c) { c->max_datagram_bytes = 0; }), HasSubstr("max_datagram_bytes"));
   EXPECT_THAT(ValidationMessage([](auto* c) { c->max_datagram_bytes = 70000; }), HasSubstr("max_datagram_bytes"));

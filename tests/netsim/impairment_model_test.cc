@@ -73,6 +73,24 @@ void ExpectAccountsBalance(const ImpairmentStats& stats) {
   EXPECT_EQ(stats.forwarded + stats.dropped.Total(), stats.received + stats.duplicated);
 }
 
+// A dead link: nothing gets through for outage_s from outage_after_s after the first datagram,
+// everything before and after does; the spell's start is reported on the arrival clock.
+TEST(ImpairmentModelTest, AnOutageDropsEverythingInItsWindowAndNothingElse) {
+  ImpairmentConfig config;
+  config.outage_after_s = 0.1;
+  config.outage_s = 0.05;
+  ImpairmentModel dut(config, 1);
+  constexpr std::int64_t kFirst_ns = 7 * kMs;
+  for (int i = 0; i < 300; ++i) {
+    const std::int64_t arrival_ns = kFirst_ns + i * kMs;
+    const bool dead = arrival_ns >= kFirst_ns + 100 * kMs && arrival_ns < kFirst_ns + 150 * kMs;
+    EXPECT_EQ(dut.Decide(arrival_ns, 100).copies, dead ? 0 : 1) << "datagram " << i;
+  }
+  EXPECT_EQ(dut.stats().dropped.Get(DropCause::kOutage), 50u);
+  EXPECT_EQ(dut.stats().dropped.Total(), 50u);
+  EXPECT_EQ(dut.stats().outage_from_ns, kFirst_ns + 100 * kMs);
+}
+
 TEST(ImpairmentModelTest, WithoutImpairmentsEveryDatagramLeavesAtOnceInOrder) {
   ImpairmentModel dut(ImpairmentConfig{}, 1);
   for (int i = 0; i < 1000; ++i) {
