@@ -21,6 +21,9 @@ void DeviceBridgeConfig::Validate() const {
                                 std::to_string(static_cast<double>(kFrameHistory) / kControllerRate_Hz) + ") s, got " +
                                 std::to_string(max_model_age_s));
   }
+  if (!(foreign_echo_hold_s >= 0.0) || !std::isfinite(foreign_echo_hold_s)) {
+    throw std::invalid_argument("DeviceBridgeConfig: foreign_echo_hold_s must be a finite number >= 0 s");
+  }
   if (!(recover_fraction > 0.0) || !(recover_fraction <= 1.0) || !(recover_after_s >= 0.0) ||
       !std::isfinite(recover_after_s)) {
     throw std::invalid_argument("DeviceBridgeConfig: recover_fraction must be in (0, 1] and recover_after_s >= 0");
@@ -73,6 +76,14 @@ FrameError DeviceBridge::OnStatusDatagram(std::span<const std::byte> datagram, d
     return error;
   }
 
+  // an echo newer than our newest command: another host's command was accepted
+  if (frame.echo_host_sequence != 0 && command_sequence_ != 0 &&
+      SequenceNewer(frame.echo_host_sequence, command_sequence_)) {
+    ++counters_.foreign_echoes;
+    if (!foreign_commander_) ++counters_.foreign_echo_events;
+    foreign_commander_ = true;
+    last_foreign_echo_s_ = t_rx_s;
+  }
   // link round trip: first status echoing a command we sent
   if (frame.echo_host_sequence != 0) {
     SentCommand& sent = sent_[frame.echo_host_sequence % kSendHistory];
@@ -190,13 +201,14 @@ void DeviceBridge::Tick(double t_s, double dt_s, std::span<std::byte, kCommandFr
 
   UpdateLinkAge(t_s);
   if (link_too_slow_) ++counters_.slow_link_ticks;
+  if (foreign_commander_ && t_s - last_foreign_echo_s_ >= config_.foreign_echo_hold_s) foreign_commander_ = false;
 
   CommandFrame command;
   command.host_flags = shutdown_ ? host_flags::kShutdown : 0;
   for (std::size_t i = 0; i < kManipulatorCount; ++i) {
     Finger& finger = fingers_[i];
     SafetyInput input;
-    const bool blocked = lost || shutdown_ || zero_force_hold_ || estop || !finger.state.valid;
+    const bool blocked = lost || shutdown_ || zero_force_hold_ || estop || foreign_commander_ || !finger.state.valid;
     const bool link_hiccup = controller_timed_out || tick_gap;
     input.output_allowed = !blocked && !link_hiccup;
     // off only for the link's sake: force resumes over the short ramp once commands get through

@@ -50,6 +50,10 @@ struct DeviceBridgeConfig {
   double recover_after_s = 0.5;
   /// Time constant of the haptic round-trip estimate that sets the link horizon [s].
   double round_trip_filter_s = 1.0;
+  /// A controller echoing a command sequence newer than any this bridge sent is taking commands
+  /// from someone else: force off (a fault, counted and reported) until its echoes have been the
+  /// bridge's own again for this long; then the start-up ramp.
+  double foreign_echo_hold_s = 0.5;
   /// Pose of the device workspace frame D in the world frame W.
   Eigen::Isometry3d X_WD{Eigen::Isometry3d::Identity()};
 
@@ -66,6 +70,8 @@ struct BridgeCounters {
   std::uint64_t slow_link_ticks = 0;       ///< ticks in which models were refused for their age
   std::uint64_t models_unknown_basis = 0;  ///< finger models based on no frame the bridge remembers
   std::uint64_t slow_link_events = 0;      ///< transitions into refusing models for age
+  std::uint64_t foreign_echoes = 0;        ///< status frames echoing a command this bridge never sent
+  std::uint64_t foreign_echo_events = 0;   ///< transitions into the foreign-echo fault
 };
 
 /// Bridge core for both manipulators. Non-copyable (holds ~80 kB of histograms: create it once,
@@ -134,6 +140,8 @@ class DeviceBridge {
   const LatencyTracker& motion_to_force_end_to_end() const { return motion_to_force_end_to_end_; }
   /// True while models are refused for their age (the link is slower than max_model_age_s).
   bool link_too_slow() const { return link_too_slow_; }
+  /// True while the controller is (or recently was) echoing commands this bridge never sent.
+  bool foreign_commander() const { return foreign_commander_; }
   const DeviceBridgeConfig& config() const { return config_; }
 
  private:
@@ -184,6 +192,8 @@ class DeviceBridge {
   std::uint64_t round_trip_basis_ = 0;                                    // newest basis sampled for the round trip
   double end_to_end_basis_s_ = -std::numeric_limits<double>::infinity();  // arrival of the newest basis commanded
   bool link_too_slow_ = false;
+  bool foreign_commander_ = false;
+  double last_foreign_echo_s_ = -std::numeric_limits<double>::infinity();
   double young_since_s_ = -1.0;  // since when every model has been young enough to recover (-1: not)
   std::array<SentCommand, kSendHistory> sent_{};
 

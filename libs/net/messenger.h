@@ -63,15 +63,18 @@ class Messenger final {
     return Transmit(bytes, peers_[peer].endpoint);
   }
 
-  /// Receives waiting datagrams, at most max_datagrams of them (accepted or dropped), and calls
-  /// handler(const v1::Envelope&, const Endpoint& from) for each accepted one. The Envelope is
-  /// valid during the call only. Returns the number accepted. The bound keeps a flood from
+  /// Receives waiting datagrams, at most max_datagrams of them (accepted or dropped) and, when
+  /// `until_ns` is given, only until the steady clock passes it (checked every 8 datagrams), and
+  /// calls handler(const v1::Envelope&, const Endpoint& from) for each accepted one. The Envelope
+  /// is valid during the call only. Returns the number accepted. The bounds keep a flood from
   /// holding a hot loop: what is left waits for the next call.
   template <class Handler>
-  std::size_t Drain(Handler&& handler, std::size_t max_datagrams = kDefaultDrainBound) {
+  std::size_t Drain(Handler&& handler, std::size_t max_datagrams = kDefaultDrainBound,
+                    std::int64_t until_ns = std::numeric_limits<std::int64_t>::max()) {
     std::size_t accepted = 0;
     Endpoint from;
     for (std::size_t i = 0; i < max_datagrams; ++i) {
+      if (i % 8 == 7 && until_ns != std::numeric_limits<std::int64_t>::max() && base::SteadyNowNs() >= until_ns) break;
       const v1::Envelope* envelope = nullptr;
       const Received received = ReceiveOne(&from, &envelope);
       if (received == Received::kNothingWaiting) break;
@@ -92,6 +95,8 @@ class Messenger final {
   /// Bytes on the wire (UDP payload) of the last datagram sent.
   std::size_t last_sent_bytes() const { return last_sent_bytes_; }
   std::uint64_t sender_restarts() const { return opener_.senders().restarts(); }
+  /// Datagrams the kernel dropped for a full socket queue before this messenger could read them.
+  std::uint64_t kernel_drops() const { return endpoint_.kernel_drops(); }
   Endpoint local_endpoint() const { return endpoint_.local_endpoint(); }
   std::uint16_t local_port() const { return endpoint_.local_port(); }
   const SenderIdentity& identity() const { return sealer_.identity(); }

@@ -39,19 +39,13 @@ UdpEndpoint::UdpEndpoint(std::string_view bind_address) : socket_(io_) {
   socket_.set_option(asio::socket_base::receive_buffer_size(4 << 20), ignored);
   socket_.set_option(asio::socket_base::send_buffer_size(4 << 20), ignored);
   local_ = socket_.local_endpoint();
+  // the kernel reports, with each datagram, how many it dropped for a full receive queue
+  const int on = 1;
+  setsockopt(socket_.native_handle(), SOL_SOCKET, SO_RXQ_OVFL, &on, sizeof(on));
 }
 
 std::optional<std::size_t> UdpEndpoint::ReceiveOne(std::span<std::uint8_t> buffer, Endpoint* from) {
-  for (;;) {
-    asio::error_code error;
-    // MSG_TRUNC makes the kernel report the full size of a datagram larger than the buffer.
-    const std::size_t bytes = socket_.receive_from(asio::buffer(buffer.data(), buffer.size()), *from, MSG_TRUNC, error);
-    if (!error) return bytes;
-    if (error == asio::error::would_block || error == asio::error::try_again) return std::nullopt;
-    // ICMP errors of earlier sends (connection refused) surface here; skip them.
-    if (error == asio::error::connection_refused || error == asio::error::interrupted) continue;
-    return std::nullopt;
-  }
+  return Receive(buffer, from, nullptr);
 }
 
 std::optional<std::size_t> UdpEndpoint::ReceiveOne(std::span<std::uint8_t> buffer, Endpoint* from,
@@ -61,9 +55,14 @@ std::optional<std::size_t> UdpEndpoint::ReceiveOne(std::span<std::uint8_t> buffe
     setsockopt(socket_.native_handle(), SOL_SOCKET, SO_TIMESTAMPNS, &on, sizeof(on));
     timestamps_enabled_ = true;
   }
+  return Receive(buffer, from, arrival_ns);
+}
+
+std::optional<std::size_t> UdpEndpoint::Receive(std::span<std::uint8_t> buffer, Endpoint* from,
+                                                std::int64_t* arrival_ns) {
   for (;;) {
     iovec io{buffer.data(), buffer.size()};
-    alignas(cmsghdr) char control[CMSG_SPACE(sizeof(timespec))];
+    alignas(cmsghdr) char control[CMSG_SPACE(sizeof(timespec)) + CMSG_SPACE(sizeof(std::uint32_t))];
     sockaddr_storage address{};
     msghdr message{};
     message.msg_name = &address;
@@ -72,24 +71,36 @@ std::optional<std::size_t> UdpEndpoint::ReceiveOne(std::span<std::uint8_t> buffe
     message.msg_iovlen = 1;
     message.msg_control = control;
     message.msg_controllen = sizeof(control);
+    // MSG_TRUNC makes the kernel report the full size of a datagram larger than the buffer.
     const ssize_t bytes = recvmsg(socket_.native_handle(), &message, MSG_TRUNC | MSG_DONTWAIT);
     if (bytes < 0) {
+      // ICMP errors of earlier sends (connection refused) surface here; skip them.
       if (errno == EINTR || errno == ECONNREFUSED) continue;
       return std::nullopt;
     }
     from->resize(message.msg_namelen);
     std::memcpy(from->data(), &address, message.msg_namelen);
-    // the kernel stamps in CLOCK_REALTIME; move it onto the steady clock by the clocks' offset now
-    timespec real_now{};
-    clock_gettime(CLOCK_REALTIME, &real_now);
-    const std::int64_t steady_now_ns = base::SteadyNowNs();
-    const auto ns = [](const timespec& t) { return std::int64_t{t.tv_sec} * 1000000000 + t.tv_nsec; };
-    *arrival_ns = steady_now_ns;
+    std::int64_t steady_now_ns = 0, real_now_ns = 0;
+    if (arrival_ns != nullptr) {
+      // the kernel stamps in CLOCK_REALTIME; move it onto the steady clock by the clocks' offset now
+      timespec real_now{};
+      clock_gettime(CLOCK_REALTIME, &real_now);
+      steady_now_ns = base::SteadyNowNs();
+      real_now_ns = std::int64_t{real_now.tv_sec} * 1000000000 + real_now.tv_nsec;
+      *arrival_ns = steady_now_ns;
+    }
     for (cmsghdr* c = CMSG_FIRSTHDR(&message); c != nullptr; c = CMSG_NXTHDR(&message, c)) {
-      if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_TIMESTAMPNS) {
+      if (c->cmsg_level != SOL_SOCKET) continue;
+      if (c->cmsg_type == SCM_TIMESTAMPNS && arrival_ns != nullptr) {
         timespec stamp{};
         std::memcpy(&stamp, CMSG_DATA(c), sizeof(stamp));
-        *arrival_ns = steady_now_ns - (ns(real_now) - ns(stamp));
+        *arrival_ns = steady_now_ns - (real_now_ns - (std::int64_t{stamp.tv_sec} * 1000000000 + stamp.tv_nsec));
+      } else if (c->cmsg_type == SO_RXQ_OVFL) {
+        // the socket's drop count since it was opened (32 bits, wraps): add what is new
+        std::uint32_t dropped = 0;
+        std::memcpy(&dropped, CMSG_DATA(c), sizeof(dropped));
+        kernel_drops_ += static_cast<std::uint32_t>(dropped - last_kernel_drop_count_);
+        last_kernel_drop_count_ = dropped;
       }
     }
     return static_cast<std::size_t>(bytes);

@@ -40,6 +40,10 @@ class UdpEndpoint final {
   /// Sends without blocking; false when the kernel refuses (buffer full, unreachable, too large).
   bool SendTo(std::span<const std::uint8_t> datagram, const Endpoint& to);
 
+  /// Datagrams the kernel dropped because this socket's receive queue was full (SO_RXQ_OVFL), as
+  /// of the last datagram received: a flood, or a reader too slow for its traffic.
+  std::uint64_t kernel_drops() const { return kernel_drops_; }
+
   /// Blocks until a datagram is waiting or the timeout passes (for threads that only receive).
   bool WaitReadable(std::chrono::milliseconds timeout);
 
@@ -47,10 +51,14 @@ class UdpEndpoint final {
   int native_handle() { return socket_.native_handle(); }
 
  private:
+  std::optional<std::size_t> Receive(std::span<std::uint8_t> buffer, Endpoint* from, std::int64_t* arrival_ns);
+
   asio::io_context io_;
   asio::ip::udp::socket socket_;
   Endpoint local_;
   bool timestamps_enabled_ = false;
+  std::uint64_t kernel_drops_ = 0;
+  std::uint32_t last_kernel_drop_count_ = 0;
 };
 
 }  // namespace haptex::net

@@ -39,6 +39,9 @@ class DeviceLink final {
     return socket_.SendTo(std::span(reinterpret_cast<const std::uint8_t*>(datagram.data()), datagram.size()), peer_);
   }
 
+  /// Datagrams the kernel dropped for a full socket queue (a flood on the controller port).
+  std::uint64_t kernel_drops() const { return socket_.kernel_drops(); }
+
   std::string local_address() const { return net::FormatUdpAddress(socket_.local_endpoint()); }
 
  private:

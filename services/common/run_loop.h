@@ -8,6 +8,7 @@
 // and, when it acts on Control commands, void OnControl(v1::Control::Command).
 
 #include <cstddef>
+#include <limits>
 
 #include "libs/base/clock.h"
 #include "libs/runtime/latency_histogram.h"
@@ -20,7 +21,8 @@ namespace haptex::services {
 /// addressed to this service), everything else to loop.Read.
 template <class Loop>
 void ReadMessages(ServiceContext& context, Loop& loop, double t_s,
-                  std::size_t max_datagrams = net::Messenger::kDefaultDrainBound) {
+                  std::size_t max_datagrams = net::Messenger::kDefaultDrainBound,
+                  std::int64_t until_ns = std::numeric_limits<std::int64_t>::max()) {
   context.messenger().Drain(
       [&](const v1::Envelope& envelope, const net::Messenger::Endpoint&) {
         switch (context.HandleControl(envelope)) {
@@ -36,7 +38,7 @@ void ReadMessages(ServiceContext& context, Loop& loop, double t_s,
             return;
         }
       },
-      max_datagrams);
+      max_datagrams, until_ns);
 }
 
 /// Runs `loop` on `periodic` until the service is asked to stop (signal, Control SHUTDOWN,

@@ -39,6 +39,7 @@ ServiceContext::ServiceContext(std::string name, const ServiceOptions& options)
     peers_.emplace_back(peer_name, messenger_->AddPeer(peer_name, address));
   }
   dropped_counter_ = health_.AddCounter("datagrams_dropped");
+  kernel_dropped_counter_ = health_.AddCounter("datagrams_dropped_by_kernel");
   if (!options.record_path.empty()) {
     recorder_ = std::make_unique<EnvelopeRecorder>(options.record_path, name_, messenger_->identity().epoch,
                                                    messenger_->identity().session_id);
@@ -75,6 +76,7 @@ bool ServiceContext::SendBody(PeerId peer, const google::protobuf::MessageLite& 
 void ServiceContext::Tick(std::int64_t now_ns) {
   if (!health_publisher_) return;
   health_.SetCounter(dropped_counter_, messenger_->received().TotalDropped());
+  health_.SetCounter(kernel_dropped_counter_, messenger_->kernel_drops());
   if (recorder_) health_.SetCounter(record_dropped_counter_, recorder_->dropped());
   if (health_publisher_->MaybePublish(now_ns) && recorder_) {
     // the Health just sent, rebuilt into the same message (no allocation)

@@ -41,6 +41,8 @@ BridgeLoop::BridgeLoop(const BridgeLoopConfig& config, const BridgePeers& peers,
   ids_.too_old = health_->AddCounter("slow_link_ticks");
   ids_.slow_events = health_->AddCounter("slow_link_events");
   ids_.damped = health_->AddCounter("passivity_damped_ticks");
+  ids_.foreign_echoes = health_->AddCounter("foreign_echoes");
+  ids_.foreign_echo_events = health_->AddCounter("foreign_echo_events");
   FillFingerStates(*bridge_, &states_);  // sized once, before the loop
   health_->ReserveLastError(kLastErrorCapacity);
 }
@@ -125,15 +127,19 @@ void BridgeLoop::Write(services::Outbox& out) {
     damped += bridge_->passivity(static_cast<device::Manipulator>(i)).counters().damped_steps;
   }
   health_->SetCounter(ids_.damped, damped);
-  health_->SetState(bridge_->device_lost() || bridge_->link_too_slow() ? v1::Health::STATE_DEGRADED
-                                                                       : v1::Health::STATE_READY);
+  health_->SetCounter(ids_.foreign_echoes, bridge_->counters().foreign_echoes);
+  health_->SetCounter(ids_.foreign_echo_events, bridge_->counters().foreign_echo_events);
+  health_->SetState(bridge_->device_lost() || bridge_->foreign_commander() || bridge_->link_too_slow()
+                        ? v1::Health::STATE_DEGRADED
+                        : v1::Health::STATE_READY);
   ReportDegradation();
 }
 
 void BridgeLoop::ReportDegradation() {
-  const Degradation now = bridge_->device_lost()     ? Degradation::kDeviceLost
-                          : bridge_->link_too_slow() ? Degradation::kLinkTooSlow
-                                                     : Degradation::kNone;
+  const Degradation now = bridge_->device_lost()         ? Degradation::kDeviceLost
+                          : bridge_->foreign_commander() ? Degradation::kForeignCommander
+                          : bridge_->link_too_slow()     ? Degradation::kLinkTooSlow
+                                                         : Degradation::kNone;
   if (now == degradation_) return;
   degradation_ = now;
   // the text stays after recovery: it is the last error, and the state says it is over
@@ -143,6 +149,11 @@ void BridgeLoop::ReportDegradation() {
   if (now == Degradation::kDeviceLost) {
     length = std::snprintf(text.data(), text.size(), "device lost: no controller frame for %.0f ms, force off",
                            c.device_lost_after_s * 1e3);
+  } else if (now == Degradation::kForeignCommander) {
+    length = std::snprintf(text.data(), text.size(),
+                           "controller accepted commands this bridge never sent (another host commands it): force "
+                           "off until its echoes are ours for %.1f s",
+                           c.foreign_echo_hold_s);
   } else if (now == Degradation::kLinkTooSlow) {
     length = std::snprintf(text.data(), text.size(),
                            "haptic link too slow: round trip %.0f ms, force models older than %.0f ms refused, "

@@ -65,7 +65,7 @@ class BridgeLoop final {
 
  private:
   static constexpr std::size_t kLastErrorCapacity = 200;
-  enum class Degradation { kNone, kDeviceLost, kLinkTooSlow };
+  enum class Degradation { kNone, kDeviceLost, kForeignCommander, kLinkTooSlow };
   /// Health's last_error names what changed, once per change, without allocating.
   void ReportDegradation();
 
@@ -82,7 +82,7 @@ class BridgeLoop final {
   Degradation degradation_ = Degradation::kDeviceLost;  // no controller yet is not an error
   struct CounterIds {
     runtime::HealthReporter::CounterId status_ok, status_bad, foreign, models, models_bad, lost, gap, nan, too_old,
-        slow_events, damped;
+        slow_events, damped, foreign_echoes, foreign_echo_events;
   } ids_{};
 };
 

@@ -44,6 +44,9 @@ int Run(services::ServiceContext& context, const Options& options) {
   services::DeviceLink controller(options.controller_bind, options.controller);
   std::cout << "device_bridge controller socket on " << controller.local_address() << std::endl;
 
+  const auto controller_kernel_drops = context.health().AddCounter("controller_datagrams_dropped_by_kernel");
+  constexpr std::size_t kDrainAtMost = 4096;
+  const auto drain_budget_ns = static_cast<std::int64_t>(0.25e9 / options.rate_hz);
   runtime::PeriodicLoop loop("device_bridge", options.rate_hz);
   context.health().AddLoop(&loop.stats());
   context.health().SetState(v1::Health::STATE_READY);
@@ -54,7 +57,9 @@ int Run(services::ServiceContext& context, const Options& options) {
         controller.Drain([&](std::span<const std::byte> bytes, std::int64_t arrival_ns, bool from_controller) {
           work.ReadController(bytes, context.SecondsSinceStart(arrival_ns), t_s, from_controller);
         });
-        services::ReadMessages(context, work, t_s, 16);
+        // everything waiting (newest model wins), unless a flood would hold the tick: then a
+        // quarter of the period, and the rest next tick (the kernel counts what overflows)
+        services::ReadMessages(context, work, t_s, kDrainAtMost, tick.now_ns + drain_budget_ns);
         if (stop_at_ns == std::numeric_limits<std::int64_t>::max() && context.StopRequested(tick.now_ns)) {
           work.RequestShutdown();
           stop_at_ns = tick.now_ns + static_cast<std::int64_t>(options.stop_zero_force_s * 1e9);
@@ -62,6 +67,7 @@ int Run(services::ServiceContext& context, const Options& options) {
         work.Update(t_s, tick.dt_s * static_cast<double>(1 + tick.skipped));
         controller.Send(work.command());
         work.Write(context);
+        context.health().SetCounter(controller_kernel_drops, controller.kernel_drops());
         context.Tick(tick.now_ns);
       },
       [&] { return base::SteadyNowNs() >= stop_at_ns; });

@@ -25,9 +25,10 @@ DeviceBridgeConfig FastConfig() {
 }
 
 StatusBytes Status(std::uint32_t sequence, double t_s, const Eigen::Vector3f& thumb_D_m = {0.01f, -0.02f, 0.0f},
-                   std::uint16_t flags = manipulator_flags::kCalibrated) {
+                   std::uint16_t flags = manipulator_flags::kCalibrated, std::uint32_t echo_host_sequence = 0) {
   StatusFrame f;
   f.sequence = sequence;
+  f.echo_host_sequence = echo_host_sequence;
   f.controller_time_ns = static_cast<std::uint64_t>(std::llround(t_s * 1e9));
   f.manipulators[0].p_D_m = thumb_D_m;
   f.manipulators[0].flags = flags;
@@ -165,6 +166,45 @@ TEST(DeviceBridgeTest, ControllerSilenceMeansDeviceLostThenRampsBackIn) {
   const double first = dut->last_force_W_N(Manipulator::kThumb).x();
   EXPECT_GT(first, 0.0);
   EXPECT_LT(first, 3.0);
+}
+
+// A controller that echoes a command sequence the bridge never sent took another host's command:
+// force off at once, counted, and back (over the start-up ramp) only after its echoes have been the
+// bridge's own for foreign_echo_hold_s.
+TEST(DeviceBridgeTest, AForeignEchoIsAFaultUntilTheEchoesAreOursAgain) {
+  DeviceBridgeConfig config = FastConfig();
+  config.foreign_echo_hold_s = 0.05;
+  auto dut = std::make_unique<DeviceBridge>(config);
+  CommandBytes out{};
+  std::uint32_t seq = 0, ours = 0;
+  auto run = [&](double from, double to, bool foreign) {
+    for (double t = from; t < to - 1e-9; t += kTick_s) {
+      const std::uint32_t echo = foreign ? ours + 1000 : ours;
+      dut->OnStatusDatagram(Status(++seq, t, {0.01f, -0.02f, 0.0f}, manipulator_flags::kCalibrated, echo), t);
+      dut->SetForceModel(Manipulator::kThumb, ConstantForce({3.0, 0.0, 0.0}), t,
+                         dut->finger_state(Manipulator::kThumb).controller_sequence);
+      dut->Tick(t, kTick_s, out);
+      ours = Decode(out).sequence;
+    }
+  };
+  run(0.0, 0.05, false);
+  EXPECT_NEAR(dut->last_force_W_N(Manipulator::kThumb).x(), 3.0, 1e-9);
+  EXPECT_EQ(dut->counters().foreign_echoes, 0u) << "its own echoes are not foreign";
+  run(0.05, 0.05 + kTick_s, true);
+  EXPECT_TRUE(dut->foreign_commander());
+  EXPECT_EQ(dut->last_force_W_N(Manipulator::kThumb), Eigen::Vector3d::Zero()) << "force off in the same tick";
+  EXPECT_FALSE(Decode(out).manipulators[0].flags & command_flags::kForceEnable);
+  run(0.05 + kTick_s, 0.08, true);
+  EXPECT_EQ(dut->counters().foreign_echo_events, 1u);
+  EXPECT_EQ(dut->counters().foreign_echoes, 150u);
+  run(0.08, 0.125, false);  // ours again, not yet for the hold time
+  EXPECT_TRUE(dut->foreign_commander());
+  EXPECT_EQ(dut->last_force_W_N(Manipulator::kThumb), Eigen::Vector3d::Zero());
+  run(0.125, 0.1305, false);
+  EXPECT_FALSE(dut->foreign_commander());
+  const double resumed = dut->last_force_W_N(Manipulator::kThumb).x();
+  EXPECT_GT(resumed, 0.0);
+  EXPECT_LT(resumed, 3.0) << "ramps in, no step back to the old force";
 }
 
 // A bridge fed a constant thumb force model and a fresh status datagram every tick.

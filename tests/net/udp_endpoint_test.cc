@@ -75,6 +75,34 @@ TEST(UdpEndpointTest, ArrivalTimeIsWhenTheKernelReceivedNotWhenWeRead) {
   EXPECT_TRUE(stamped_on_arrival) << "arrival should be ~30 ms before the read";
 }
 
+// A flood that overflows the socket's queue: every datagram sent is either read or counted as
+// dropped by the kernel, on both receive paths.
+TEST(UdpEndpointTest, CountsWhatTheKernelDroppedForAFullQueue) {
+  for (const bool stamped : {false, true}) {
+    SCOPED_TRACE(stamped ? "with arrival stamps" : "without");
+    UdpEndpoint sender("127.0.0.1:0");
+    UdpEndpoint receiver("127.0.0.1:0");
+    const std::vector<std::uint8_t> payload(1400, 7);
+    constexpr int kSent = 8000;  // 11 MB against a receive queue of a few MB
+    int refused = 0;
+    for (int i = 0; i < kSent; ++i) refused += sender.SendTo(payload, receiver.local_endpoint()) ? 0 : 1;
+    std::vector<std::uint8_t> buffer(2048);
+    UdpEndpoint::Endpoint from;
+    std::int64_t arrival_ns = 0;
+    int read = 0;
+    const auto receive = [&] {
+      return stamped ? receiver.ReceiveOne(buffer, &from, &arrival_ns) : receiver.ReceiveOne(buffer, &from);
+    };
+    while (receive()) ++read;
+    // the kernel tells the count with the next datagram queued after the drops
+    ASSERT_TRUE(sender.SendTo(payload, receiver.local_endpoint()));
+    ASSERT_TRUE(receiver.WaitReadable(std::chrono::milliseconds(2000)));
+    ASSERT_TRUE(receive());
+    EXPECT_GT(receiver.kernel_drops(), 0u) << "the queue did not overflow: the test would prove nothing";
+    EXPECT_EQ(static_cast<std::uint64_t>(read) + receiver.kernel_drops(), static_cast<std::uint64_t>(kSent - refused));
+  }
+}
+
 TEST(UdpEndpointTest, BindFailureNamesTheAddress) {
   UdpEndpoint taken("127.0.0.1:0");
   const std::string address = "127.0.0.1:" + std::to_string(taken.local_port());

@@ -5,8 +5,10 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cmath>
 #include <csignal>
+#include <cstring>
 #include <exception>
 #include <fstream>
 #include <iterator>
@@ -411,6 +413,82 @@ TEST_F(DeviceBridgeProcessTest, GarbageFloodFromAStrangerIsDroppedAndCounted) {
   EXPECT_GE(WaitForCounter("status_frames_from_strangers", 1000), 1000u);
   EXPECT_EQ(Stop(*bridge_), 0) << "the bridge did not survive the flood";
   EXPECT_EQ(Stop(*mock_), 0);
+}
+
+// A flood of keyless datagrams on the bridge's haptex port (small ones at about 50,000/s and
+// 60 kB ones at about 1,000/s) while local_contact asks for a steady 2 N: the flood reaches no
+// force (no spike, every change within the slew limit), and every garbage datagram is counted,
+// by the messenger or, where the socket queue overflowed, by the kernel.
+TEST_F(DeviceBridgeProcessTest, AFloodOnTheHaptexPortNeitherMovesTheForceNorGoesUncounted) {
+  Start("grasp");
+  SendForce(0, 0, 2.0, 500ms);
+  std::atomic<bool> flooding{true};
+  std::atomic<std::uint64_t> garbage_sent{0};
+  std::int64_t flood_from_ns = 0, flood_to_ns = 0;
+  std::thread flood([&] {
+    net::UdpEndpoint attacker("127.0.0.1:0");
+    std::vector<std::uint8_t> small(100), large(60000);
+    std::uint64_t x = 88172645463325252ull;  // xorshift: cheap bytes that change every datagram
+    const auto fill = [&x](std::vector<std::uint8_t>& bytes) {
+      for (std::size_t i = 0; i < bytes.size(); i += 8) {
+        x ^= x << 13, x ^= x >> 7, x ^= x << 17;
+        std::memcpy(&bytes[i], &x, std::min<std::size_t>(8, bytes.size() - i));
+      }
+    };
+    fill(large);
+    while (flooding.load()) {
+      for (int i = 0; i < 50; ++i) {
+        fill(small);
+        garbage_sent += attacker.SendTo(small, bridge_endpoint_) ? 1 : 0;
+      }
+      large[0] ^= 0xff;
+      garbage_sent += attacker.SendTo(large, bridge_endpoint_) ? 1 : 0;
+      std::this_thread::sleep_for(1ms);
+    }
+  });
+  flood_from_ns = base::SteadyNowNs();
+  SendForce(0, 0, 2.0, 1500ms);
+  flood_to_ns = base::SteadyNowNs();
+  flooding = false;
+  flood.join();
+  SendForce(0, 0, 2.0, 500ms);  // the kernel tells its drop count with the datagrams after the flood
+  const std::uint64_t sent = garbage_sent.load();
+  const auto health = WaitForHealth([&](const v1::Health& h) {
+    return Counter(h, "datagrams_dropped") + Counter(h, "datagrams_dropped_by_kernel") >= sent;
+  });
+  EXPECT_EQ(Stop(*bridge_), 0) << "the bridge did not survive the flood";
+  EXPECT_EQ(Stop(*mock_), 0);
+  ASSERT_TRUE(health.has_value()) << "fewer datagrams counted than the " << sent << " sent";
+  const std::uint64_t by_messenger = Counter(*health, "datagrams_dropped");
+  const std::uint64_t by_kernel = Counter(*health, "datagrams_dropped_by_kernel");
+  // ForceModels may be among the kernel's drops, never more than were sent (1 kHz for 2.5 s)
+  EXPECT_LE(by_messenger + by_kernel, sent + 2600);
+
+  const auto rows = ReadForceLogRows(log_);
+  double peak_N = 0.0, held = 0.0, during = 0.0, previous = 0.0;
+  std::uint32_t previous_sequence = 0;
+  double worst_slew_ratio = 0.0;
+  for (const auto& r : rows) {
+    const double f = r.CommandedNormN(0);
+    peak_N = std::max(peak_N, f);
+    if (r.time_ns > flood_from_ns && r.time_ns < flood_to_ns) {
+      during += 1.0;
+      held += f > 1.9 ? 1.0 : 0.0;
+    }
+    if (!r.host_timed_out && r.host_sequence != previous_sequence && f > previous) {
+      const double commands = static_cast<double>(r.host_sequence - previous_sequence);
+      worst_slew_ratio = std::max(worst_slew_ratio, (f - previous) / (0.5 * commands));
+    }
+    previous = f;
+    previous_sequence = r.host_sequence;
+  }
+  std::cout << "[measured] flood of " << sent << " datagrams in " << (flood_to_ns - flood_from_ns) * 1e-9
+            << " s: counted " << by_messenger << " by the messenger, " << by_kernel << " by the kernel; force held at "
+            << "2 N for " << 100.0 * held / std::max(1.0, during) << " % of the flood, peak " << peak_N << " N\n";
+  ASSERT_GT(during, 1000.0);
+  EXPECT_LE(peak_N, 2.0 * 1.1) << "the flood moved the force";
+  EXPECT_LE(worst_slew_ratio, 1.0 + 1e-3) << "a step beyond the slew limit";
+  EXPECT_GT(held, 0.5 * during) << "the flood kept the models out";
 }
 
 }  // namespace
