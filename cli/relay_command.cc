@@ -214,8 +214,9 @@ void AddRelayCommand(CLI::App& app, int* exit_code) {
       ->capture_default_str();
   relay->add_option("--duplicate", options->duplicate, "duplication probability")->capture_default_str();
   relay->add_option("--rate-kbps", options->rate_kbps, "rate limit [kbit/s] (0: none)")->capture_default_str();
-  relay->add_option("--outage-after-s", options->outage_after_s,
-                    "a dead link from this long after the first datagram [s]")
+  relay
+      ->add_option("--outage-after-s", options->outage_after_s,
+                   "a dead link from this long after the first datagram [s]")
       ->capture_default_str();
   relay->add_option("--outage-s", options->outage_s, "for this long: every datagram dropped [s] (0: none)")
       ->capture_default_str();

@@ -70,6 +70,8 @@ std::optional<ForceLog> ReadForceLog(const std::string& path) {
     log.t_s.push_back(static_cast<double>(row.time_ns - rows.front().time_ns) * 1e-9);
     for (int f = 0; f < 2; ++f) {
       const double n = row.CommandedNormN(f);
+      const auto& previous = log.commanded[static_cast<std::size_t>(f)];
+      if (n == 0.0 && !previous.empty() && previous.back() >= ForceLog::kDropoutFromN) ++log.dropouts;
       log.commanded[static_cast<std::size_t>(f)].push_back(n);
       Accumulate(&log.stats[static_cast<std::size_t>(f)], n);
     }

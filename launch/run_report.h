@@ -27,6 +27,11 @@ struct ForceLog {
   std::vector<double> t_s;                       // from the first row
   std::array<std::vector<double>, 2> commanded;  // |F| per finger (thumb, index) [N]
   std::array<FingerForceStats, 2> stats;         // of the commanded force
+  /// Force dropouts: the commanded force cut to zero from kDropoutFromN or more between two log
+  /// rows (a watchdog, a stall guard, an emergency stop), which a person feels as the object
+  /// vanishing; the ramps of a model going stale come down over 10 ms and are not counted.
+  static constexpr double kDropoutFromN = 0.5;
+  std::uint64_t dropouts = 0;
 };
 
 /// Reads the CSV; nullopt when the file is missing or has no rows.

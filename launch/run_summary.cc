@@ -150,6 +150,7 @@ std::string SummaryJson(const RunRecord& run, const std::vector<RecordingFiles>&
   j.Field("scene", run.scene_name).Field("scene_path", run.scene_path).Field("run_dir", run.run_dir);
   j.Field("host", run.host.empty() ? std::string("all") : run.host);
   j.Field("duration_s", run.duration_s).Field("end_reason", run.end_reason).Field("exit_code", run.exit_code);
+  j.BeginObject("scheduling").Field("rt_priority", run.rt_priority).Field("note", run.scheduling).EndObject();
 
   // services: what ran, why, and its last Health
   j.BeginArray("services");
@@ -231,6 +232,9 @@ std::string SummaryJson(const RunRecord& run, const std::vector<RecordingFiles>&
   } else {
     WriteForce(j, "thumb", force_log->stats[0]);
     WriteForce(j, "index", force_log->stats[1]);
+    const double minutes = force_log->t_s.empty() ? 0.0 : force_log->t_s.back() / 60.0;
+    j.Field("force_dropouts", force_log->dropouts)
+        .Field("force_dropouts_per_minute", minutes > 0.0 ? static_cast<double>(force_log->dropouts) / minutes : 0.0);
   }
   j.EndObject();
   j.EndObject();

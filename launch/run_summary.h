@@ -60,6 +60,8 @@ struct RunRecord {
   double duration_s = 0;   // wall time from the first start to the end of the stop
   std::string end_reason;  // "duration", "interrupted", "failed"
   int exit_code = 0;
+  int rt_priority = 0;     // the launcher's SCHED_FIFO priority (services ranked below it); 0: normal
+  std::string scheduling;  // what was asked and what the kernel allowed, in words
   std::vector<ServiceRecord> services;
   std::vector<RelayRecord> relays;         // one per impaired link
   std::vector<PlannedService> not_needed;  // with why

@@ -31,6 +31,7 @@ void MockControllerConfig::Validate() const {
   Require(position_quantum_m >= 0.0 && position_quantum_m < 0.001, "position_quantum_m must be in [0, 1 mm)");
   Require(force_noise_N >= 0.0 && force_noise_N < 5.0, "force_noise_N must be in [0, 5) N");
   Require(PositiveFinite(host_timeout_s), "host_timeout_s must be > 0");
+  Require(PositiveFinite(slew_N_per_s), "slew_N_per_s must be > 0");
   Require(PositiveFinite(peak_force_N), "peak_force_N must be > 0");
   Require((limits.workspace_half_extent_m.array() > 0.0f).all(), "limits.workspace_half_extent_m must be > 0");
 }
@@ -109,6 +110,15 @@ void MockGrabController::Step(double t_s, double dt_s, std::span<std::byte, kSta
         commanded *= config_.peak_force_N / norm;
         flags |= manipulator_flags::kForceSaturated;
       }
+    }
+    if (!commanded.isZero(0.0)) {
+      Eigen::Vector3d step = commanded - f.commanded_force_D_N;
+      const double max_step_N = config_.slew_N_per_s * dt_s;
+      if (step.norm() > max_step_N) {
+        step *= max_step_N / step.norm();
+        flags |= manipulator_flags::kForceSaturated;
+      }
+      commanded = f.commanded_force_D_N + step;
     }
     f.commanded_force_D_N = commanded;
     f.applied_force_D_N += force_alpha * (commanded - f.applied_force_D_N);

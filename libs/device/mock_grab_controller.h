@@ -32,6 +32,10 @@ struct MockControllerConfig {
   std::uint64_t seed = 1;                ///< noise seed: equal seeds give equal runs
   double host_timeout_s = 0.005;         ///< no valid command this long: zero force
   double peak_force_N = 20.0;            ///< the controller's own clamp
+  /// The controller's own slew limit on what it drives towards (a cut to zero is immediate): a
+  /// controller that stalled and then takes the newest of many queued commands moves to it at
+  /// this rate, not in one step. 2.5 kN/s: 0.5 N per 5 kHz tick, the host's own limit.
+  double slew_N_per_s = 2500.0;
   /// Workspace box (also used to check commands); positions are stopped at its faces.
   GrabValueLimits limits;
 

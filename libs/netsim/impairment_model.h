@@ -81,7 +81,7 @@ class ImpairmentModel final {
   std::uint64_t next_sequence_ = 0;
   std::int64_t last_arrival_ns_ = std::numeric_limits<std::int64_t>::min();
   std::int64_t first_arrival_ns_ = std::numeric_limits<std::int64_t>::min();  // the outage's origin
-  std::int64_t link_free_ns_ = std::numeric_limits<std::int64_t>::min();  // rate limiter idle from
+  std::int64_t link_free_ns_ = std::numeric_limits<std::int64_t>::min();      // rate limiter idle from
   bool delivered_any_ = false;
   std::uint64_t highest_delivered_ = 0;
   ImpairmentStats stats_;

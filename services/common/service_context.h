@@ -83,7 +83,7 @@ class ServiceContext final : public Outbox {
   std::unique_ptr<runtime::HealthPublisher> health_publisher_;
   std::unique_ptr<EnvelopeRecorder> recorder_;
   runtime::HealthReporter::CounterId record_dropped_counter_ = 0;
-  runtime::HealthReporter::CounterId dropped_counter_ = 0;  // datagrams the messenger dropped, every reason
+  runtime::HealthReporter::CounterId dropped_counter_ = 0;         // datagrams the messenger dropped, every reason
   runtime::HealthReporter::CounterId kernel_dropped_counter_ = 0;  // dropped by the kernel: queue full
   std::int64_t start_ns_;
   std::int64_t stop_at_ns_;

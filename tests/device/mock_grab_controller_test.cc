@@ -100,24 +100,52 @@ TEST(MockGrabControllerTest, AppliesCommandsAndTimesOutAfterFiveMilliseconds) {
 TEST(MockGrabControllerTest, ClampsToPeakAndHonoursEnableAndShutdown) {
   MockGrabController dut(MockControllerConfig{}, ScriptParams{});
   StatusBytes out{};
-  dut.OnCommandDatagram(Command(1, {0.0f, 0.0f, 24.0f}), 0.0);
-  dut.Step(0.0, kTick_s, out);
+  double t = 0.0;
+  for (int k = 0; k < 60; ++k, t += kTick_s) {  // 20 N at its own slew limit: 40 ticks
+    dut.OnCommandDatagram(Command(1 + k, {0.0f, 0.0f, 24.0f}), t);
+    dut.Step(t, kTick_s, out);
+  }
   EXPECT_NEAR(dut.finger(Manipulator::kThumb).commanded_force_D_N.z(), 20.0, 1e-9);
   EXPECT_NE(DecodeStatus(out).manipulators[0].flags & manipulator_flags::kForceSaturated, 0);
-  dut.OnCommandDatagram(Command(2, {0.0f, 0.0f, 5.0f}, 0), kTick_s);  // enable clear
-  dut.Step(kTick_s, kTick_s, out);
+  dut.OnCommandDatagram(Command(61, {0.0f, 0.0f, 5.0f}, 0), t);  // enable clear
+  dut.Step(t, kTick_s, out);
   EXPECT_EQ(dut.finger(Manipulator::kThumb).commanded_force_D_N, Eigen::Vector3d::Zero());
   CommandFrame shutdown;
-  shutdown.sequence = 3;
+  shutdown.sequence = 62;
   shutdown.host_flags = host_flags::kShutdown;
   shutdown.manipulators[0].force_D_N = {1.0f, 0.0f, 0.0f};
   shutdown.manipulators[0].flags = command_flags::kForceEnable;
   CommandBytes b{};
   EncodeCommandFrame(shutdown, b);
-  dut.OnCommandDatagram(b, 2 * kTick_s);
-  dut.Step(2 * kTick_s, kTick_s, out);
+  dut.OnCommandDatagram(b, t + kTick_s);
+  dut.Step(t + kTick_s, kTick_s, out);
   EXPECT_EQ(dut.finger(Manipulator::kThumb).commanded_force_D_N, Eigen::Vector3d::Zero());
-  EXPECT_EQ(DecodeStatus(out).echo_host_sequence, 3u);
+  EXPECT_EQ(DecodeStatus(out).echo_host_sequence, 62u);
+}
+
+// A controller that stalled and then takes the newest of many queued commands (a host's 8 N after
+// zero) moves to it at its own slew limit, saying so; a cut to zero is immediate.
+TEST(MockGrabControllerTest, MovesToANewCommandAtItsOwnSlewLimitAndCutsAtOnce) {
+  MockGrabController dut(MockControllerConfig{}, ScriptParams{});
+  StatusBytes out{};
+  dut.OnCommandDatagram(Command(1, {0.0f, 0.0f, 8.0f}), 0.0);
+  double previous = 0.0;
+  for (int k = 0; k < 16; ++k) {
+    dut.Step(k * kTick_s, kTick_s, out);
+    const double f = dut.finger(Manipulator::kThumb).commanded_force_D_N.z();
+    EXPECT_NEAR(f - previous, 0.5, 1e-9) << "tick " << k;
+    // limiting until the last step, which lands on the command
+    EXPECT_EQ(DecodeStatus(out).manipulators[0].flags & manipulator_flags::kForceSaturated,
+              k < 15 ? manipulator_flags::kForceSaturated : 0)
+        << "tick " << k;
+    previous = f;
+    dut.OnCommandDatagram(Command(2 + k, {0.0f, 0.0f, 8.0f}), (k + 1) * kTick_s);
+  }
+  dut.Step(16 * kTick_s, kTick_s, out);
+  EXPECT_NEAR(dut.finger(Manipulator::kThumb).commanded_force_D_N.z(), 8.0, 1e-6);
+  dut.OnCommandDatagram(Command(100, {0.0f, 0.0f, 0.0f}), 17 * kTick_s);
+  dut.Step(17 * kTick_s, kTick_s, out);
+  EXPECT_EQ(dut.finger(Manipulator::kThumb).commanded_force_D_N, Eigen::Vector3d::Zero()) << "a cut is immediate";
 }
 
 TEST(MockGrabControllerTest, RejectsBadCommandsAndReportsIt) {

@@ -30,7 +30,23 @@ TEST(LaunchRunReportTest, ForceLogStatsPerFinger) {
   EXPECT_DOUBLE_EQ(log->stats[0].mean_n, 2.5);
   EXPECT_DOUBLE_EQ(log->stats[0].final_n, 0.0);
   EXPECT_DOUBLE_EQ(log->stats[1].peak_n, 3.0);
+  EXPECT_EQ(log->dropouts, 1u) << "the thumb's 5 N cut to zero";
   EXPECT_FALSE(ReadForceLog(path + ".missing").has_value());
+}
+
+// A cut to zero is a dropout; a ramp down, or a cut from below 0.5 N (a light touch ending), is not.
+TEST(LaunchRunReportTest, ForceDropoutsAreCutsToZeroFromAFeltForce) {
+  const std::string path = testing::FreshDir("force_dropouts") + "/f.csv";
+  std::string text = std::string(device::kForceLogHeader) + "\n";
+  const double thumb_z_N[] = {2.0, 2.0, 0.0, 0.0, 1.0, 2.0, 1.5, 1.0, 0.6, 0.3, 0.0, 0.4, 0.0, 2.0, 0.0};
+  for (int k = 0; k < 15; ++k) {
+    text += std::to_string(1000000000 + k * 200000) + ",0,0," + std::to_string(thumb_z_N[k]) + ",0,0,0,0,0,1,0,0,0,0," +
+            std::to_string(k + 1) + ",0,0,0,0,0,0\n";
+  }
+  testing::WriteText(path, text);
+  const auto log = ReadForceLog(path);
+  ASSERT_TRUE(log.has_value());
+  EXPECT_EQ(log->dropouts, 2u);
 }
 
 TEST(LaunchRunReportTest, ContactStatesAndModelForces) {

@@ -41,10 +41,14 @@ TEST(LaunchRunSummaryTest, ServicesLatencyDropsEventsAndNotes) {
   run.events.push_back({1.5, "device_bridge", "restarted", "after signal 9"});
   run.errors.push_back("something broke");
   run.launcher_received["bad_mac"] = 2;
+  run.rt_priority = 40;
+  run.scheduling = "real-time: SCHED_FIFO 40";
 
   RecordingAnalysis analysis;
   ForceLog log;
   log.stats[0] = {10, 2.0, 1.0, 0.0};
+  log.t_s = {0.0, 30.0};
+  log.dropouts = 3;
   const std::string json = SummaryJson(run, {{"device_bridge.pb", 12, 0, false}}, analysis, log,
                                        {{"forces", "/r/plots/forces.png", ""}, {"friction_ratio", "", "no data"}});
   EXPECT_THAT(json, HasSubstr(R"("end_reason":"interrupted")"));
@@ -58,6 +62,8 @@ TEST(LaunchRunSummaryTest, ServicesLatencyDropsEventsAndNotes) {
   EXPECT_THAT(json, HasSubstr(R"("restarts":[{"t_s":1.5,"service":"device_bridge")"));
   EXPECT_THAT(json, HasSubstr(R"("contact_states":{"note":"no ForceModel recorded)"));
   EXPECT_THAT(json, HasSubstr(R"("thumb":{"samples":10,"peak_n":2,"mean_n":1,"final_n":0})"));
+  EXPECT_THAT(json, HasSubstr(R"("force_dropouts":3,"force_dropouts_per_minute":6)"));
+  EXPECT_THAT(json, HasSubstr(R"("scheduling":{"rt_priority":40,"note":"real-time: SCHED_FIFO 40"})"));
   EXPECT_THAT(json, HasSubstr(R"("not_started":[{"name":"tactile","why":"tactile display off"})"));
   EXPECT_THAT(json, HasSubstr(R"("friction_ratio":{"skipped":"no data"})"));
   EXPECT_THAT(json, HasSubstr(R"("error":"something broke")"));

@@ -53,6 +53,14 @@ fi
 guards=$(files | grep -E '(^|/)(CMakeLists\.txt|[^/]*\.cmake)$' | (cd "$root" && xargs grep -HnE \
   'if\s*\(\s*(NOT\s+)?(EXISTS|TARGET)\b|LIST_DIRECTORIES\s+true' 2>/dev/null) || true)
 [[ -z "$guards" ]] || fail "silent guards in the build: $guards"
+# and every folder of tests is listed: one left out would build and run nothing, silently
+if [[ -f "$root/tests/CMakeLists.txt" ]]; then
+  for folder in "$root"/tests/*/; do
+    name=$(basename "$folder")
+    grep -qE "^add_subdirectory\($name\)" "$root/tests/CMakeLists.txt" ||
+      fail "tests/$name is not listed in tests/CMakeLists.txt: its tests never run"
+  done
+fi
 
 # 7. scripts the README names exist and are executable
 for s in scripts/demo scripts/test scripts/setup .ci/run; do

@@ -9,6 +9,8 @@ printf '#!/bin/sh\nmake test\n' > "$dir/.ci/run"
 touch "$dir/proto/a.pb.h" "$dir/third_party/x/x.h"
 printf 'include(FetchContent)\nif(EXISTS ${dir}/x)\nendif()\n' > "$dir/CMakeLists.txt"
 echo '#include <thread>' > "$dir/libs/textile/step.cc"
+# a folder of tests nobody builds
+mkdir -p "$dir/tests/forgotten" && printf 'add_subdirectory(listed)\n' > "$dir/tests/CMakeLists.txt"
 # libs/base may read the clock in clock.h only, must stay std only, and no core may use the clock
 printf '#include <chrono>\n#include <time.h>\n' > "$dir/libs/base/clock.h"
 echo '#include <chrono>' > "$dir/libs/base/timer.h"
