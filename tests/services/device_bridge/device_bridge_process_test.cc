@@ -67,7 +67,8 @@ class DeviceBridgeProcessTest : public ::testing::Test {
   // The tests command constant forces: a constant force field does work on the finger it moves,
   // which the bridge's passivity controller damps; these tests check the plumbing and the limits
   // (the controller has its own tests), so it is off.
-  void Start(const std::string& script, const std::vector<std::string>& mock_extra = {}) {
+  void Start(const std::string& script, const std::vector<std::string>& mock_extra = {},
+             const std::vector<std::string>& bridge_extra = {}) {
     // the bridge's GRAB port must be known before the mock starts: reserve one
     int bridge_port = 0;
     {
@@ -87,14 +88,23 @@ class DeviceBridgeProcessTest : public ::testing::Test {
     mock_ = std::make_unique<testing::Subprocess>(mock_argv, Env());
     const std::string mock_port = WaitForLine(*mock_, "listening on 127\\.0\\.0\\.1:([0-9]+)");
     mock_port_ = mock_port;
-    bridge_ = std::make_unique<testing::Subprocess>(
-        std::vector<std::string>{Bin("device_bridge/haptex-device-bridge"), "--controller-bind",
-                                 "127.0.0.1:" + std::to_string(bridge_port), "--controller", "127.0.0.1:" + mock_port,
-                                 "--session-id", std::to_string(kSession), "--peer",
-                                 "local_contact=" + net::FormatUdpAddress(contact_->local_endpoint()), "--peer",
-                                 "launcher=" + net::FormatUdpAddress(launcher_->local_endpoint()), "--health-hz", "20",
-                                 "--passivity", "off"},
-        Env());
+    std::vector<std::string> bridge_argv{Bin("device_bridge/haptex-device-bridge"),
+                                         "--controller-bind",
+                                         "127.0.0.1:" + std::to_string(bridge_port),
+                                         "--controller",
+                                         "127.0.0.1:" + mock_port,
+                                         "--session-id",
+                                         std::to_string(kSession),
+                                         "--peer",
+                                         "local_contact=" + net::FormatUdpAddress(contact_->local_endpoint()),
+                                         "--peer",
+                                         "launcher=" + net::FormatUdpAddress(launcher_->local_endpoint()),
+                                         "--health-hz",
+                                         "20",
+                                         "--passivity",
+                                         "off"};
+    bridge_argv.insert(bridge_argv.end(), bridge_extra.begin(), bridge_extra.end());
+    bridge_ = std::make_unique<testing::Subprocess>(bridge_argv, Env());
     WaitForLine(*bridge_, "controller socket on 127\\.0\\.0\\.1:([0-9]+)");
     // the first FingerStates tell us where the bridge listens
     const auto until = std::chrono::steady_clock::now() + 5s;
@@ -345,37 +355,35 @@ TEST_F(DeviceBridgeProcessTest, ClampsAndSlewHoldWhenAModelAsksFor100N) {
   EXPECT_EQ(Stop(*bridge_), 0);
   EXPECT_EQ(Stop(*mock_), 0);
   const auto rows = ReadForceLogRows(log_);
-  // The bridge slews 0.5 N per tick and numbers its commands one per tick, so between two mock
-  // steps the force may change by 0.5 N per command sequence that passed, whatever the scheduling.
-  // Only a cut to zero may be faster (safety wins over smoothness): the NaN models, the mock's own
-  // host watchdog, or the bridge disarming after its loop stalled (a loaded machine). Force then
-  // ramps in again from zero, which this check covers.
+  // The bridge slews 0.5 N per command and the controller moves towards the newest command at its
+  // own 2.5 kN/s: 0.5 N per 0.2 ms step, and a step after skipped cycles covers them too. So
+  // between two log rows (one per controller step) the force may change by 0.5 N per period that
+  // passed, at least one, whatever the scheduling (the bridge's own limit has its unit test). Only a cut
+  // to zero may be faster (safety wins over smoothness): the NaN models, the mock's own host
+  // watchdog, or the bridge disarming after its loop stalled (a loaded machine). Force then ramps
+  // in again from zero, which this check covers.
+  constexpr double kSlewPerStep_N = 0.5, kStep_ns = 200'000.0;
   double peak = 0, max_step = 0, previous = 0, worst_slew_ratio = 0;
-  std::uint32_t previous_sequence = 0;
+  std::int64_t previous_ns = rows.empty() ? 0 : rows.front().time_ns;
   int timeouts = 0, cuts = 0;
   for (const auto& r : rows) {
     const double f = r.CommandedNormN(0);
     peak = std::max(peak, f);
+    const double allowed_N =
+        kSlewPerStep_N * std::max(1.0, std::round(static_cast<double>(r.time_ns - previous_ns) / kStep_ns));
     if (r.host_timed_out) {
       EXPECT_EQ(f, 0.0) << "a timed-out controller commands zero";
       timeouts += previous != 0.0;
       cuts += previous != 0.0;
-    } else if (r.host_sequence != previous_sequence) {
-      const double commands = static_cast<double>(r.host_sequence - previous_sequence);
-      const double change = std::abs(f - previous);
-      if (f < previous && change > 0.5 * commands + 1e-3) {  // the log holds floats
-        // a cut in between, then at most the slew from zero
-        EXPECT_LE(f, 0.5 * (commands - 1.0) + 1e-6) << "a drop that was neither slewed nor a cut";
-        ++cuts;
-      } else {
-        max_step = std::max(max_step, change);
-        worst_slew_ratio = std::max(worst_slew_ratio, change / (0.5 * commands));
-      }
+    } else if (f == 0.0 && previous > allowed_N + 1e-3) {
+      ++cuts;
     } else {
-      EXPECT_EQ(f, previous) << "the same command gave another force";
+      const double change = std::abs(f - previous);
+      max_step = std::max(max_step, change);
+      worst_slew_ratio = std::max(worst_slew_ratio, (change - 1e-3) / allowed_N);  // the log holds floats
     }
     previous = f;
-    previous_sequence = r.host_sequence;
+    previous_ns = r.time_ns;
     EXPECT_NEAR(r.commanded_D_N[0][0], 0.0, 1e-6);  // direction kept: +z only
     EXPECT_NEAR(r.commanded_D_N[0][1], 0.0, 1e-6);
   }
@@ -383,7 +391,7 @@ TEST_F(DeviceBridgeProcessTest, ClampsAndSlewHoldWhenAModelAsksFor100N) {
   EXPECT_GE(peak, 5.9);                                   // it did push, up to the limits
   EXPECT_NEAR(rows.back().CommandedNormN(0), 0.0, 1e-9);  // the NaN models ended as zero force
   EXPECT_LE(worst_slew_ratio, 1.0 + 1e-3);
-  std::cout << "[measured] peak " << peak << " N, largest change between commands " << max_step << " N; cuts to zero "
+  std::cout << "[measured] peak " << peak << " N, largest change between log rows " << max_step << " N; cuts to zero "
             << cuts << ", of them controller host timeouts " << timeouts << "\n";
 }
 
@@ -420,7 +428,9 @@ TEST_F(DeviceBridgeProcessTest, GarbageFloodFromAStrangerIsDroppedAndCounted) {
 // force (no spike, every change within the slew limit), and every garbage datagram is counted,
 // by the messenger or, where the socket queue overflowed, by the kernel.
 TEST_F(DeviceBridgeProcessTest, AFloodOnTheHaptexPortNeitherMovesTheForceNorGoesUncounted) {
-  Start("grasp");
+  // real-time, as the launcher runs them: the flood, not a starved scheduler, is under test (where
+  // the kernel refuses, the services say so and run on)
+  Start("grasp", {"--rt-priority", "40"}, {"--rt-priority", "40"});
   SendForce(0, 0, 2.0, 500ms);
   std::atomic<bool> flooding{true};
   std::atomic<std::uint64_t> garbage_sent{0};
