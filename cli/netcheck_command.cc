@@ -19,6 +19,9 @@
 namespace haptex::cli {
 namespace {
 
+// the server's name, which probes address their datagrams to
+constexpr std::string_view kServeName = "netcheck_serve";
+
 struct ServeOptions {
   std::string bind;
   double seconds = 0;
@@ -49,7 +52,7 @@ int Serve(const ServeOptions& options) {
   const net::SessionKey key = scene::LoadSessionKey(options.key_file);
   net::MessengerConfig config;
   config.bind_address = options.bind;
-  config.identity = {"netcheck_serve", 0, key.DerivedSessionId()};
+  config.identity = {std::string(kServeName), 0, key.DerivedSessionId()};
   net::Messenger messenger(key, config);
   runtime::InstallShutdownHandlers();
   std::cout << "netcheck serve: listening on " << net::FormatUdpAddress(messenger.local_endpoint()) << std::endl;
@@ -67,7 +70,7 @@ int Serve(const ServeOptions& options) {
       if (envelope.body_case() != v1::Envelope::kNetProbe || envelope.net_probe().is_reply()) return;
       reply = envelope.net_probe();
       reply.set_is_reply(true);
-      if (messenger.SendTo(from, reply)) ++replies;
+      if (messenger.SendTo(from, envelope.sender(), reply)) ++replies;
     });
   }
   std::cout << "netcheck serve: " << replies << " replies; accepted " << messenger.received().accepted() << "; dropped";
@@ -91,7 +94,7 @@ int Probe(const ProbeOptions& options) {
   // one name per run: two probes at once must not look like restarts of each other
   config.identity = {"netcheck_probe_" + std::to_string(getpid()), 0, key.DerivedSessionId()};
   net::Messenger messenger(key, config);
-  const auto server = messenger.AddPeer("server", options.to);
+  const auto server = messenger.AddPeer(kServeName, options.to);
   runtime::InstallShutdownHandlers();
 
   ProbeRecorder recorder(probes);

@@ -13,6 +13,7 @@
 
 #include "launch/child_process.h"
 #include "libs/base/clock.h"
+#include "libs/net/peer_names.h"
 #include "libs/net/udp_address.h"
 #include "libs/runtime/shutdown_signal.h"
 
@@ -125,6 +126,8 @@ Supervisor::Supervisor(SupervisorConfig config, const net::SessionKey& key, std:
   net::MessengerConfig messenger;
   messenger.bind_address = config_.launcher.Bind();
   messenger.identity = {config_.identity, 0, key.DerivedSessionId()};
+  // services address their own host's launcher by the peer name, whatever its identity (launcher@HOST)
+  messenger.also_known_as = {std::string(net::peer::kLauncher)};
   messenger_ = std::make_unique<net::Messenger>(key, messenger);
 }
 
@@ -179,8 +182,8 @@ void Supervisor::SendControl(v1::Control::Command command, const std::string& ta
   try {
     const auto to = net::ResolveUdpAddress(target_address);
     // UDP: a second copy covers a lost datagram; the commands are idempotent
-    messenger_->SendTo(to, control);
-    messenger_->SendTo(to, control);
+    messenger_->SendTo(to, target, control);
+    messenger_->SendTo(to, target, control);
   } catch (const std::exception& e) {
     record_->errors.push_back("cannot send " + v1::Control::Command_Name(command) + " to " + target + ": " + e.what());
   }

@@ -20,7 +20,7 @@ struct Fixture {
         buffer(kMaxUdpPayloadBytes),
         block(1 << 20) {
     // pad the body so the whole datagram has about the requested size
-    const std::size_t overhead = sealer.Seal(probe, 0, buffer);
+    const std::size_t overhead = sealer.Seal(probe, 0, "receiver", buffer);
     probe.set_padding(std::string(envelope_bytes > overhead + 3 ? envelope_bytes - overhead - 3 : 0, 'x'));
     google::protobuf::ArenaOptions options;
     options.initial_block = block.data();
@@ -40,7 +40,7 @@ void BM_SealAndOpen(benchmark::State& state) {
   Fixture f(static_cast<std::size_t>(state.range(0)));
   std::size_t bytes = 0;
   for (auto _ : state) {
-    bytes = f.sealer.Seal(f.probe, 0, f.buffer);
+    bytes = f.sealer.Seal(f.probe, 0, "receiver", f.buffer);
     f.arena->Reset();
     auto* envelope = google::protobuf::Arena::CreateMessage<v1::Envelope>(f.arena.get());
     if (f.opener.Open({f.buffer.data(), bytes}, envelope) != DropReason::kNone) {
@@ -69,7 +69,7 @@ BENCHMARK(BM_MacOnly)->Arg(1024);
 
 void BM_RejectGarbage(benchmark::State& state) {
   Fixture f(1024);
-  const std::size_t bytes = f.sealer.Seal(f.probe, 0, f.buffer);
+  const std::size_t bytes = f.sealer.Seal(f.probe, 0, "receiver", f.buffer);
   f.buffer[bytes / 2] ^= 1;  // fails the MAC: the cost of a flood of forged datagrams
   v1::Envelope envelope;
   for (auto _ : state) {

@@ -20,6 +20,8 @@ std::string_view DropReasonName(DropReason reason) {
       return "wrong_version";
     case DropReason::kWrongSession:
       return "wrong_session";
+    case DropReason::kWrongDestination:
+      return "wrong_destination";
     case DropReason::kMissingSender:
       return "missing_sender";
     case DropReason::kUnknownBody:

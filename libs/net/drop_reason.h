@@ -9,21 +9,22 @@
 namespace haptex::net {
 
 enum class DropReason : std::uint8_t {
-  kNone = 0,        // accepted
-  kTruncated,       // shorter than magic + MAC
-  kOversized,       // longer than the configured maximum datagram
-  kBadMagic,        // not a haptex datagram (or another wire version of the framing)
-  kBadMac,          // authentication failed: wrong key or altered bytes
-  kUnparsable,      // authentic but not a valid Envelope
-  kWrongVersion,    // Envelope.version differs from ours
-  kWrongSession,    // authentic datagram of another session (e.g. an old run)
-  kMissingSender,   // no sender name or epoch
-  kUnknownBody,     // no body we know (a newer schema, or empty)
-  kStaleEpoch,      // from an earlier start of a sender we have heard since it restarted
-  kReplayed,        // sequence already seen
-  kStale,           // sequence older than the replay window
-  kTooManySenders,  // the sender table is full
-  kSendFailed,      // outgoing: the socket refused (would block, unreachable, too large)
+  kNone = 0,          // accepted
+  kTruncated,         // shorter than magic + MAC
+  kOversized,         // longer than the configured maximum datagram
+  kBadMagic,          // not a haptex datagram (or another wire version of the framing)
+  kBadMac,            // authentication failed: wrong key or altered bytes
+  kUnparsable,        // authentic but not a valid Envelope
+  kWrongVersion,      // Envelope.version differs from ours
+  kWrongSession,      // authentic datagram of another session (e.g. an old run)
+  kWrongDestination,  // authentic, but addressed to another service (a replay across destinations)
+  kMissingSender,     // no sender name or epoch
+  kUnknownBody,       // no body we know (a newer schema, or empty)
+  kStaleEpoch,        // from an earlier start of a sender we have heard since it restarted
+  kReplayed,          // sequence already seen
+  kStale,             // sequence older than the replay window
+  kTooManySenders,    // the sender table is full
+  kSendFailed,        // outgoing: the socket refused (would block, unreachable, too large)
   kCount
 };
 

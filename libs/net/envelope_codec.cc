@@ -19,8 +19,9 @@ constexpr std::uint32_t Tag(int field, std::uint32_t wire_type) {
 }
 
 // Upper bound of the Envelope header fields (everything but the body) on the wire.
-constexpr std::size_t kHeaderBoundBytes =
-    6 /*version*/ + 9 /*session*/ + (2 + SenderTable::kMaxNameBytes) /*sender*/ + 9 * 3 /*epoch, sequence, time*/;
+constexpr std::size_t kHeaderBoundBytes = 6 /*version*/ + 9 /*session*/ +
+                                          2 * (2 + SenderTable::kMaxNameBytes) /*sender, destination*/ +
+                                          9 * 3 /*epoch, sequence, time*/;
 
 }  // namespace
 
@@ -35,7 +36,9 @@ EnvelopeSealer::EnvelopeSealer(const SessionKey& key, SenderIdentity identity)
 }
 
 std::size_t EnvelopeSealer::SealBody(const google::protobuf::MessageLite& body, int body_field_number,
-                                     std::int64_t send_time_ns, std::span<std::uint8_t> out) {
+                                     std::int64_t send_time_ns, std::string_view destination,
+                                     std::span<std::uint8_t> out) {
+  if (destination.size() > SenderTable::kMaxNameBytes) return 0;
   const std::size_t body_bytes = body.ByteSizeLong();
   const std::size_t bound = kDatagramOverheadBytes + kHeaderBoundBytes + 6 + body_bytes;
   if (bound > out.size() || body_bytes > kMaxUdpPayloadBytes) return 0;
@@ -59,6 +62,11 @@ std::size_t EnvelopeSealer::SealBody(const google::protobuf::MessageLite& body, 
   p = CodedOutputStream::WriteLittleEndian64ToArray(next_sequence_, p);
   p = CodedOutputStream::WriteTagToArray(Tag(v1::Envelope::kSendTimeNsFieldNumber, kWireFixed64), p);
   p = CodedOutputStream::WriteLittleEndian64ToArray(static_cast<std::uint64_t>(send_time_ns), p);
+  if (!destination.empty()) {
+    p = CodedOutputStream::WriteTagToArray(Tag(v1::Envelope::kDestinationFieldNumber, kWireLengthDelimited), p);
+    p = CodedOutputStream::WriteVarint32ToArray(static_cast<std::uint32_t>(destination.size()), p);
+    p = CodedOutputStream::WriteRawToArray(destination.data(), static_cast<int>(destination.size()), p);
+  }
   p = CodedOutputStream::WriteTagToArray(Tag(body_field_number, kWireLengthDelimited), p);
   p = CodedOutputStream::WriteVarint32ToArray(static_cast<std::uint32_t>(body_bytes), p);
   p = body.SerializeWithCachedSizesToArray(p);
@@ -114,6 +122,10 @@ DropReason EnvelopeOpener::Classify(std::span<const std::uint8_t> datagram, v1::
   }
   if (envelope->version() != kEnvelopeVersion) return DropReason::kWrongVersion;
   if (envelope->session_id() != session_id_) return DropReason::kWrongSession;
+  if (!destinations_.empty() &&
+      std::find(destinations_.begin(), destinations_.end(), envelope->destination()) == destinations_.end()) {
+    return DropReason::kWrongDestination;
+  }
   if (envelope->body_case() == v1::Envelope::BODY_NOT_SET) return DropReason::kUnknownBody;
   return senders_.Check(envelope->sender(), envelope->sender_epoch(), envelope->sequence());
 }

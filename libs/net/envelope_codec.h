@@ -15,6 +15,8 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include <google/protobuf/message_lite.h>
 
@@ -48,14 +50,16 @@ class EnvelopeSealer final {
 
   /// Writes a datagram carrying `body` into `out`. Returns its size, or 0 when it does not fit
   /// (nothing is consumed from the sequence then).
+  /// `destination`: the receiver's name (Envelope.destination), at most SenderTable::kMaxNameBytes.
   template <class Body>
-  std::size_t Seal(const Body& body, std::int64_t send_time_ns, std::span<std::uint8_t> out) {
-    return SealBody(body, EnvelopeBody<Body>::kFieldNumber, send_time_ns, out);
+  std::size_t Seal(const Body& body, std::int64_t send_time_ns, std::string_view destination,
+                   std::span<std::uint8_t> out) {
+    return SealBody(body, EnvelopeBody<Body>::kFieldNumber, send_time_ns, destination, out);
   }
 
   /// Same, for a body chosen at run time (field number of the Envelope oneof).
   std::size_t SealBody(const google::protobuf::MessageLite& body, int body_field_number, std::int64_t send_time_ns,
-                       std::span<std::uint8_t> out);
+                       std::string_view destination, std::span<std::uint8_t> out);
 
   /// Seals an Envelope whose header fields are written by the caller, as is (tests and tools
   /// that need to forge old epochs or foreign sessions).
@@ -78,6 +82,10 @@ class EnvelopeOpener final {
   /// Authenticates, parses into *envelope and checks it. Counts the outcome.
   DropReason Open(std::span<const std::uint8_t> datagram, v1::Envelope* envelope);
 
+  /// The names this receiver answers to (Envelope.destination): an envelope addressed to another
+  /// is dropped as wrong_destination. None (the default): not checked (tools reading any).
+  void AcceptDestinations(std::vector<std::string> names) { destinations_ = std::move(names); }
+
   /// Counts a datagram rejected before it reached Open (e.g. larger than the receive buffer).
   void CountDrop(DropReason reason) { counters_.Add(reason); }
 
@@ -93,6 +101,7 @@ class EnvelopeOpener final {
   std::size_t max_datagram_bytes_;
   SenderTable senders_;
   DropCounters counters_;
+  std::vector<std::string> destinations_;
 };
 
 }  // namespace haptex::net

@@ -31,6 +31,9 @@ Messenger::Messenger(const SessionKey& key, MessengerConfig config)
   options.initial_block = arena_block_.data();
   options.initial_block_size = arena_block_.size();
   arena_ = std::make_unique<google::protobuf::Arena>(options);
+  std::vector<std::string> names{config.identity.name};
+  names.insert(names.end(), config.also_known_as.begin(), config.also_known_as.end());
+  opener_.AcceptDestinations(std::move(names));
 }
 
 Messenger::PeerId Messenger::AddPeer(std::string_view name, std::string_view address) {

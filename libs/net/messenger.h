@@ -28,6 +28,9 @@ struct MessengerConfig {
   SenderIdentity identity;                 // identity.epoch 0: the current wall time
   std::size_t max_datagram_bytes = 60000;  // larger datagrams are dropped as oversized
   std::size_t arena_bytes = 1 << 20;       // holds the largest Envelope parsed
+  // Names besides identity.name that peers address this messenger by (Envelope.destination), e.g.
+  // the device bridge is local_contact's "bridge"; anything addressed otherwise is dropped.
+  std::vector<std::string> also_known_as;
 };
 
 class Messenger final {
@@ -50,16 +53,19 @@ class Messenger final {
   /// socket refuses; never blocks.
   template <class Body>
   bool Send(PeerId peer, const Body& body) {
-    return SendTo(peers_[peer].endpoint, body);
+    return SendTo(peers_[peer].endpoint, peers_[peer].name, body);
   }
+  /// To an address that is no configured peer (a reply), addressed to `destination` (the name the
+  /// receiver answers to, e.g. the sender name of the datagram replied to).
   template <class Body>
-  bool SendTo(const Endpoint& to, const Body& body) {
-    const std::size_t bytes = sealer_.Seal(body, base::SteadyNowNs(), send_buffer_);
+  bool SendTo(const Endpoint& to, std::string_view destination, const Body& body) {
+    const std::size_t bytes = sealer_.Seal(body, base::SteadyNowNs(), destination, send_buffer_);
     return Transmit(bytes, to);
   }
   /// Same, for a body chosen at run time (`body_field_number`: its field in the Envelope oneof).
   bool SendBody(PeerId peer, const google::protobuf::MessageLite& body, int body_field_number) {
-    const std::size_t bytes = sealer_.SealBody(body, body_field_number, base::SteadyNowNs(), send_buffer_);
+    const std::size_t bytes =
+        sealer_.SealBody(body, body_field_number, base::SteadyNowNs(), peers_[peer].name, send_buffer_);
     return Transmit(bytes, peers_[peer].endpoint);
   }
 

@@ -3,7 +3,9 @@
 // each service's command line and the services look their peers up by them, so both sides use
 // these constants.
 
+#include <string>
 #include <string_view>
+#include <vector>
 
 namespace haptex::net::peer {
 
@@ -14,5 +16,12 @@ inline constexpr std::string_view kGlobalSim = "global_sim";
 inline constexpr std::string_view kTactile = "tactile";
 inline constexpr std::string_view kDisplay = "display";  ///< tactile's pin display (haptex-mock-pins or real)
 inline constexpr std::string_view kViewer = "viewer";    ///< global_sim's ClothFrame consumer
+
+/// The names a service answers to besides its own (Envelope.destination): what its peers call it.
+inline std::vector<std::string> AlsoKnownAs(std::string_view service_name) {
+  if (service_name == "device_bridge") return {std::string(kBridge)};
+  if (service_name == "mock_pins") return {std::string(kDisplay)};
+  return {};
+}
 
 }  // namespace haptex::net::peer

@@ -9,6 +9,7 @@
 
 #include "libs/base/clock.h"
 #include "libs/flags/finite_number.h"
+#include "libs/net/peer_names.h"
 #include "libs/net/udp_address.h"
 #include "libs/runtime/logging.h"
 #include "libs/runtime/shutdown_signal.h"
@@ -33,6 +34,7 @@ ServiceContext::ServiceContext(std::string name, const ServiceOptions& options)
   net::MessengerConfig config;
   config.bind_address = options.bind;
   config.identity = {name_, 0, options.session_id != 0 ? options.session_id : key.DerivedSessionId()};
+  config.also_known_as = net::peer::AlsoKnownAs(name_);
   messenger_ = std::make_unique<net::Messenger>(key, config);
   for (const std::string& text : options.peers) {
     const auto [peer_name, address] = ParsePeer(text);

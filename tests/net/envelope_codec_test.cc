@@ -30,7 +30,7 @@ class EnvelopeCodecTest : public ::testing::Test {
   }
 
   std::vector<std::uint8_t> SealForceModel(EnvelopeSealer& sealer) {
-    const std::size_t n = sealer.Seal(force_model_, 123456789, buffer_);
+    const std::size_t n = sealer.Seal(force_model_, 123456789, "receiver", buffer_);
     EXPECT_GT(n, 0u);
     return {buffer_.begin(), buffer_.begin() + static_cast<std::ptrdiff_t>(n)};
   }
@@ -61,6 +61,30 @@ class EnvelopeCodecTest : public ::testing::Test {
   v1::ForceModel force_model_;
   v1::Envelope envelope_;
 };
+
+// The destination is under the MAC: an envelope captured on its way to one service and replayed to
+// another is dropped there, before its sequence is looked at; each receiver answers to its own name
+// and its aliases.
+TEST_F(EnvelopeCodecTest, AnEnvelopeForAnotherServiceIsDroppedAsWrongDestination) {
+  EnvelopeOpener bridge(key_, kSession, 60000), tactile(key_, kSession, 60000);
+  bridge.AcceptDestinations({"device_bridge", "bridge"});
+  tactile.AcceptDestinations({"tactile"});
+  const auto seal_to = [&](std::string_view destination) {
+    const std::size_t n = sealer_.Seal(force_model_, 1, destination, buffer_);
+    EXPECT_GT(n, 0u);
+    return std::vector<std::uint8_t>(buffer_.begin(), buffer_.begin() + static_cast<std::ptrdiff_t>(n));
+  };
+  const auto to_bridge = seal_to("bridge");
+  EXPECT_EQ(bridge.Open(to_bridge, &envelope_), DropReason::kNone);
+  EXPECT_EQ(envelope_.destination(), "bridge");
+  EXPECT_EQ(tactile.Open(to_bridge, &envelope_), DropReason::kWrongDestination) << "replayed to another service";
+  EXPECT_EQ(bridge.Open(seal_to("device_bridge"), &envelope_), DropReason::kNone) << "its own name";
+  EXPECT_EQ(bridge.Open(seal_to("tactile"), &envelope_), DropReason::kWrongDestination);
+  EXPECT_EQ(bridge.Open(seal_to(""), &envelope_), DropReason::kWrongDestination) << "unaddressed";
+  EXPECT_EQ(tactile.counters().Get(DropReason::kWrongDestination), 1u);
+  EXPECT_EQ(bridge.counters().Get(DropReason::kWrongDestination), 2u);
+  EXPECT_EQ(sealer_.Seal(force_model_, 1, std::string(48, 'x'), buffer_), 0u) << "a name longer than any sender's";
+}
 
 TEST_F(EnvelopeCodecTest, RoundTripKeepsHeaderAndBody) {
   const auto datagram = SealForceModel();
@@ -93,7 +117,7 @@ TEST_F(EnvelopeCodecTest, SequenceIncreasesPerDatagram) {
 
 TEST_F(EnvelopeCodecTest, TooSmallBufferSealsNothing) {
   std::vector<std::uint8_t> small(20);
-  EXPECT_EQ(sealer_.Seal(force_model_, 0, small), 0u);
+  EXPECT_EQ(sealer_.Seal(force_model_, 0, "receiver", small), 0u);
   EXPECT_EQ(sealer_.next_sequence(), 1u);
 }
 
@@ -157,7 +181,7 @@ TEST_F(EnvelopeCodecTest, WrongSessionIsDropped) {
 TEST_F(EnvelopeCodecTest, MissingBodyAndUnknownBodyAreDropped) {
   EXPECT_EQ(Open(SealRaw(Header())), DropReason::kUnknownBody);
   // A body of a newer schema: field 99 is not in our oneof and lands in unknown fields.
-  const std::size_t n = sealer_.SealBody(force_model_, 99, 0, buffer_);
+  const std::size_t n = sealer_.SealBody(force_model_, 99, 0, "receiver", buffer_);
   ASSERT_GT(n, 0u);
   EXPECT_EQ(Open({buffer_.begin(), buffer_.begin() + static_cast<std::ptrdiff_t>(n)}), DropReason::kUnknownBody);
   EXPECT_EQ(opener_.counters().Get(DropReason::kUnknownBody), 2u);
@@ -235,10 +259,11 @@ TEST_F(EnvelopeCodecTest, WarmedUpSealAndOpenDoNotAllocate) {
     auto* e = google::protobuf::Arena::CreateMessage<v1::Envelope>(&arena);
     return opener_.Open({buffer_.data(), n}, e);
   };
-  for (int i = 0; i < 10; ++i) ASSERT_EQ(open_on_arena(sealer_.Seal(force_model_, i, buffer_)), DropReason::kNone);
+  for (int i = 0; i < 10; ++i)
+    ASSERT_EQ(open_on_arena(sealer_.Seal(force_model_, i, "receiver", buffer_)), DropReason::kNone);
   testing::AllocationCounter counter;
   for (int i = 0; i < 100; ++i) {
-    const std::size_t n = sealer_.Seal(force_model_, i, buffer_);
+    const std::size_t n = sealer_.Seal(force_model_, i, "receiver", buffer_);
     ASSERT_EQ(open_on_arena(n), DropReason::kNone);
   }
   EXPECT_EQ(counter.count(), 0);

@@ -102,6 +102,27 @@ TEST_F(MessengerTest, DatagramsFromAnotherKeyAreDroppedAndCounted) {
   EXPECT_EQ(contact_.received().Get(DropReason::kBadMac), 1u);
 }
 
+// A datagram sealed for one service and delivered to another (a replay across destinations, here
+// sent there directly) is dropped and counted; an alias the receiver answers to is delivered.
+TEST_F(MessengerTest, ADatagramForAnotherServiceIsDroppedAsWrongDestination) {
+  MessengerConfig config = Config("device_bridge");
+  config.also_known_as = {"bridge"};
+  Messenger aliased(key_, config);
+  const auto misaddressed = contact_.AddPeer("global_sim", aliased.local_endpoint());
+  const auto by_alias = contact_.AddPeer("bridge", aliased.local_endpoint());
+  ASSERT_TRUE(contact_.Send(misaddressed, states_));
+  ASSERT_TRUE(contact_.Send(by_alias, states_));
+  std::size_t accepted = 0;
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(2);
+  while ((accepted == 0 || aliased.received().Get(DropReason::kWrongDestination) == 0) &&
+         std::chrono::steady_clock::now() < until) {
+    aliased.WaitReadable(std::chrono::milliseconds(10));
+    accepted += aliased.Drain([](const v1::Envelope&, const Messenger::Endpoint&) {});
+  }
+  EXPECT_EQ(accepted, 1u);
+  EXPECT_EQ(aliased.received().Get(DropReason::kWrongDestination), 1u);
+}
+
 TEST_F(MessengerTest, OversizedDatagramIsDroppedAndCounted) {
   MessengerConfig small = Config("small");
   small.max_datagram_bytes = 256;

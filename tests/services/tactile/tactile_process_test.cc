@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "libs/net/messenger.h"
+#include "libs/net/peer_names.h"
 #include "libs/net/udp_address.h"
 #include "tests/support/subprocess.h"
 #include "tests/support/test_paths.h"
@@ -21,8 +22,10 @@ TEST(TactileProcessTest, RendersSlidingAsVibrationAndNoContactAsSilence) {
   constexpr std::uint64_t kSession = 31;
   net::MessengerConfig config;
   config.identity = {"mock_pins", 0, kSession};
+  config.also_known_as = net::peer::AlsoKnownAs("mock_pins");  // tactile's "display"
   net::Messenger display(key, config);
   config.identity = {"local_contact", 0, kSession};
+  config.also_known_as = {};
   net::Messenger contact(key, config);
   testing::Subprocess tactile(
       {testing::BuildDir() + "/services/tactile/haptex-tactile", "--session-id", std::to_string(kSession), "--peer",
