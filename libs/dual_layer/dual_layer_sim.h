@@ -75,7 +75,6 @@ class DualLayerSim {
   std::vector<int> merged_;
   TwoStepVelocity cut_velocity_;
   PatchData patch_data_;
-  PatchResultData result_;
   contact::ContactOutput idle_;
 };
 
