@@ -3,8 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include "libs/net/peer_names.h"
 #include "libs/scene/scene_network.h"
 
+#include <algorithm>
 #include <set>
 
 namespace haptex::launch {
@@ -37,6 +39,21 @@ TEST(LaunchServiceTableTest, PeersAreLauncherOrKnownServices) {
       if (peer.service != P::SERVICE_LAUNCHER) {
         EXPECT_NO_THROW(Spec(peer.service)) << spec.name;
       }
+    }
+  }
+}
+
+// A service drops what is not addressed to a name it answers to (Envelope.destination): every name
+// the table gives a peer is that service's own name or one of its libs/net/peer_names.h aliases.
+TEST(LaunchServiceTableTest, EveryPeerNameIsOneItsServiceAnswersTo) {
+  for (const ServiceSpec& spec : ServiceTable()) {
+    for (const PeerSpec& peer : spec.peers) {
+      if (peer.service == P::SERVICE_LAUNCHER) continue;  // every launcher answers to "launcher"
+      const std::string_view own = Spec(peer.service).name;
+      const std::vector<std::string> aliases = net::peer::AlsoKnownAs(own);
+      const bool answers =
+          peer.peer_name == own || std::find(aliases.begin(), aliases.end(), peer.peer_name) != aliases.end();
+      EXPECT_TRUE(answers) << spec.name << " calls " << own << " '" << peer.peer_name << "'";
     }
   }
 }
