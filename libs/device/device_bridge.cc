@@ -36,6 +36,11 @@ void DeviceBridgeConfig::Validate() const {
     throw std::invalid_argument("DeviceBridgeConfig: disarm_after_tick_gap_s must be > 0 s, got " +
                                 std::to_string(disarm_after_tick_gap_s));
   }
+  if (!(gap_confirm_slack_s >= 0.0) || !(gap_confirm_slack_s < disarm_after_tick_gap_s)) {
+    throw std::invalid_argument(
+        "DeviceBridgeConfig: gap_confirm_slack_s must be in [0, disarm_after_tick_gap_s), got " +
+        std::to_string(gap_confirm_slack_s));
+  }
   const Eigen::Matrix3d R = X_WD.linear();
   if (!X_WD.matrix().allFinite() || !(R.transpose() * R).isIdentity(1e-9) || std::abs(R.determinant() - 1.0) > 1e-9) {
     throw std::invalid_argument(
@@ -123,6 +128,7 @@ FrameError DeviceBridge::OnStatusDatagram(std::span<const std::byte> datagram, d
   controller_flags_ = frame.controller_flags;
   last_status_sequence_ = frame.sequence;
   last_status_time_ns_ = frame.controller_time_ns;
+  last_status_echo_ = frame.echo_host_sequence;
   last_status_rx_s_ = t_rx_s;
   return error;
 }
@@ -195,9 +201,18 @@ void DeviceBridge::Tick(double t_s, double dt_s, std::span<std::byte, kCommandFr
   // the controller zeroed force because our commands stopped reaching it: disarm, so the force
   // ramps in again instead of jumping back when commands get through
   const bool controller_timed_out = (controller_flags_ & controller_flags::kHostTimeout) != 0;
-  // our own stall: the controller may have timed out before its flag could reach us
-  const bool tick_gap = dt_s >= config_.disarm_after_tick_gap_s;
-  if (tick_gap) ++counters_.tick_gap_disarms;
+  // our own stall: the controller may have timed out before its flag could reach us, unless a
+  // status sampled through the gap shows it still applying our last command
+  bool tick_gap = dt_s >= config_.disarm_after_tick_gap_s;
+  if (tick_gap) {
+    const auto covered_ns = static_cast<std::int64_t>(last_status_time_ns_ - status_time_at_last_tick_ns_);
+    const bool held = !lost && !controller_timed_out && command_sequence_ != 0 &&
+                      last_status_echo_ == command_sequence_ &&
+                      1e-9 * static_cast<double>(covered_ns) >= dt_s - config_.gap_confirm_slack_s;
+    tick_gap = !held;
+    ++(held ? counters_.tick_gaps_held : counters_.tick_gap_disarms);
+  }
+  status_time_at_last_tick_ns_ = last_status_time_ns_;
 
   UpdateLinkAge(t_s);
   if (link_too_slow_) ++counters_.slow_link_ticks;

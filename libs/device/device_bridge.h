@@ -35,8 +35,14 @@ struct DeviceBridgeConfig {
   /// A gap this long between two bridge ticks (the host process stalled) disarms, and force ramps
   /// in again: the controller may have zeroed force for lack of commands (its host timeout is
   /// 5 ms; 1 ms is left for link jitter), and the next command must not jump back to the old
-  /// force before the controller's timeout flag reaches us.
+  /// force before the controller's timeout flag reaches us. Unless the controller has shown that
+  /// it held: a status sampled through the gap (its clock advanced by the gap, less
+  /// gap_confirm_slack_s) that echoes our last command without HOST_TIMEOUT. Then the device still
+  /// applies our last force, and cutting it would let the user's fingers fall into the fabric.
   double disarm_after_tick_gap_s = 0.004;
+  /// How much of a tick gap the controller's confirming status may leave uncovered: two of its
+  /// periods (the status sent just before we woke may still be in flight).
+  double gap_confirm_slack_s = 0.0004;
   /// Evaluate ForceModels at the predicted pose (compensates the link latency) or the measured one.
   bool evaluate_at_predicted_pose = true;
   /// The longest haptic-link round trip rendered: a ForceModel arriving longer than this after the
@@ -66,7 +72,8 @@ struct BridgeCounters {
   std::uint64_t status_out_of_order = 0;   ///< valid frame, sequence not newer: ignored
   std::uint64_t device_lost_events = 0;    ///< transitions present -> lost
   std::uint64_t force_models = 0;          ///< ForceModels received
-  std::uint64_t tick_gap_disarms = 0;      ///< ticks after a gap >= disarm_after_tick_gap_s
+  std::uint64_t tick_gap_disarms = 0;      ///< gaps >= disarm_after_tick_gap_s that disarmed
+  std::uint64_t tick_gaps_held = 0;        ///< such gaps the controller was seen to hold through
   std::uint64_t slow_link_ticks = 0;       ///< ticks in which models were refused for their age
   std::uint64_t models_unknown_basis = 0;  ///< finger models based on no frame the bridge remembers
   std::uint64_t slow_link_events = 0;      ///< transitions into refusing models for age
@@ -204,6 +211,8 @@ class DeviceBridge {
   std::uint16_t controller_flags_ = 0;
   std::uint32_t last_status_sequence_ = 0;
   std::uint64_t last_status_time_ns_ = 0;
+  std::uint32_t last_status_echo_ = 0;             // echo_host_sequence of the newest status
+  std::uint64_t status_time_at_last_tick_ns_ = 0;  // controller clock of the newest status at the last Tick
   double last_status_rx_s_ = 0.0;
   std::uint32_t last_reflected_sequence_ = 0;
   bool reflected_any_ = false;

@@ -31,6 +31,7 @@ void MockControllerConfig::Validate() const {
   Require(position_quantum_m >= 0.0 && position_quantum_m < 0.001, "position_quantum_m must be in [0, 1 mm)");
   Require(force_noise_N >= 0.0 && force_noise_N < 5.0, "force_noise_N must be in [0, 5) N");
   Require(PositiveFinite(host_timeout_s), "host_timeout_s must be > 0");
+  Require(PositiveFinite(max_world_step_s), "max_world_step_s must be > 0");
   Require(PositiveFinite(slew_N_per_s), "slew_N_per_s must be > 0");
   Require(PositiveFinite(peak_force_N), "peak_force_N must be > 0");
   Require((limits.workspace_half_extent_m.array() > 0.0f).all(), "limits.workspace_half_extent_m must be > 0");
@@ -72,22 +73,27 @@ FrameError MockGrabController::OnCommandDatagram(std::span<const std::byte> data
   }
   command_ = frame;
   has_command_ = true;
-  last_command_s_ = t_s;
+  last_command_run_s_ = t_s - paused_s_;
   return error;
 }
 
 void MockGrabController::Step(double t_s, double dt_s, std::span<std::byte, kStatusFrameSize> out) {
   ++counters_.steps;
   const double t_end_s = t_s + dt_s;
-
   // controller watchdog: silence or a shutdown request means zero force
   // "silent for 5 ms" includes exactly 5 ms despite rounding in t_s
-  const bool timed_out = !has_command_ || t_s - last_command_s_ >= config_.host_timeout_s - 1e-7;
+  const bool timed_out = !has_command_ || (t_s - paused_s_) - last_command_run_s_ >= config_.host_timeout_s - 1e-7;
   if (timed_out && !host_timed_out_ && !(command_.host_flags & host_flags::kShutdown)) {
     ++counters_.host_timeouts;
   }
   host_timed_out_ = timed_out;
   const bool shutdown = has_command_ && (command_.host_flags & host_flags::kShutdown);
+
+  if (dt_s > config_.max_world_step_s) {
+    ++counters_.world_pauses;
+    paused_s_ += dt_s - config_.max_world_step_s;
+    dt_s = config_.max_world_step_s;
+  }
 
   const FingerTargets target = EvaluateScript(script_, t_end_s);
   const MockFingerParams& fp = config_.finger;

@@ -36,6 +36,12 @@ struct MockControllerConfig {
   /// controller that stalled and then takes the newest of many queued commands moves to it at
   /// this rate, not in one step. 2.5 kN/s: 0.5 N per 5 kHz tick, the host's own limit.
   double slew_N_per_s = 2500.0;
+  /// The longest step the simulated world takes. A longer Step means the mock's own process did
+  /// not run (a busy or throttled host): the world pauses for the rest, and the host's silence is
+  /// counted only over time the controller ran. A real controller never stalls; a world that ran
+  /// on through the mock's stall, with the watchdog blaming the host, would let the fingers fall
+  /// into the fabric for longer than any device would, and the force comes back higher.
+  double max_world_step_s = 0.001;
   /// Workspace box (also used to check commands); positions are stopped at its faces.
   GrabValueLimits limits;
 
@@ -55,6 +61,7 @@ struct MockCounters {
   std::uint64_t steps = 0;
   std::uint64_t host_timeouts = 0;          ///< transitions into host timeout
   std::uint64_t commands_out_of_order = 0;  ///< valid command, sequence not newer: ignored
+  std::uint64_t world_pauses = 0;           ///< Steps longer than max_world_step_s (own stalls)
 };
 
 /// Simulated GRAB controller. Host time and controller time are the same simulated clock here.
@@ -88,7 +95,9 @@ class MockGrabController {
   std::array<Eigen::Quaterniond, kManipulatorCount> q_DF_{};
   CommandFrame command_;
   bool has_command_ = false;
-  double last_command_s_ = 0.0;
+  // the host watchdog runs on the controller's running time: wall time less its own stalls
+  double paused_s_ = 0.0;
+  double last_command_run_s_ = 0.0;
   bool host_timed_out_ = true;
   bool command_rejected_ = false;
   std::uint32_t sequence_ = 0;

@@ -41,6 +41,11 @@ ServiceContext::ServiceContext(std::string name, const ServiceOptions& options)
     peers_.emplace_back(peer_name, messenger_->AddPeer(peer_name, address));
   }
   dropped_counter_ = health_.AddCounter("datagrams_dropped");
+  // one per reason, so a campaign (or a user chasing losses) can tell an attack from a bug
+  for (std::size_t r = 1; r < net::kDropReasonCount; ++r) {
+    dropped_by_reason_[r] = health_.AddCounter(std::string("datagrams_dropped_") +
+                                               std::string(net::DropReasonName(static_cast<net::DropReason>(r))));
+  }
   kernel_dropped_counter_ = health_.AddCounter("datagrams_dropped_by_kernel");
   if (!options.record_path.empty()) {
     recorder_ = std::make_unique<EnvelopeRecorder>(options.record_path, name_, messenger_->identity().epoch,
@@ -78,6 +83,9 @@ bool ServiceContext::SendBody(PeerId peer, const google::protobuf::MessageLite& 
 void ServiceContext::Tick(std::int64_t now_ns) {
   if (!health_publisher_) return;
   health_.SetCounter(dropped_counter_, messenger_->received().TotalDropped());
+  for (std::size_t r = 1; r < net::kDropReasonCount; ++r) {
+    health_.SetCounter(dropped_by_reason_[r], messenger_->received().Get(static_cast<net::DropReason>(r)));
+  }
   health_.SetCounter(kernel_dropped_counter_, messenger_->kernel_drops());
   if (recorder_) health_.SetCounter(record_dropped_counter_, recorder_->dropped());
   if (health_publisher_->MaybePublish(now_ns) && recorder_) {

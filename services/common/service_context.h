@@ -5,6 +5,7 @@
 // service's work lives in its loop object (services/<service>/<service>_loop.h); this class holds
 // the wiring so each main stays thin.
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -85,6 +86,7 @@ class ServiceContext final : public Outbox {
   runtime::HealthReporter::CounterId record_dropped_counter_ = 0;
   runtime::HealthReporter::CounterId dropped_counter_ = 0;         // datagrams the messenger dropped, every reason
   runtime::HealthReporter::CounterId kernel_dropped_counter_ = 0;  // dropped by the kernel: queue full
+  std::array<runtime::HealthReporter::CounterId, net::kDropReasonCount> dropped_by_reason_{};  // [kNone] unused
   std::int64_t start_ns_;
   std::int64_t stop_at_ns_;
   bool shutdown_commanded_ = false;

@@ -14,6 +14,7 @@ MockGrabLoop::MockGrabLoop(const device::MockControllerConfig& config, device::S
   ids_.accepted = health_->AddCounter("commands_accepted");
   ids_.rejected = health_->AddCounter("commands_rejected");
   ids_.timeouts = health_->AddCounter("host_timeouts");
+  ids_.world_pauses = health_->AddCounter("world_pauses");
   ids_.log_dropped = health_->AddCounter("force_log_dropped");
   ids_.strangers = health_->AddCounter("commands_from_strangers");
 }
@@ -52,6 +53,7 @@ void MockGrabLoop::Write(services::Outbox& /*out*/) {
   health_->SetCounter(ids_.accepted, controller_->frame_counters().accepted());
   health_->SetCounter(ids_.rejected, controller_->frame_counters().TotalRejected());
   health_->SetCounter(ids_.timeouts, controller_->counters().host_timeouts);
+  health_->SetCounter(ids_.world_pauses, controller_->counters().world_pauses);
   health_->SetCounter(ids_.strangers, strangers_);
   if (log_ != nullptr) health_->SetCounter(ids_.log_dropped, log_->dropped());
 }

@@ -48,7 +48,7 @@ class MockGrabLoop final {
   std::uint64_t strangers_ = 0;
   std::array<std::byte, device::kStatusFrameSize> status_{};
   struct CounterIds {
-    runtime::HealthReporter::CounterId steps, accepted, rejected, timeouts, log_dropped, strangers;
+    runtime::HealthReporter::CounterId steps, accepted, rejected, timeouts, world_pauses, log_dropped, strangers;
   } ids_{};
 };
 

@@ -207,20 +207,36 @@ TEST(DeviceBridgeTest, AForeignEchoIsAFaultUntilTheEchoesAreOursAgain) {
   EXPECT_LT(resumed, 3.0) << "ramps in, no step back to the old force";
 }
 
-// A bridge fed a constant thumb force model and a fresh status datagram every tick.
+// A bridge fed a constant thumb force model and a fresh status datagram every tick (sampled on
+// the controller's clock when it arrives; by default echoing no command, a controller that tells
+// nothing of what it holds).
 class ConstantForceBridge {
  public:
   ConstantForceBridge(const DeviceBridgeConfig& config, double force_N)
       : dut_(std::make_unique<DeviceBridge>(config)), force_N_(force_N) {}
-  /// One tick `dt_s` after the last; returns the commanded thumb force along x [N].
-  double Tick(double dt_s) {
+  /// One tick `dt_s` after the last; returns the commanded thumb force along x [N]. The status
+  /// read before it was sampled `status_age_s` earlier and carries `controller_flags`.
+  double Tick(double dt_s, double status_age_s = 0.0, std::uint16_t controller_flags = 0) {
     t_ += dt_s;
-    dut_->OnStatusDatagram(Status(++seq_, t_), t_);
+    StatusFrame f;
+    f.sequence = ++seq_;
+    f.controller_flags = controller_flags;
+    f.echo_host_sequence = echo_ ? last_command_ : 0;
+    f.controller_time_ns = static_cast<std::uint64_t>(std::llround((t_ - status_age_s) * 1e9));
+    for (ManipulatorStatus& m : f.manipulators) m.flags = manipulator_flags::kCalibrated;
+    f.manipulators[0].p_D_m = {0.01f, -0.02f, 0.0f};
+    f.manipulators[1].p_D_m = {0.01f, 0.02f, 0.0f};
+    StatusBytes status{};
+    EncodeStatusFrame(f, status);
+    dut_->OnStatusDatagram(status, t_);
     dut_->SetForceModel(Manipulator::kThumb, ConstantForce({force_N_, 0.0, 0.0}), t_,
                         dut_->finger_state(Manipulator::kThumb).controller_sequence);
     dut_->Tick(t_, dt_s, out_);
+    last_command_ = Decode(out_).sequence;
     return dut_->last_force_W_N(Manipulator::kThumb).x();
   }
+  /// From now on statuses echo the bridge's last command, as a real controller's do.
+  void EchoCommands() { echo_ = true; }
   const DeviceBridge& dut() const { return *dut_; }
   /// After a forced zero: over `ticks` ticks the force rises from zero by at most force / ramp_s
   /// per second (never a jump) and is back at full force.
@@ -238,13 +254,14 @@ class ConstantForceBridge {
   std::unique_ptr<DeviceBridge> dut_;
   double force_N_;
   CommandBytes out_{};
-  std::uint32_t seq_ = 0;
+  std::uint32_t seq_ = 0, last_command_ = 0;
+  bool echo_ = false;
   double t_ = 0.0;
 };
 
-// The host stalled 5 ms: the controller has zeroed force by now, though its timeout flag has not
-// reached us. The next command must not jump back to 3 N; it ramps in from zero (fully armed
-// before the stall: over resume_ramp_s, 5 ms).
+// The host stalled 5 ms and the controller does not say what it holds: it may have zeroed force
+// by now, though its timeout flag has not reached us. The next command must not jump back to 3 N; it ramps in from zero
+// (fully armed before the stall: over resume_ramp_s, 5 ms).
 TEST(DeviceBridgeTest, OwnTickGapDisarmsSoForceRampsInAgain) {
   DeviceBridgeConfig config = FastConfig();
   config.safety.startup_ramp_s = 0.010;
@@ -272,6 +289,37 @@ TEST(DeviceBridgeTest, OwnTickGapWhileArmedResumesOverTheShortRamp) {
   EXPECT_EQ(bridge.Tick(0.005), 0.0) << "the tick after a 5 ms gap commands zero";
   EXPECT_EQ(bridge.dut().counters().tick_gap_disarms, 1u);
   bridge.ExpectRampsBackIn(config.safety.resume_ramp_s, 100);
+}
+
+// The host stalled, and the newest status, sampled through the gap, echoes our last command
+// without HOST_TIMEOUT: the controller still applies our force, so the bridge goes on from it
+// (no cut for the user's fingers to fall in through). A status that does not cover the gap, or
+// that reports the timeout, disarms as before.
+TEST(DeviceBridgeTest, TickGapTheControllerHeldThroughKeepsTheForce) {
+  DeviceBridgeConfig config = FastConfig();
+  config.safety.startup_ramp_s = 0.010;
+  ConstantForceBridge bridge(config, 3.0);
+  bridge.EchoCommands();
+  for (int k = 0; k < 100; ++k) bridge.Tick(kTick_s);
+  ASSERT_NEAR(bridge.Tick(kTick_s), 3.0, 1e-9);
+
+  EXPECT_NEAR(bridge.Tick(0.0045, 0.0002), 3.0, 1e-9) << "a confirmed 4.5 ms gap keeps the force";
+  EXPECT_EQ(bridge.dut().counters().tick_gaps_held, 1u);
+  EXPECT_EQ(bridge.dut().counters().tick_gap_disarms, 0u);
+  EXPECT_NEAR(bridge.Tick(kTick_s), 3.0, 1e-9);
+
+  // the newest status is 2 ms old: the controller's last 2 ms are unknown
+  EXPECT_EQ(bridge.Tick(0.0045, 0.002), 0.0) << "a gap the status does not cover disarms";
+  EXPECT_EQ(bridge.dut().counters().tick_gap_disarms, 1u);
+  bridge.ExpectRampsBackIn(config.safety.resume_ramp_s, 60);
+
+  EXPECT_EQ(bridge.Tick(0.006, 0.0, controller_flags::kHostTimeout), 0.0) << "the controller says it timed out";
+  EXPECT_EQ(bridge.dut().counters().tick_gap_disarms, 2u);
+  EXPECT_EQ(bridge.dut().counters().tick_gaps_held, 1u);
+  bridge.ExpectRampsBackIn(config.safety.resume_ramp_s, 60);
+
+  config.gap_confirm_slack_s = config.disarm_after_tick_gap_s;
+  EXPECT_THROW(DeviceBridge{config}, std::invalid_argument);
 }
 
 TEST(DeviceBridgeTest, NonFiniteForceModelGivesZeroForceAndIsCounted) {

@@ -97,6 +97,41 @@ TEST(MockGrabControllerTest, AppliesCommandsAndTimesOutAfterFiveMilliseconds) {
   EXPECT_EQ(dut.counters().host_timeouts, 1u);
 }
 
+// The mock's own process stalled 8 ms (one Step that long): its world pauses, so the host that
+// sent a command just before is not timed out and the finger moves no more than in one short
+// step. Silence while the mock runs still times out after 5 ms.
+TEST(MockGrabControllerTest, ItsOwnStallPausesTheWorldAndDoesNotBlameTheHost) {
+  MockGrabController dut(MockControllerConfig{}, ScriptParams{});
+  StatusBytes out{};
+  double t = 0.0;
+  std::uint32_t seq = 0;
+  for (int k = 0; k < 100; ++k, t += kTick_s) {
+    dut.OnCommandDatagram(Command(++seq, {0.0f, 2.0f, 0.0f}), t);
+    dut.Step(t, kTick_s, out);
+  }
+  const Eigen::Vector3d p_before = dut.finger(Manipulator::kThumb).p_D_m;
+  const double v_before = dut.finger(Manipulator::kThumb).v_D_m_per_s.norm();
+  dut.Step(t, 0.008, out);
+  t += 0.008;
+  EXPECT_EQ(dut.counters().world_pauses, 1u);
+  EXPECT_FALSE(dut.host_timed_out()) << "the host is not blamed for the mock's own stall";
+  EXPECT_EQ(DecodeStatus(out).controller_flags & controller_flags::kHostTimeout, 0);
+  EXPECT_EQ(DecodeStatus(out).controller_time_ns, static_cast<std::uint64_t>(std::llround(t * 1e9)))
+      << "its clock still tells the time that passed";
+  const double moved_m = (dut.finger(Manipulator::kThumb).p_D_m - p_before).norm();
+  EXPECT_LE(moved_m, (v_before + 2.0) * 0.001 + 1e-9) << "the world advanced at most 1 ms";
+  // the host stays silent while the mock runs: timed out 5 ms of running time after its command
+  int ticks_to_timeout = 0;
+  while (!dut.host_timed_out() && ticks_to_timeout < 100) {
+    dut.Step(t, kTick_s, out);
+    t += kTick_s;
+    ++ticks_to_timeout;
+  }
+  EXPECT_GE(ticks_to_timeout, 19);  // 5 ms less the 1 ms the world ran in the long step
+  EXPECT_LE(ticks_to_timeout, 21);
+  EXPECT_EQ(dut.counters().host_timeouts, 1u);
+}
+
 TEST(MockGrabControllerTest, ClampsToPeakAndHonoursEnableAndShutdown) {
   MockGrabController dut(MockControllerConfig{}, ScriptParams{});
   StatusBytes out{};

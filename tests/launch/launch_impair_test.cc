@@ -4,8 +4,6 @@
 // relay did; a relay that dies is an error of the run. Assertions are about behaviour with
 // generous bands, not timing, so a loaded 2-core machine only makes them slower.
 #include <gmock/gmock.h>
-#include <google/protobuf/struct.pb.h>
-#include <google/protobuf/util/json_util.h>
 #include <gtest/gtest.h>
 #include <signal.h>
 
@@ -18,6 +16,7 @@
 #include "libs/base/clock.h"
 #include "tests/launch/launch_test_support.h"
 #include "tests/support/subprocess.h"
+#include "tests/support/summary_json.h"
 
 namespace haptex::launch {
 namespace {
@@ -28,22 +27,10 @@ namespace pb = google::protobuf;
 
 constexpr char kLink[] = "device_bridge-local_contact";
 
-pb::Struct ParseJson(const std::string& text) {
-  pb::Struct json;
-  const auto status = pb::util::JsonStringToMessage(text, &json);
-  EXPECT_TRUE(status.ok()) << status.message();
-  return json;
-}
-
-const pb::Value& At(const pb::Struct& object, const std::string& key) {
-  static const pb::Value kNone;
-  const auto it = object.fields().find(key);
-  EXPECT_NE(it, object.fields().end()) << key;
-  return it == object.fields().end() ? kNone : it->second;
-}
-
-double Number(const pb::Struct& object, const std::string& key) { return At(object, key).number_value(); }
-const pb::Struct& Object(const pb::Struct& object, const std::string& key) { return At(object, key).struct_value(); }
+using haptex::testing::At;
+using haptex::testing::Number;
+using haptex::testing::Object;
+using haptex::testing::ParseJson;
 
 // The link's entry in summary.json's network section.
 pb::Struct NetworkLink(const pb::Struct& summary) {
@@ -201,11 +188,7 @@ TEST_F(LaunchImpairTest, ARelayThatDiesIsAnErrorOfTheRun) {
 
 // The bridge's entry in summary.json.
 pb::Struct BridgeSummary(const pb::Struct& summary) {
-  for (const pb::Value& service : At(summary, "services").list_value().values()) {
-    if (At(service.struct_value(), "name").string_value() == "device_bridge") return service.struct_value();
-  }
-  ADD_FAILURE() << "no device_bridge in summary.json";
-  return {};
+  return haptex::testing::ServiceSummary(summary, "device_bridge");
 }
 
 // The force both fingers were commanded, by seconds since the mock's first row.

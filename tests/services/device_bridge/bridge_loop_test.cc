@@ -75,6 +75,7 @@ class BridgeLoopTest : public ::testing::Test {
   BridgeLoop bridge_;
   mock_grab::MockGrabLoop mock_;
   std::uint64_t tick_ = 0, sequence_ = 0;
+  v1::ForceModel answered_;
 };
 
 TEST_F(BridgeLoopTest, FingerStatesFollowTheControllerAtTheirRates) {
@@ -115,6 +116,58 @@ TEST_F(BridgeLoopTest, ForceModelsReachTheControllerAfterTheRampAndControlHoldsT
   Tick(out, &one_newton);
   Tick(out, &one_newton);
   EXPECT_EQ(CommandedThumbZ(), 0.0);
+}
+
+// The bridge's process stalls while the controller runs on. Shorter than the controller's host
+// timeout, the controller holds the last command and says so: the force it applies never drops.
+// Longer, it times out; the bridge sees the flag and ramps in again from zero, never jumping.
+TEST_F(BridgeLoopTest, ABridgeStallTheControllerHeldThroughDoesNotDropTheForce) {
+  haptex::testing::CapturedOutbox out;
+  out.capture = false;
+  const v1::ForceModel one_newton = ThumbForce(1.0);
+  for (int k = 0; k < 3000; ++k) Tick(out, k % 5 == 0 ? &one_newton : nullptr);  // past the start-up ramp
+  ASSERT_NEAR(CommandedThumbZ(), 1.0, 1e-3);
+  auto stall = [&](int ticks) {
+    double lowest_N = CommandedThumbZ();
+    for (int k = 0; k < ticks; ++k) {  // the controller steps alone
+      mock_.Update(static_cast<double>(tick_) * kDt, kDt);
+      lowest_N = std::min(lowest_N, CommandedThumbZ());
+      ++tick_;
+    }
+    return lowest_N;
+  };
+  auto catch_up = [&](double stall_s) {  // the bridge wakes: reads the newest status, one long tick
+    const double t = static_cast<double>(tick_) * kDt;
+    mock_.Update(t, kDt);
+    bridge_.ReadController(mock_.status(), t, t, true);
+    answered_.set_based_on_controller_sequence(
+        bridge_.bridge().finger_state(device::Manipulator::kThumb).controller_sequence);
+    bridge_.Read(haptex::testing::WrapEnvelope(answered_, ++sequence_), t);
+    bridge_.Update(t, stall_s);
+    bridge_.Write(out);
+    mock_.ReadHost(bridge_.command(), t, true);
+    ++tick_;
+  };
+  answered_ = one_newton;
+
+  EXPECT_NEAR(stall(22), 1.0, 1e-3) << "4.4 ms: the controller holds the last command";
+  catch_up(0.0046);
+  EXPECT_NEAR(CommandedThumbZ(), 1.0, 1e-3) << "the bridge goes on from it";
+  EXPECT_EQ(bridge_.bridge().counters().tick_gaps_held, 1u);
+  EXPECT_EQ(bridge_.bridge().counters().tick_gap_disarms, 0u);
+  for (int k = 0; k < 100; ++k) Tick(out, k % 5 == 0 ? &one_newton : nullptr);
+
+  EXPECT_EQ(stall(40), 0.0) << "8 ms: the controller timed out";
+  catch_up(0.0082);
+  EXPECT_EQ(CommandedThumbZ(), 0.0) << "the bridge saw HOST_TIMEOUT: no jump back to 1 N";
+  EXPECT_EQ(bridge_.bridge().counters().tick_gap_disarms, 1u);
+  double previous_N = 0.0;
+  for (int k = 0; k < 100; ++k) {
+    Tick(out, k % 5 == 0 ? &one_newton : nullptr);
+    EXPECT_LE(CommandedThumbZ(), previous_N + 1.0 * kDt / 0.005 + 1e-6) << "resume ramp, tick " << k;
+    previous_N = CommandedThumbZ();
+  }
+  EXPECT_NEAR(CommandedThumbZ(), 1.0, 1e-3);
 }
 
 TEST_F(BridgeLoopTest, StrangersAndMalformedModelsAreCounted) {
