@@ -71,7 +71,8 @@ FrameError DeviceBridge::OnStatusDatagram(std::span<const std::byte> datagram, d
 
   // after a silence (or a controller restart) any sequence is accepted: resynchronise
   const bool resync = !has_status_ || t_rx_s - last_status_rx_s_ > config_.device_lost_after_s;
-  if (!resync && !SequenceNewer(frame.sequence, last_status_sequence_)) {
+  // sequence 0 is never sent (it means "none" in echoes): not a frame to act on
+  if (frame.sequence == 0 || (!resync && !SequenceNewer(frame.sequence, last_status_sequence_))) {
     ++counters_.status_out_of_order;
     return error;
   }
@@ -259,8 +260,7 @@ void DeviceBridge::Tick(double t_s, double dt_s, std::span<std::byte, kCommandFr
     reflected_any_ = true;
   }
 
-  ++command_sequence_;
-  if (command_sequence_ == 0) command_sequence_ = 1;  // 0 means "none" in the echo field
+  command_sequence_ = NextSequence(command_sequence_);
   command.sequence = command_sequence_;
   command.echo_controller_sequence = last_status_sequence_;
   command.echo_controller_time_ns = last_status_time_ns_;

@@ -67,7 +67,7 @@ struct ManipulatorStatus {
 /// Controller -> host datagram (kStatusFrameSize bytes on the wire).
 struct StatusFrame {
   std::uint16_t controller_flags = 0;
-  std::uint32_t sequence = 0;            ///< +1 per frame, wraps
+  std::uint32_t sequence = 0;            ///< NextSequence per frame, never 0
   std::uint32_t echo_host_sequence = 0;  ///< last accepted CommandFrame.sequence, 0 if none
   std::uint64_t controller_time_ns = 0;  ///< controller monotonic clock
   std::array<ManipulatorStatus, kManipulatorCount> manipulators{};
@@ -82,8 +82,8 @@ struct ManipulatorCommand {
 /// Host -> controller datagram (kCommandFrameSize bytes on the wire).
 struct CommandFrame {
   std::uint16_t host_flags = 0;
-  std::uint32_t sequence = 0;                  ///< +1 per frame starting at 1, wraps (skipping 0)
-  std::uint32_t echo_controller_sequence = 0;  ///< StatusFrame.sequence this force was computed from
+  std::uint32_t sequence = 0;                  ///< NextSequence per frame starting at 1, never 0
+  std::uint32_t echo_controller_sequence = 0;  ///< StatusFrame.sequence this force was computed from, 0 if none
   std::uint64_t echo_controller_time_ns = 0;   ///< StatusFrame.controller_time_ns of that frame
   std::array<ManipulatorCommand, kManipulatorCount> manipulators{};
 };
@@ -146,5 +146,9 @@ FrameError DecodeCommandFrame(std::span<const std::byte> datagram, const GrabVal
 constexpr bool SequenceNewer(std::uint32_t a, std::uint32_t b) {
   return a != b && static_cast<std::uint32_t>(a - b) < 0x80000000u;
 }
+
+/// The sequence after `s`: +1, wrapping from 2^32 - 1 to 1. 0 is never sent, because it means
+/// "none" in the echo fields; a receiver ignores a frame with sequence 0 (out of order).
+constexpr std::uint32_t NextSequence(std::uint32_t s) { return s == 0xFFFFFFFFu ? 1u : s + 1u; }
 
 }  // namespace haptex::device

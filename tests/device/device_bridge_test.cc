@@ -82,6 +82,23 @@ TEST(DeviceBridgeTest, CountsRejectedFramesAndIgnoresOldOnes) {
   EXPECT_EQ(dut->frame_counters().TotalRejected(), 2u);
 }
 
+// A status with sequence 0 is never sent (0 means "none"): the bridge ignores it, even as its
+// first frame, and orders frames across the wrap from 2^32 - 1 to 1.
+TEST(DeviceBridgeTest, IgnoresSequenceZeroAndOrdersAcrossTheWrap) {
+  auto dut = std::make_unique<DeviceBridge>(FastConfig());
+  EXPECT_EQ(dut->OnStatusDatagram(Status(0, 0.001), 0.001), FrameError::kNone);
+  EXPECT_EQ(dut->counters().status_out_of_order, 1u);
+  EXPECT_EQ(dut->finger_state(Manipulator::kThumb).controller_sequence, 0u);
+  dut->OnStatusDatagram(Status(0xFFFFFFFFu, 0.0012), 0.0012);
+  dut->OnStatusDatagram(Status(0, 0.0014), 0.0014);
+  dut->OnStatusDatagram(Status(1, 0.0016), 0.0016);
+  EXPECT_EQ(dut->counters().status_out_of_order, 2u);
+  EXPECT_EQ(dut->finger_state(Manipulator::kThumb).controller_sequence, 1u);
+  CommandBytes out{};
+  dut->Tick(0.0016, kTick_s, out);
+  EXPECT_EQ(Decode(out).echo_controller_sequence, 1u);
+}
+
 TEST(DeviceBridgeTest, MapsPosesAndForcesBetweenDeviceAndWorldFrames) {
   DeviceBridgeConfig config = FastConfig();
   config.X_WD = Eigen::Translation3d(0.0, 0.0, -0.1) * Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitZ());

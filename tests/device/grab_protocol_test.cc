@@ -296,6 +296,15 @@ TEST(GrabProtocolTest, SequenceComparisonWraps) {
   EXPECT_TRUE(SequenceNewer(3, 0xFFFFFFF0u));
 }
 
+// 0 means "none" in the echo fields, so no frame carries it: the wrap goes from 2^32 - 1 to 1,
+// and the comparison still orders across it.
+TEST(GrabProtocolTest, NextSequenceSkipsZero) {
+  EXPECT_EQ(NextSequence(0), 1u);
+  EXPECT_EQ(NextSequence(41), 42u);
+  EXPECT_EQ(NextSequence(0xFFFFFFFFu), 1u);
+  EXPECT_TRUE(SequenceNewer(NextSequence(0xFFFFFFFFu), 0xFFFFFFFFu));
+}
+
 // Random datagrams (any length, random bytes, random bytes behind a valid header, and valid
 // frames with random corruption) never crash and are all rejected.
 TEST(GrabProtocolTest, GarbageFloodIsRejected) {
