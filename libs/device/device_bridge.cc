@@ -241,8 +241,10 @@ void DeviceBridge::Tick(double t_s, double dt_s, std::span<std::byte, kCommandFr
 
     ManipulatorCommand& m = command.manipulators[i];
     m.force_D_N = (R_DW_ * result.force_W_N).cast<float>();
+    // RAMPING only beside FORCE_ENABLE: a cut is FORCE_ENABLE clear (zero at once, no ramp), and
+    // the ramp that follows starts from zero
     m.flags = static_cast<std::uint16_t>((input.output_allowed ? command_flags::kForceEnable : 0) |
-                                         (result.ramping ? command_flags::kRamping : 0) |
+                                         (input.output_allowed && result.ramping ? command_flags::kRamping : 0) |
                                          (result.limited ? command_flags::kLimited : 0));
   }
 
