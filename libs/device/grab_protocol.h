@@ -22,6 +22,10 @@ inline constexpr std::size_t kStatusFrameSize = 116;
 inline constexpr std::size_t kCommandFrameSize = 60;
 /// Nominal controller rate: one StatusFrame per control tick.
 inline constexpr double kControllerRate_Hz = 5000.0;
+/// The rates either side may run at (docs/grab-protocol.md section 1): at 1 kHz a command is at
+/// most 1 ms old, well inside the controller's 5 ms host timeout and the bridge's 4 ms stall limit.
+inline constexpr double kMinGrabRate_Hz = 1000.0;
+inline constexpr double kMaxGrabRate_Hz = 20000.0;
 inline constexpr std::size_t kManipulatorCount = 2;
 
 /// Manipulator slot on the wire: slot 0 is the thumb, slot 1 the index finger.

@@ -8,6 +8,7 @@
 #include <set>
 #include <sstream>
 
+#include "libs/device/grab_protocol.h"
 #include "libs/device/trajectory_csv.h"
 #include "libs/net/session_key.h"
 #include "libs/net/udp_address.h"
@@ -243,7 +244,8 @@ void CheckRatesAndModel(const v1::Scene& scene, const FieldLocator& where, Check
   const FieldLocator at = where.Nested(scene, "rates");
   c.ZeroOrRange(r, "global_hz", r.global_hz(), 1, 1000, "Hz", at);
   c.ZeroOrRange(r, "local_hz", r.local_hz(), 100, 10000, "Hz", at);
-  c.ZeroOrRange(r, "bridge_hz", r.bridge_hz(), 100, 20000, "Hz", at);
+  c.ZeroOrRange(r, "bridge_hz", r.bridge_hz(), device::kMinGrabRate_Hz, device::kMaxGrabRate_Hz,
+                "Hz (docs/grab-protocol.md section 1)", at);
   c.ZeroOrRange(r, "finger_states_to_local_hz", r.finger_states_to_local_hz(), 10, 20000, "Hz", at);
   c.ZeroOrRange(r, "finger_states_to_global_hz", r.finger_states_to_global_hz(), 1, 1000, "Hz", at);
   c.ZeroOrRange(r, "cloth_frame_hz", r.cloth_frame_hz(), 1, 60, "Hz", at);

@@ -321,6 +321,14 @@ TEST_F(SceneLoaderTest, DevicePoseAndBridgePortAreCheckedAtTheirFields) {
       ParseScene(scene + "device { mock {} q_wd { w: 0.7071 z: 0.7071 } bridge_controller_port: 47000 }\n", "t", db_));
 }
 
+// Below 1 kHz a command would be older than the controller's host timeout allows for jitter (and
+// every bridge tick a stall): the GRAB rates are 1-20 kHz.
+TEST_F(SceneLoaderTest, TheBridgeRateIsOneOfTheProtocolsRates) {
+  EXPECT_TRUE(
+      Mentions(Refused(std::string(kMinimal) + "rates { bridge_hz: 500 }\n"), "bridge_hz must be in [1000, 20000] Hz"));
+  EXPECT_NO_THROW(ParseScene(std::string(kMinimal) + "rates { bridge_hz: 1000 }\n", "t", db_));
+}
+
 // A 401 x 401 cloth ran at about 1 Hz and exited 0: particles x global rate is capped.
 TEST_F(SceneLoaderTest, ClothsTheGlobalLoopCannotStepInTimeAreRefused) {
   const auto cloth = [&](int side, int rate_hz) {
