@@ -56,7 +56,7 @@ inline constexpr std::uint16_t kShutdown = 1u << 0;  // host stops sending: go t
 /// Per-manipulator command bits (CommandFrame manipulator offset +12).
 namespace command_flags {
 inline constexpr std::uint16_t kForceEnable = 1u << 0;  // apply desired force; clear: zero force
-inline constexpr std::uint16_t kRamping = 1u << 1;      // host ramp active (start-up or watchdog)
+inline constexpr std::uint16_t kRamping = 1u << 1;      // host ramp in (from zero) or out; only with kForceEnable
 inline constexpr std::uint16_t kLimited = 1u << 2;      // host clamped this force (peak/continuous/slew)
 }  // namespace command_flags
 
