@@ -130,7 +130,11 @@ PortPlan AssignPorts(const v1::Scene& scene, const std::vector<PlannedService>& 
     PlacedService placed{s, take(host, placement ? placement->port() : 0, spec.port_offset, std::string(spec.name)),
                          std::nullopt};
     if (spec.controller_port_offset >= 0) {
-      placed.controller = take(host, 0, spec.controller_port_offset, std::string(spec.name) + " controller socket");
+      // a real controller sends its status to a port it is configured with: the scene may fix the bridge's
+      const std::uint32_t placed_controller =
+          s.kind == P::SERVICE_DEVICE_BRIDGE ? scene.device().bridge_controller_port() : 0;
+      placed.controller =
+          take(host, placed_controller, spec.controller_port_offset, std::string(spec.name) + " controller socket");
     }
     plan.services.push_back(std::move(placed));
   }

@@ -72,7 +72,8 @@ std::map<std::string, std::string> HostAddresses(const v1::Scene& scene);
 /// True when the scene places any service (or the launcher) on a host other than "local".
 bool IsMultiHost(const v1::Scene& scene);
 
-/// Assigns ports. A port placed in the scene wins; else base_port + the table's offset when
+/// Assigns ports. A port placed in the scene wins (a service's placement; the bridge's controller
+/// socket: device.bridge_controller_port); else base_port + the table's offset when
 /// base_port > 0; else one from free_port (single-host runs only). Each link in `impaired_links`
 /// gets a relay on its first service's host. Throws std::invalid_argument when a multi-host scene
 /// has base_port 0, when two sockets of one host get one port, or when a link's service is not

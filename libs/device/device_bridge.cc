@@ -76,7 +76,8 @@ FrameError DeviceBridge::OnStatusDatagram(std::span<const std::byte> datagram, d
 
   // after a silence (or a controller restart) any sequence is accepted: resynchronise
   const bool resync = !has_status_ || t_rx_s - last_status_rx_s_ > config_.device_lost_after_s;
-  if (!resync && !SequenceNewer(frame.sequence, last_status_sequence_)) {
+  // sequence 0 is never sent (it means "none" in echoes): not a frame to act on
+  if (frame.sequence == 0 || (!resync && !SequenceNewer(frame.sequence, last_status_sequence_))) {
     ++counters_.status_out_of_order;
     return error;
   }
@@ -255,8 +256,10 @@ void DeviceBridge::Tick(double t_s, double dt_s, std::span<std::byte, kCommandFr
 
     ManipulatorCommand& m = command.manipulators[i];
     m.force_D_N = (R_DW_ * result.force_W_N).cast<float>();
+    // RAMPING only beside FORCE_ENABLE: a cut is FORCE_ENABLE clear (zero at once, no ramp), and
+    // the ramp that follows starts from zero
     m.flags = static_cast<std::uint16_t>((input.output_allowed ? command_flags::kForceEnable : 0) |
-                                         (result.ramping ? command_flags::kRamping : 0) |
+                                         (input.output_allowed && result.ramping ? command_flags::kRamping : 0) |
                                          (result.limited ? command_flags::kLimited : 0));
   }
 
@@ -274,8 +277,7 @@ void DeviceBridge::Tick(double t_s, double dt_s, std::span<std::byte, kCommandFr
     reflected_any_ = true;
   }
 
-  ++command_sequence_;
-  if (command_sequence_ == 0) command_sequence_ = 1;  // 0 means "none" in the echo field
+  command_sequence_ = NextSequence(command_sequence_);
   command.sequence = command_sequence_;
   command.echo_controller_sequence = last_status_sequence_;
   command.echo_controller_time_ns = last_status_time_ns_;

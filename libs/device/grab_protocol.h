@@ -22,6 +22,10 @@ inline constexpr std::size_t kStatusFrameSize = 116;
 inline constexpr std::size_t kCommandFrameSize = 60;
 /// Nominal controller rate: one StatusFrame per control tick.
 inline constexpr double kControllerRate_Hz = 5000.0;
+/// The rates either side may run at (docs/grab-protocol.md section 1): at 1 kHz a command is at
+/// most 1 ms old, well inside the controller's 5 ms host timeout and the bridge's 4 ms stall limit.
+inline constexpr double kMinGrabRate_Hz = 1000.0;
+inline constexpr double kMaxGrabRate_Hz = 20000.0;
 inline constexpr std::size_t kManipulatorCount = 2;
 
 /// Manipulator slot on the wire: slot 0 is the thumb, slot 1 the index finger.
@@ -52,7 +56,7 @@ inline constexpr std::uint16_t kShutdown = 1u << 0;  // host stops sending: go t
 /// Per-manipulator command bits (CommandFrame manipulator offset +12).
 namespace command_flags {
 inline constexpr std::uint16_t kForceEnable = 1u << 0;  // apply desired force; clear: zero force
-inline constexpr std::uint16_t kRamping = 1u << 1;      // host ramp active (start-up or watchdog)
+inline constexpr std::uint16_t kRamping = 1u << 1;      // host ramp in (from zero) or out; only with kForceEnable
 inline constexpr std::uint16_t kLimited = 1u << 2;      // host clamped this force (peak/continuous/slew)
 }  // namespace command_flags
 
@@ -67,7 +71,7 @@ struct ManipulatorStatus {
 /// Controller -> host datagram (kStatusFrameSize bytes on the wire).
 struct StatusFrame {
   std::uint16_t controller_flags = 0;
-  std::uint32_t sequence = 0;            ///< +1 per frame, wraps
+  std::uint32_t sequence = 0;            ///< NextSequence per frame, never 0
   std::uint32_t echo_host_sequence = 0;  ///< last accepted CommandFrame.sequence, 0 if none
   std::uint64_t controller_time_ns = 0;  ///< controller monotonic clock
   std::array<ManipulatorStatus, kManipulatorCount> manipulators{};
@@ -82,8 +86,8 @@ struct ManipulatorCommand {
 /// Host -> controller datagram (kCommandFrameSize bytes on the wire).
 struct CommandFrame {
   std::uint16_t host_flags = 0;
-  std::uint32_t sequence = 0;                  ///< +1 per frame starting at 1, wraps (skipping 0)
-  std::uint32_t echo_controller_sequence = 0;  ///< StatusFrame.sequence this force was computed from
+  std::uint32_t sequence = 0;                  ///< NextSequence per frame starting at 1, never 0
+  std::uint32_t echo_controller_sequence = 0;  ///< StatusFrame.sequence this force was computed from, 0 if none
   std::uint64_t echo_controller_time_ns = 0;   ///< StatusFrame.controller_time_ns of that frame
   std::array<ManipulatorCommand, kManipulatorCount> manipulators{};
 };
@@ -146,5 +150,9 @@ FrameError DecodeCommandFrame(std::span<const std::byte> datagram, const GrabVal
 constexpr bool SequenceNewer(std::uint32_t a, std::uint32_t b) {
   return a != b && static_cast<std::uint32_t>(a - b) < 0x80000000u;
 }
+
+/// The sequence after `s`: +1, wrapping from 2^32 - 1 to 1. 0 is never sent, because it means
+/// "none" in the echo fields; a receiver ignores a frame with sequence 0 (out of order).
+constexpr std::uint32_t NextSequence(std::uint32_t s) { return s == 0xFFFFFFFFu ? 1u : s + 1u; }
 
 }  // namespace haptex::device

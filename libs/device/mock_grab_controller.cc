@@ -32,6 +32,7 @@ void MockControllerConfig::Validate() const {
   Require(force_noise_N >= 0.0 && force_noise_N < 5.0, "force_noise_N must be in [0, 5) N");
   Require(PositiveFinite(host_timeout_s), "host_timeout_s must be > 0");
   Require(PositiveFinite(max_world_step_s), "max_world_step_s must be > 0");
+  Require(first_status_sequence != 0, "first_status_sequence must not be 0 (0 means \"none\" in echoes)");
   Require(PositiveFinite(slew_N_per_s), "slew_N_per_s must be > 0");
   Require(PositiveFinite(peak_force_N), "peak_force_N must be > 0");
   Require((limits.workspace_half_extent_m.array() > 0.0f).all(), "limits.workspace_half_extent_m must be > 0");
@@ -66,8 +67,8 @@ FrameError MockGrabController::OnCommandDatagram(std::span<const std::byte> data
     command_rejected_ = true;
     return error;
   }
-  // after a timeout any sequence is accepted (host restart)
-  if (has_command_ && !host_timed_out_ && !SequenceNewer(frame.sequence, command_.sequence)) {
+  // sequence 0 is never sent; after a timeout any other sequence is accepted (host restart)
+  if (frame.sequence == 0 || (has_command_ && !host_timed_out_ && !SequenceNewer(frame.sequence, command_.sequence))) {
     ++counters_.commands_out_of_order;
     return error;
   }
@@ -162,7 +163,8 @@ void MockGrabController::Step(double t_s, double dt_s, std::span<std::byte, kSta
   status.controller_flags = static_cast<std::uint16_t>((timed_out && !shutdown ? controller_flags::kHostTimeout : 0) |
                                                        (command_rejected_ ? controller_flags::kCommandRejected : 0));
   command_rejected_ = false;
-  status.sequence = ++sequence_;
+  sequence_ = counters_.steps == 1 ? config_.first_status_sequence : NextSequence(sequence_);
+  status.sequence = sequence_;
   status.echo_host_sequence = has_command_ ? command_.sequence : 0;
   status.controller_time_ns = static_cast<std::uint64_t>(std::llround(std::max(t_end_s, 0.0) * 1e9));
   EncodeStatusFrame(status, out);

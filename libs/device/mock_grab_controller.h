@@ -31,7 +31,10 @@ struct MockControllerConfig {
   double force_noise_N = 0.1;            ///< sensor noise, uniform in +-this per axis
   std::uint64_t seed = 1;                ///< noise seed: equal seeds give equal runs
   double host_timeout_s = 0.005;         ///< no valid command this long: zero force
-  double peak_force_N = 20.0;            ///< the controller's own clamp
+  /// Sequence of the first StatusFrame (a real controller may start anywhere but 0); tests start
+  /// near 2^32 to cross the wrap.
+  std::uint32_t first_status_sequence = 1;
+  double peak_force_N = 20.0;  ///< the controller's own clamp
   /// The controller's own slew limit on what it drives towards (a cut to zero is immediate): a
   /// controller that stalled and then takes the newest of many queued commands moves to it at
   /// this rate, not in one step. 2.5 kN/s: 0.5 N per 5 kHz tick, the host's own limit.

@@ -183,6 +183,7 @@ void ScriptParams::Validate() const {
   Require(rub_amplitude_m >= 0.0 && rub_amplitude_m < 0.1, "rub_amplitude_m must be in [0, 0.1) m");
   Require(rub_frequency_Hz >= 0.0 && rub_frequency_Hz <= 20.0, "rub_frequency_Hz must be in [0, 20] Hz");
   Require(std::isfinite(lift_height_m) && std::abs(lift_height_m) < 0.2, "lift_height_m must be < 0.2 m");
+  Require(up_D.allFinite() && std::abs(up_D.norm() - 1.0) < 1e-6, "up_D must be a unit vector");
   Require(lift_duration_s > 0.0 && std::isfinite(lift_duration_s), "lift_duration_s must be > 0 s");
   Require(speed_m_per_s > 0.0 && speed_m_per_s <= 1.0, "speed_m_per_s must be in (0, 1] m/s");
   Require(hold_s >= 0.0 && hold_s <= 60.0, "hold_s must be in [0, 60] s");
@@ -223,7 +224,7 @@ FingerTargets EvaluateScript(const ScriptParams& p, double t_s) {
     case ScriptKind::kLift: {
       const double t0 = Grasp(p, t_s, {true, true}, &out);
       const bool stretch = p.kind == ScriptKind::kPinchAndStretch;
-      const Eigen::Vector3d move_D_m = stretch ? p.stretch_D_m : Eigen::Vector3d(0.0, 0.0, p.lift_height_m);
+      const Eigen::Vector3d move_D_m = stretch ? p.stretch_D_m : Eigen::Vector3d(p.lift_height_m * p.up_D);
       const Blend b = MinimumJerk(t_s - t0, stretch ? p.stretch_duration_s : p.lift_duration_s);
       for (std::size_t i = 0; i < kManipulatorCount; ++i) {
         out.p_D_m[i] += b.s * move_D_m;

@@ -56,7 +56,8 @@ struct ScriptParams {
   Eigen::Vector3d rub_direction_D{1.0, 0.0, 0.0};  ///< kRub slide direction (unit, in the fabric)
   double rub_amplitude_m = 0.010;
   double rub_frequency_Hz = 2.0;
-  double lift_height_m = 0.030;  ///< kLift, along +z of D
+  double lift_height_m = 0.030;         ///< kLift, along up_D
+  Eigen::Vector3d up_D{0.0, 0.0, 1.0};  ///< against gravity (unit): W's +z seen in D
   double lift_duration_s = 1.0;
   std::vector<TrajectorySample> trajectory;  ///< kPlayback samples (strictly increasing t_s)
   // kDemo only (the other kinds keep their durations above):

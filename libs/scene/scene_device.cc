@@ -1,10 +1,30 @@
 #include "libs/scene/scene_device.h"
 
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
 #include "libs/codec/message_conversion.h"
 #include "libs/scene/scene_contact.h"
 #include "libs/scene/scene_defaults.h"
+#include "libs/scene/scene_loader.h"
 
 namespace haptex::scene {
+
+Eigen::Isometry3d DeviceFrameInWorld(const v1::DeviceSpec& d, const Eigen::Isometry3d& fallback) {
+  Eigen::Isometry3d X_WD = fallback;
+  if (d.has_q_wd()) {
+    const Eigen::Quaterniond q_WD(d.q_wd().w(), d.q_wd().x(), d.q_wd().y(), d.q_wd().z());
+    const double norm = q_WD.norm();
+    if (!std::isfinite(norm) || !(std::abs(norm - 1.0) <= kQuaternionNormTolerance)) {
+      throw std::invalid_argument("device.q_wd must be a unit quaternion (|q| within 1e-3 of 1), got |q| = " +
+                                  std::to_string(norm));
+    }
+    X_WD.linear() = q_WD.normalized().toRotationMatrix();
+  }
+  if (d.has_d_origin_w_m()) X_WD.translation() = codec::ToEigen(d.d_origin_w_m());
+  return X_WD;
+}
 
 device::DeviceBridgeConfig BridgeConfigFromScene(const v1::Scene& scene) {
   device::DeviceBridgeConfig config;
@@ -16,6 +36,7 @@ device::DeviceBridgeConfig BridgeConfigFromScene(const v1::Scene& scene) {
   config.device_lost_after_s = OrDefault(d.controller_lost_s(), config.device_lost_after_s);
   config.max_model_age_s = OrDefault(d.max_model_age_s(), config.max_model_age_s);
   if (d.disable_passivity_control()) config.passivity.enabled = false;
+  config.X_WD = DeviceFrameInWorld(d, config.X_WD);
   config.Validate();
   return config;
 }
@@ -45,15 +66,22 @@ device::ScriptKind ScriptKindFromScene(v1::MockUserScript::Kind kind) {
 
 device::ScriptParams MockScriptFromScene(const v1::Scene& scene, const device::MockControllerConfig& controller) {
   device::ScriptParams script;
+  // the user acts in W; the controller's script is in D, where the bridge reads it through X_WD
+  const Eigen::Isometry3d X_DW = DeviceFrameInWorld(scene.device(), Eigen::Isometry3d::Identity()).inverse();
+  const Eigen::Matrix3d R_DW = X_DW.linear();
   const v1::ClothGeometry& cloth = scene.cloth();
   const Eigen::Vector3d stand_W = codec::ToEigen(cloth.stand_position_w_m());
   const double height_m = ClothHeightM(cloth);
   const bool flat = cloth.mounting() == v1::ClothGeometry::MOUNTING_FLAT_LEDGE;
-  // fabric_normal_D points from the thumb's side to the index's side
-  script.fabric_normal_D = flat ? Eigen::Vector3d(0, 0, -1) : Eigen::Vector3d(0, -1, 0);
+  // the fabric's normal points from the thumb's side to the index's side
+  script.fabric_normal_D = R_DW * (flat ? Eigen::Vector3d(0, 0, -1) : Eigen::Vector3d(0, -1, 0));
   // default touch point: the fabric's centre at rest (cloth_setup.h)
   script.fabric_point_D_m =
-      stand_W + (flat ? Eigen::Vector3d(0, height_m / 2, 0) : Eigen::Vector3d(0, 0, -height_m / 2));
+      X_DW * (stand_W + (flat ? Eigen::Vector3d(0, height_m / 2, 0) : Eigen::Vector3d(0, 0, -height_m / 2)));
+  // stretch and rub run along W's x (the bar, in the fabric at rest), lift along W's up
+  script.rub_direction_D = R_DW * Eigen::Vector3d::UnitX();
+  script.up_D = R_DW * Eigen::Vector3d::UnitZ();
+  script.stretch_D_m = R_DW * Eigen::Vector3d(script.stretch_D_m.norm(), 0, 0);
 
   bool has_thumb = false, has_index = false;
   for (const v1::FingerSpec& f : scene.fingers()) {
@@ -68,7 +96,7 @@ device::ScriptParams MockScriptFromScene(const v1::Scene& scene, const device::M
   if (!scene.device().has_mock()) return script;
   const v1::MockUserScript& user = scene.device().mock().user();
   script.kind = ScriptKindFromScene(user.kind());
-  if (user.has_touch_point_w_m()) script.fabric_point_D_m = codec::ToEigen(user.touch_point_w_m());
+  if (user.has_touch_point_w_m()) script.fabric_point_D_m = X_DW * codec::ToEigen(user.touch_point_w_m());
   const double squeeze_N = OrDefault(user.squeeze_force_n(), kDefaultSqueezeForceN);
   const double stretch_m = OrDefault(user.stretch_m(), script.stretch_D_m.norm());
   script.speed_m_per_s = OrDefault(user.speed_m_per_s(), script.speed_m_per_s);
@@ -79,7 +107,7 @@ device::ScriptParams MockScriptFromScene(const v1::Scene& scene, const device::M
   script.lift_duration_s = script.lift_height_m / script.speed_m_per_s;
   // the user aims beyond the fabric so that its grip spring pulls with the squeeze force
   script.press_depth_m = squeeze_N / controller.finger.user_stiffness_N_per_m;
-  script.stretch_D_m = Eigen::Vector3d(stretch_m, 0, 0);
+  script.stretch_D_m = R_DW * Eigen::Vector3d(stretch_m, 0, 0);
   script.rub_amplitude_m = OrDefault(user.rub_amplitude_m(), script.rub_amplitude_m);
   return script;
 }

@@ -14,6 +14,11 @@ namespace haptex::scene {
 /// @throws std::invalid_argument when the result is not valid.
 device::DeviceBridgeConfig BridgeConfigFromScene(const v1::Scene& scene);
 
+/// X_WD, the pose of the device workspace frame D in W: the scene's d_origin_w_m and q_wd where
+/// given (q_wd normalised), `fallback`'s parts where not.
+/// @throws std::invalid_argument when q_wd is not a unit quaternion (within 1e-3).
+Eigen::Isometry3d DeviceFrameInWorld(const v1::DeviceSpec& device, const Eigen::Isometry3d& fallback);
+
 /// How long the bridge applies a ForceModel after receiving it: local_contact sends this as the
 /// models' ttl, and the bridge caps every ttl with it.
 double ForceModelStaleS(const v1::Scene& scene);
@@ -22,9 +27,10 @@ double ForceModelStaleS(const v1::Scene& scene);
 inline constexpr double kDefaultSqueezeForceN = 2.0;
 
 /// The mock controller's user: the scene's fabric and fingers in D, and the scene's mock user
-/// script (kind, touch point, speed, squeeze, stretch, rub, hold) where given. Frame D = W (the
-/// bridge runs with DeviceBridgeConfig::X_WD = identity), so the geometry is W's: the thumb is on
-/// the front of the fabric, the user's side (+y for a hanging fabric, above a flat one).
+/// script (kind, touch point, speed, squeeze, stretch, rub, hold) where given. The user acts in W
+/// (the thumb on the front of the fabric, the user's side: +y for a hanging fabric, above a flat
+/// one) and everything is mapped into D through the inverse of the scene's X_WD
+/// (DeviceFrameInWorld), the transform the bridge maps D back into W with.
 device::ScriptParams MockScriptFromScene(const v1::Scene& scene, const device::MockControllerConfig& controller);
 
 /// The script kind a scene names.

@@ -8,6 +8,7 @@
 #include <set>
 #include <sstream>
 
+#include "libs/device/grab_protocol.h"
 #include "libs/device/trajectory_csv.h"
 #include "libs/net/session_key.h"
 #include "libs/net/udp_address.h"
@@ -193,6 +194,22 @@ void CheckDevice(const v1::Scene& scene, const FieldLocator& where, Checker& c) 
   c.ZeroOrRange(d, "watchdog_ramp_s", d.watchdog_ramp_s(), 1e-4, 0.02, "s", at);
   c.ZeroOrRange(d, "controller_lost_s", d.controller_lost_s(), 1e-3, 1.0, "s", at);
   c.ZeroOrRange(d, "max_model_age_s", d.max_model_age_s(), 0.005, 0.5, "s (the longest round trip rendered)", at);
+  CheckVec(d, "d_origin_w_m", d.d_origin_w_m(), kMaxWorldDistanceM, "m from W's origin", at, c);
+  if (d.has_q_wd()) {
+    const v1::Quat& q = d.q_wd();
+    const double norm = std::sqrt(q.w() * q.w() + q.x() * q.x() + q.y() * q.y() + q.z() * q.z());
+    // a component that is not a number is CheckEveryField's to report
+    if (std::isfinite(norm) && !(std::abs(norm - 1.0) <= kQuaternionNormTolerance)) {
+      c.Add(at.At(d, "q_wd", -1,
+                  "q_wd must be a unit quaternion (w, x, y, z) with |q| within " +
+                      Checker::Number(kQuaternionNormTolerance) + " of 1, got |q| = " + Checker::Number(norm)));
+    }
+  }
+  if (d.bridge_controller_port() > 65535) {
+    c.Add(at.At(d, "bridge_controller_port", -1,
+                "bridge_controller_port must be 0 (the launcher picks) or 1..65535, got " +
+                    std::to_string(d.bridge_controller_port())));
+  }
 }
 
 // A LocalPatch travels in one datagram (no fragmentation): the largest patch the fingers can cause,
@@ -227,7 +244,8 @@ void CheckRatesAndModel(const v1::Scene& scene, const FieldLocator& where, Check
   const FieldLocator at = where.Nested(scene, "rates");
   c.ZeroOrRange(r, "global_hz", r.global_hz(), 1, 1000, "Hz", at);
   c.ZeroOrRange(r, "local_hz", r.local_hz(), 100, 10000, "Hz", at);
-  c.ZeroOrRange(r, "bridge_hz", r.bridge_hz(), 100, 20000, "Hz", at);
+  c.ZeroOrRange(r, "bridge_hz", r.bridge_hz(), device::kMinGrabRate_Hz, device::kMaxGrabRate_Hz,
+                "Hz (docs/grab-protocol.md section 1)", at);
   c.ZeroOrRange(r, "finger_states_to_local_hz", r.finger_states_to_local_hz(), 10, 20000, "Hz", at);
   c.ZeroOrRange(r, "finger_states_to_global_hz", r.finger_states_to_global_hz(), 1, 1000, "Hz", at);
   c.ZeroOrRange(r, "cloth_frame_hz", r.cloth_frame_hz(), 1, 60, "Hz", at);

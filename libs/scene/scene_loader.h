@@ -26,6 +26,9 @@ inline constexpr std::size_t kMaxHostNameBytes = 64;
 /// Positions a scene gives in W (the stand, the mock user's touch point, the device) lie within
 /// this of W's origin: the fabric and the device share a table, not a building.
 inline constexpr double kMaxWorldDistanceM = 10.0;
+/// How far from 1 the norm of a rotation a scene gives may be (it is then normalised): four
+/// decimals per component are enough.
+inline constexpr double kQuaternionNormTolerance = 1e-3;
 /// The particle steps per second the global loop can take (particles x global rate): the fabric
 /// step costs about 2.6-3.2 us per particle on one core (41 x 41 in 3.8-4.3 ms, 81 x 81 in about
 /// 21 ms; docs/validation.md section 6), so 200 000 use at most 0.65 of a core and leave room for a

@@ -44,6 +44,12 @@ BridgeLoop::BridgeLoop(const BridgeLoopConfig& config, const BridgePeers& peers,
   ids_.damped = health_->AddCounter("passivity_damped_ticks");
   ids_.foreign_echoes = health_->AddCounter("foreign_echoes");
   ids_.foreign_echo_events = health_->AddCounter("foreign_echo_events");
+  ids_.out_of_order = health_->AddCounter("status_frames_out_of_order");
+  // docs/grab-protocol.md section 6: every rejection counted under its reason
+  for (std::size_t e = 1; e < device::kFrameErrorCount; ++e) {
+    ids_.rejected_by_reason[e] = health_->AddCounter(
+        "status_frames_rejected_" + std::string(device::FrameErrorName(static_cast<device::FrameError>(e))));
+  }
   FillFingerStates(*bridge_, &states_);  // sized once, before the loop
   health_->ReserveLastError(kLastErrorCapacity);
 }
@@ -115,6 +121,10 @@ void BridgeLoop::Write(services::Outbox& out) {
   }
   health_->SetCounter(ids_.status_ok, bridge_->frame_counters().accepted());
   health_->SetCounter(ids_.status_bad, bridge_->frame_counters().TotalRejected());
+  for (std::size_t e = 1; e < device::kFrameErrorCount; ++e) {
+    health_->SetCounter(ids_.rejected_by_reason[e], bridge_->frame_counters().Get(static_cast<device::FrameError>(e)));
+  }
+  health_->SetCounter(ids_.out_of_order, bridge_->counters().status_out_of_order);
   health_->SetCounter(ids_.foreign, foreign_frames_);
   health_->SetCounter(ids_.models, bridge_->counters().force_models);
   health_->SetCounter(ids_.models_bad, bad_models_);

@@ -98,7 +98,7 @@ int main(int argc, char** argv) {
                        "the passivity controller: on or off (default: the scene's, else on); off only to measure it")
             ->check(CLI::IsMember({"on", "off"}));
         app.add_option("--rate", options->rate_hz, "bridge rate [Hz] (the controller's)")
-            ->check(CLI::Range(100.0, 20000.0))
+            ->check(CLI::Range(haptex::device::kMinGrabRate_Hz, haptex::device::kMaxGrabRate_Hz))
             ->capture_default_str();
       },
       [options](haptex::services::ServiceContext& context) { return haptex::device_bridge::Run(context, *options); });

@@ -1,6 +1,7 @@
 #include "services/mock_grab/mock_grab_loop.h"
 
 #include <cmath>
+#include <string>
 
 namespace haptex::mock_grab {
 
@@ -17,6 +18,11 @@ MockGrabLoop::MockGrabLoop(const device::MockControllerConfig& config, device::S
   ids_.world_pauses = health_->AddCounter("world_pauses");
   ids_.log_dropped = health_->AddCounter("force_log_dropped");
   ids_.strangers = health_->AddCounter("commands_from_strangers");
+  ids_.out_of_order = health_->AddCounter("commands_out_of_order");
+  for (std::size_t e = 1; e < device::kFrameErrorCount; ++e) {
+    ids_.rejected_by_reason[e] = health_->AddCounter(
+        "commands_rejected_" + std::string(device::FrameErrorName(static_cast<device::FrameError>(e))));
+  }
 }
 
 void MockGrabLoop::ReadHost(std::span<const std::byte> datagram, double t_s, bool from_host) {
@@ -52,6 +58,11 @@ void MockGrabLoop::Write(services::Outbox& /*out*/) {
   health_->SetCounter(ids_.steps, controller_->counters().steps);
   health_->SetCounter(ids_.accepted, controller_->frame_counters().accepted());
   health_->SetCounter(ids_.rejected, controller_->frame_counters().TotalRejected());
+  for (std::size_t e = 1; e < device::kFrameErrorCount; ++e) {
+    health_->SetCounter(ids_.rejected_by_reason[e],
+                        controller_->frame_counters().Get(static_cast<device::FrameError>(e)));
+  }
+  health_->SetCounter(ids_.out_of_order, controller_->counters().commands_out_of_order);
   health_->SetCounter(ids_.timeouts, controller_->counters().host_timeouts);
   health_->SetCounter(ids_.world_pauses, controller_->counters().world_pauses);
   health_->SetCounter(ids_.strangers, strangers_);

@@ -48,7 +48,10 @@ class MockGrabLoop final {
   std::uint64_t strangers_ = 0;
   std::array<std::byte, device::kStatusFrameSize> status_{};
   struct CounterIds {
-    runtime::HealthReporter::CounterId steps, accepted, rejected, timeouts, world_pauses, log_dropped, strangers;
+    runtime::HealthReporter::CounterId steps, accepted, rejected, timeouts, world_pauses, log_dropped, strangers,
+        out_of_order;
+    /// commands_rejected_<reason>, by FrameError (index 0, accepted, unused)
+    std::array<runtime::HealthReporter::CounterId, device::kFrameErrorCount> rejected_by_reason;
   } ids_{};
 };
 

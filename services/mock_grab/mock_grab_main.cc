@@ -87,7 +87,7 @@ int main(int argc, char** argv) {
         app.add_option("--playback-csv", options->playback_csv, "trajectory for the playback script");
         app.add_option("--force-log", options->force_log, "write what the fingers felt to this CSV");
         app.add_option("--rate", options->rate_hz, "controller rate [Hz]")
-            ->check(CLI::Range(100.0, 20000.0))
+            ->check(CLI::Range(haptex::device::kMinGrabRate_Hz, haptex::device::kMaxGrabRate_Hz))
             ->capture_default_str();
         app.add_option("--seed", options->seed, "sensor-noise seed");
       },

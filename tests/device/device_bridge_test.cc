@@ -82,6 +82,23 @@ TEST(DeviceBridgeTest, CountsRejectedFramesAndIgnoresOldOnes) {
   EXPECT_EQ(dut->frame_counters().TotalRejected(), 2u);
 }
 
+// A status with sequence 0 is never sent (0 means "none"): the bridge ignores it, even as its
+// first frame, and orders frames across the wrap from 2^32 - 1 to 1.
+TEST(DeviceBridgeTest, IgnoresSequenceZeroAndOrdersAcrossTheWrap) {
+  auto dut = std::make_unique<DeviceBridge>(FastConfig());
+  EXPECT_EQ(dut->OnStatusDatagram(Status(0, 0.001), 0.001), FrameError::kNone);
+  EXPECT_EQ(dut->counters().status_out_of_order, 1u);
+  EXPECT_EQ(dut->finger_state(Manipulator::kThumb).controller_sequence, 0u);
+  dut->OnStatusDatagram(Status(0xFFFFFFFFu, 0.0012), 0.0012);
+  dut->OnStatusDatagram(Status(0, 0.0014), 0.0014);
+  dut->OnStatusDatagram(Status(1, 0.0016), 0.0016);
+  EXPECT_EQ(dut->counters().status_out_of_order, 2u);
+  EXPECT_EQ(dut->finger_state(Manipulator::kThumb).controller_sequence, 1u);
+  CommandBytes out{};
+  dut->Tick(0.0016, kTick_s, out);
+  EXPECT_EQ(Decode(out).echo_controller_sequence, 1u);
+}
+
 TEST(DeviceBridgeTest, MapsPosesAndForcesBetweenDeviceAndWorldFrames) {
   DeviceBridgeConfig config = FastConfig();
   config.X_WD = Eigen::Translation3d(0.0, 0.0, -0.1) * Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitZ());
@@ -113,6 +130,7 @@ TEST(DeviceBridgeTest, WatchdogZeroesForceWithinTwentyMilliseconds) {
   CommandBytes out{};
   const Eigen::Vector3d force_W_N(0.0, 8.0, -6.0);
   double t0 = 0.0;
+  double previous_N = 0.0;
   for (int k = 1; k <= 1500; ++k) {
     const double t = k * kTick_s;
     dut->OnStatusDatagram(Status(static_cast<std::uint32_t>(k), t), t);
@@ -133,6 +151,12 @@ TEST(DeviceBridgeTest, WatchdogZeroesForceWithinTwentyMilliseconds) {
       ASSERT_EQ(c.manipulators[0].force_D_N, Eigen::Vector3f::Zero()) << "age " << age;
       EXPECT_NE(c.manipulators[0].flags & command_flags::kRamping, 0);
     }
+    // the ramp-out is continuous: no step to zero, at most |F| per stale_ramp_s
+    const double norm = c.manipulators[0].force_D_N.cast<double>().norm();
+    if (t > 0.1) {
+      EXPECT_LE(previous_N - norm, force_W_N.norm() * kTick_s / 0.010 + 1e-5) << t;
+    }
+    previous_N = norm;
   }
   EXPECT_GT(dut->safety(Manipulator::kThumb).counters().watchdog_zero_steps, 0u);
 }
@@ -320,6 +344,82 @@ TEST(DeviceBridgeTest, TickGapTheControllerHeldThroughKeepsTheForce) {
 
   config.gap_confirm_slack_s = config.disarm_after_tick_gap_s;
   EXPECT_THROW(DeviceBridge{config}, std::invalid_argument);
+}
+
+// docs/grab-protocol.md section 7.2: what the controller's flags make the bridge do. EMERGENCY_STOP
+// and a cleared CALIBRATED cut the force at once (FORCE_ENABLE clear, RAMPING clear) and it comes
+// back over the start-up ramp; HOST_TIMEOUT of an armed bridge cuts it too and it comes back over
+// the short resume ramp. Every ramp starts from zero: no step back to the old force.
+TEST(DeviceBridgeTest, ControllerFlagsCutForceAndItRampsInFromZero) {
+  DeviceBridgeConfig config = FastConfig();
+  config.safety.startup_ramp_s = 0.05;
+  auto dut = std::make_unique<DeviceBridge>(config);
+  constexpr double kForce_N = 3.0;
+  CommandBytes out{};
+  std::uint32_t seq = 0;
+  double t = 0.0;
+  struct Tick {
+    double force_N;
+    std::uint16_t flags;
+  };
+  const auto tick = [&](std::uint16_t controller_flags, std::uint16_t thumb_flags) {
+    t += kTick_s;
+    StatusFrame f;
+    f.sequence = ++seq;
+    f.controller_flags = controller_flags;
+    f.controller_time_ns = static_cast<std::uint64_t>(std::llround(t * 1e9));
+    f.manipulators[0].p_D_m = {0.01f, 0.02f, 0.0f};
+    f.manipulators[0].flags = thumb_flags;
+    f.manipulators[1].p_D_m = {0.01f, -0.02f, 0.0f};
+    f.manipulators[1].flags = manipulator_flags::kCalibrated;
+    StatusBytes b{};
+    EncodeStatusFrame(f, b);
+    dut->OnStatusDatagram(b, t);
+    dut->SetForceModel(Manipulator::kThumb, ConstantForce({kForce_N, 0.0, 0.0}), t,
+                       dut->finger_state(Manipulator::kThumb).controller_sequence);
+    dut->Tick(t, kTick_s, out);
+    const CommandFrame c = Decode(out);
+    return Tick{c.manipulators[0].force_D_N.x(), c.manipulators[0].flags};
+  };
+  const auto run_armed = [&] {
+    for (int k = 0; k < 400; ++k) tick(0, manipulator_flags::kCalibrated);
+    ASSERT_NEAR(tick(0, manipulator_flags::kCalibrated).force_N, kForce_N, 1e-5);
+  };
+  // a cut lasting `ticks`, then the ramp back from zero over `ramp_s`
+  const auto expect_cut_then_ramp = [&](std::uint16_t controller_flags, std::uint16_t thumb_flags, int ticks,
+                                        double ramp_s, const char* what) {
+    for (int k = 0; k < ticks; ++k) {
+      const Tick cut = tick(controller_flags, thumb_flags);
+      EXPECT_EQ(cut.force_N, 0.0) << what;
+      EXPECT_EQ(cut.flags & (command_flags::kForceEnable | command_flags::kRamping), 0) << what;
+    }
+    double previous = 0.0;
+    const int ramp_ticks = static_cast<int>(std::lround(ramp_s / kTick_s));
+    for (int k = 0; k < ramp_ticks; ++k) {
+      const Tick in = tick(0, manipulator_flags::kCalibrated);
+      EXPECT_NE(in.flags & command_flags::kForceEnable, 0) << what;
+      EXPECT_GT(in.force_N, previous) << what << " tick " << k;
+      EXPECT_LE(in.force_N, previous + kForce_N * kTick_s / ramp_s + 1e-5) << what << " tick " << k;
+      if (k + 1 < ramp_ticks) {
+        EXPECT_NE(in.flags & command_flags::kRamping, 0) << what << " tick " << k;
+      }
+      previous = in.force_N;
+    }
+    EXPECT_NEAR(previous, kForce_N, 1e-5) << what;
+    EXPECT_EQ(tick(0, manipulator_flags::kCalibrated).flags & command_flags::kRamping, 0) << what;
+  };
+  run_armed();
+  expect_cut_then_ramp(controller_flags::kEmergencyStop, manipulator_flags::kCalibrated, 50,
+                       config.safety.startup_ramp_s, "emergency stop");
+  run_armed();
+  expect_cut_then_ramp(0, 0, 50, config.safety.startup_ramp_s, "calibration lost");
+  run_armed();
+  expect_cut_then_ramp(controller_flags::kHostTimeout, manipulator_flags::kCalibrated, 10, config.safety.resume_ramp_s,
+                       "host timeout");
+  // a host timeout longer than resume_within_s (50 ms) ramps in over the start-up ramp
+  run_armed();
+  expect_cut_then_ramp(controller_flags::kHostTimeout, manipulator_flags::kCalibrated, 300,
+                       config.safety.startup_ramp_s, "long host timeout");
 }
 
 TEST(DeviceBridgeTest, NonFiniteForceModelGivesZeroForceAndIsCounted) {

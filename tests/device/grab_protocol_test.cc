@@ -142,27 +142,38 @@ TEST(GrabProtocolTest, WireLayoutMatchesTheDocument) {
   EXPECT_EQ(ReadU32(&c[56]), Crc32c(std::span<const std::byte>(c.data(), 56)));
 }
 
-// The example frames of docs/grab-protocol.md section 10, byte for byte.
+// The example frames of docs/grab-protocol.md section 10, byte for byte: the thumb on the user's
+// side (+y in D, as in W under the identity X_WD), its pad facing the index through the fabric,
+// pushed back towards the user by the fabric it presses.
 TEST(GrabProtocolTest, DocumentExampleFrames) {
   StatusFrame f;
   f.sequence = 1000;
   f.echo_host_sequence = 998;
   f.controller_time_ns = 200000000;
-  f.manipulators[0].p_D_m = {0.0f, -0.03f, 0.0f};
-  f.manipulators[0].q_DF = Eigen::Quaternionf(0.70710678f, -0.70710678f, 0.0f, 0.0f);
+  f.manipulators[0].p_D_m = {0.0f, 0.03f, 0.0f};
+  f.manipulators[0].q_DF = Eigen::Quaternionf(0.70710678f, 0.70710678f, 0.0f, 0.0f);
   f.manipulators[0].force_D_N = {0.0f, 1.5f, 0.0f};
   f.manipulators[0].flags = manipulator_flags::kCalibrated | manipulator_flags::kForceEnabled;
-  f.manipulators[1].p_D_m = {0.0f, 0.03f, 0.0f};
-  f.manipulators[1].q_DF = Eigen::Quaternionf(0.70710678f, 0.70710678f, 0.0f, 0.0f);
+  f.manipulators[1].p_D_m = {0.0f, -0.03f, 0.0f};
+  f.manipulators[1].q_DF = Eigen::Quaternionf(0.70710678f, -0.70710678f, 0.0f, 0.0f);
   f.manipulators[1].flags = manipulator_flags::kCalibrated;
+  // the geometry the document describes: each pad (+z_F) faces the other finger, and the force on
+  // the thumb pushes it out of the fabric, against its pad normal
+  const Eigen::Vector3f thumb_to_index = f.manipulators[1].p_D_m - f.manipulators[0].p_D_m;
+  const Eigen::Vector3f thumb_pad_D = f.manipulators[0].q_DF * Eigen::Vector3f::UnitZ();
+  const Eigen::Vector3f index_pad_D = f.manipulators[1].q_DF * Eigen::Vector3f::UnitZ();
+  EXPECT_TRUE(thumb_pad_D.isApprox(-Eigen::Vector3f::UnitY(), 1e-6f));
+  EXPECT_GT(thumb_pad_D.dot(thumb_to_index), 0.0f);
+  EXPECT_GT(index_pad_D.dot(-thumb_to_index), 0.0f);
+  EXPECT_LT(f.manipulators[0].force_D_N.dot(thumb_pad_D), 0.0f);
   const std::array<unsigned, kStatusFrameSize> status_hex = {
       0x47, 0x52, 0x42, 0x53, 0x01, 0x00, 0x00, 0x00, 0xe8, 0x03, 0x00, 0x00, 0xe6, 0x03, 0x00, 0x00, 0x00,
-      0xc2, 0xeb, 0x0b, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x8f, 0xc2, 0xf5, 0xbc, 0x00, 0x00,
-      0x00, 0x00, 0xf3, 0x04, 0x35, 0x3f, 0xf3, 0x04, 0x35, 0xbf, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
+      0xc2, 0xeb, 0x0b, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x8f, 0xc2, 0xf5, 0x3c, 0x00, 0x00,
+      0x00, 0x00, 0xf3, 0x04, 0x35, 0x3f, 0xf3, 0x04, 0x35, 0x3f, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
       0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0xc0, 0x3f, 0x00, 0x00, 0x00, 0x00, 0x03, 0x00, 0x00, 0x00,
-      0x00, 0x00, 0x00, 0x00, 0x8f, 0xc2, 0xf5, 0x3c, 0x00, 0x00, 0x00, 0x00, 0xf3, 0x04, 0x35, 0x3f, 0xf3,
-      0x04, 0x35, 0x3f, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
-      0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00, 0x00, 0xe2, 0x1c, 0x6a, 0x43};
+      0x00, 0x00, 0x00, 0x00, 0x8f, 0xc2, 0xf5, 0xbc, 0x00, 0x00, 0x00, 0x00, 0xf3, 0x04, 0x35, 0x3f, 0xf3,
+      0x04, 0x35, 0xbf, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
+      0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00, 0x00, 0x68, 0x3e, 0x4c, 0x8f};
   const StatusBytes s = Encoded(f);
   for (std::size_t i = 0; i < s.size(); ++i) EXPECT_EQ(std::to_integer<unsigned>(s[i]), status_hex[i]) << i;
 
@@ -173,6 +184,7 @@ TEST(GrabProtocolTest, DocumentExampleFrames) {
   c.manipulators[0].force_D_N = {0.0f, 1.5f, 0.0f};
   c.manipulators[0].flags = command_flags::kForceEnable;
   c.manipulators[1].flags = command_flags::kForceEnable;
+  EXPECT_LT(c.manipulators[0].force_D_N.dot(thumb_pad_D), 0.0f) << "the command pushes the thumb out too";
   const std::array<unsigned, kCommandFrameSize> command_hex = {
       0x47, 0x52, 0x42, 0x43, 0x01, 0x00, 0x00, 0x00, 0xe7, 0x03, 0x00, 0x00, 0xe8, 0x03, 0x00,
       0x00, 0x00, 0xc2, 0xeb, 0x0b, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
@@ -294,6 +306,15 @@ TEST(GrabProtocolTest, SequenceComparisonWraps) {
   EXPECT_FALSE(SequenceNewer(5, 5));
   EXPECT_TRUE(SequenceNewer(0, 0xFFFFFFFFu));
   EXPECT_TRUE(SequenceNewer(3, 0xFFFFFFF0u));
+}
+
+// 0 means "none" in the echo fields, so no frame carries it: the wrap goes from 2^32 - 1 to 1,
+// and the comparison still orders across it.
+TEST(GrabProtocolTest, NextSequenceSkipsZero) {
+  EXPECT_EQ(NextSequence(0), 1u);
+  EXPECT_EQ(NextSequence(41), 42u);
+  EXPECT_EQ(NextSequence(0xFFFFFFFFu), 1u);
+  EXPECT_TRUE(SequenceNewer(NextSequence(0xFFFFFFFFu), 0xFFFFFFFFu));
 }
 
 // Random datagrams (any length, random bytes, random bytes behind a valid header, and valid

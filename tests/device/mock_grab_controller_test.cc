@@ -5,6 +5,7 @@
 #include <cmath>
 #include <memory>
 #include <stdexcept>
+#include <vector>
 
 #include "tests/support/allocation_counter.h"
 
@@ -181,6 +182,113 @@ TEST(MockGrabControllerTest, MovesToANewCommandAtItsOwnSlewLimitAndCutsAtOnce) {
   dut.OnCommandDatagram(Command(100, {0.0f, 0.0f, 0.0f}), 17 * kTick_s);
   dut.Step(17 * kTick_s, kTick_s, out);
   EXPECT_EQ(dut.finger(Manipulator::kThumb).commanded_force_D_N, Eigen::Vector3d::Zero()) << "a cut is immediate";
+}
+
+// docs/grab-protocol.md section 7.1: at boot the controller is in host timeout (zero force,
+// HOST_TIMEOUT set, echo 0, not counted as a timeout) and takes the first valid command whatever
+// its sequence.
+TEST(MockGrabControllerTest, BootsInHostTimeoutAndTakesAnyFirstSequence) {
+  MockGrabController dut(MockControllerConfig{}, ScriptParams{});
+  StatusBytes out{};
+  dut.Step(0.0, kTick_s, out);
+  StatusFrame f = DecodeStatus(out);
+  EXPECT_NE(f.controller_flags & controller_flags::kHostTimeout, 0);
+  EXPECT_EQ(f.echo_host_sequence, 0u);
+  EXPECT_EQ(f.manipulators[0].flags & manipulator_flags::kForceEnabled, 0);
+  EXPECT_EQ(dut.counters().host_timeouts, 0u) << "the boot state is not a timeout event";
+  dut.OnCommandDatagram(Command(0xC0000000u, {1.0f, 0.0f, 0.0f}), kTick_s);
+  dut.Step(kTick_s, kTick_s, out);
+  f = DecodeStatus(out);
+  EXPECT_EQ(f.controller_flags & controller_flags::kHostTimeout, 0);
+  EXPECT_EQ(f.echo_host_sequence, 0xC0000000u);
+  EXPECT_NE(f.manipulators[0].flags & manipulator_flags::kForceEnabled, 0);
+}
+
+// A valid command whose sequence is not newer is ignored: it changes no force, no echo, sets no
+// COMMAND_REJECTED and does not feed the watchdog, so the controller times out 5 ms after the last
+// accepted command however many old ones arrive. After the timeout any sequence is taken again.
+TEST(MockGrabControllerTest, OutOfOrderCommandsAreIgnoredAndDoNotFeedTheWatchdog) {
+  MockGrabController dut(MockControllerConfig{}, ScriptParams{});
+  StatusBytes out{};
+  double t = 0.0;
+  dut.OnCommandDatagram(Command(10, {1.0f, 0.0f, 0.0f}), t);
+  dut.Step(t, kTick_s, out);
+  for (int k = 0; k < 24; ++k) {  // 4.8 ms of an old command, repeated
+    t += kTick_s;
+    dut.OnCommandDatagram(Command(9, {3.0f, 0.0f, 0.0f}), t);
+    dut.Step(t, kTick_s, out);
+    const StatusFrame f = DecodeStatus(out);
+    EXPECT_EQ(f.echo_host_sequence, 10u);
+    EXPECT_EQ(f.controller_flags & controller_flags::kCommandRejected, 0);
+    EXPECT_EQ(dut.finger(Manipulator::kThumb).commanded_force_D_N.x(), 1.0);
+  }
+  EXPECT_EQ(dut.counters().commands_out_of_order, 24u);
+  EXPECT_FALSE(dut.host_timed_out());
+  t += kTick_s;  // 5 ms after the last accepted command
+  dut.Step(t, kTick_s, out);
+  EXPECT_TRUE(dut.host_timed_out()) << "old commands do not feed the watchdog";
+  EXPECT_EQ(dut.counters().host_timeouts, 1u);
+  dut.OnCommandDatagram(Command(3, {1.0f, 0.0f, 0.0f}), t);  // a restarted host
+  dut.Step(t, kTick_s, out);
+  EXPECT_FALSE(dut.host_timed_out());
+  EXPECT_EQ(DecodeStatus(out).echo_host_sequence, 3u);
+}
+
+// After SHUTDOWN: zero force at once, and the silence that follows sets no HOST_TIMEOUT and counts
+// no timeout. Until 5 ms have passed only newer sequences are taken (a late duplicate of an older
+// command cannot switch force back on); after that any sequence (a new host).
+TEST(MockGrabControllerTest, ShutdownIsZeroForceWithoutATimeoutFault) {
+  MockGrabController dut(MockControllerConfig{}, ScriptParams{});
+  StatusBytes out{};
+  double t = 0.0;
+  for (std::uint32_t seq = 1; seq <= 20; ++seq, t += kTick_s) {
+    dut.OnCommandDatagram(Command(seq, {1.0f, 0.0f, 0.0f}), t);
+    dut.Step(t, kTick_s, out);
+  }
+  CommandFrame shutdown;
+  shutdown.sequence = 21;
+  shutdown.host_flags = host_flags::kShutdown;
+  CommandBytes b{};
+  EncodeCommandFrame(shutdown, b);
+  dut.OnCommandDatagram(b, t);
+  dut.Step(t, kTick_s, out);
+  EXPECT_EQ(dut.finger(Manipulator::kThumb).commanded_force_D_N, Eigen::Vector3d::Zero());
+  t += kTick_s;
+  dut.OnCommandDatagram(Command(20, {1.0f, 0.0f, 0.0f}), t);  // a late duplicate
+  dut.Step(t, kTick_s, out);
+  EXPECT_EQ(dut.finger(Manipulator::kThumb).commanded_force_D_N, Eigen::Vector3d::Zero());
+  EXPECT_EQ(DecodeStatus(out).echo_host_sequence, 21u);
+  for (int k = 0; k < 100; ++k) {  // 20 ms of silence
+    t += kTick_s;
+    dut.Step(t, kTick_s, out);
+    EXPECT_EQ(DecodeStatus(out).controller_flags & controller_flags::kHostTimeout, 0) << k;
+  }
+  EXPECT_EQ(dut.counters().host_timeouts, 0u);
+  dut.OnCommandDatagram(Command(1, {1.0f, 0.0f, 0.0f}), t);  // a new host starts at 1
+  dut.Step(t, kTick_s, out);
+  EXPECT_EQ(DecodeStatus(out).echo_host_sequence, 1u);
+  EXPECT_NE(DecodeStatus(out).manipulators[0].flags & manipulator_flags::kForceEnabled, 0);
+}
+
+// Status sequences skip 0 on the wrap; a command with sequence 0 is never acted on.
+TEST(MockGrabControllerTest, SequencesSkipZero) {
+  MockControllerConfig config;
+  config.first_status_sequence = 0xFFFFFFFEu;
+  MockGrabController dut(config, ScriptParams{});
+  StatusBytes out{};
+  std::vector<std::uint32_t> sequences;
+  for (int k = 0; k < 4; ++k) {
+    dut.Step(k * kTick_s, kTick_s, out);
+    sequences.push_back(DecodeStatus(out).sequence);
+  }
+  EXPECT_EQ(sequences, (std::vector<std::uint32_t>{0xFFFFFFFEu, 0xFFFFFFFFu, 1u, 2u}));
+  dut.OnCommandDatagram(Command(0, {1.0f, 0.0f, 0.0f}), 4 * kTick_s);
+  dut.Step(4 * kTick_s, kTick_s, out);
+  EXPECT_EQ(DecodeStatus(out).echo_host_sequence, 0u);
+  EXPECT_TRUE(dut.host_timed_out());
+  EXPECT_EQ(dut.counters().commands_out_of_order, 1u);
+  config.first_status_sequence = 0;
+  EXPECT_THROW(MockGrabController(config, ScriptParams{}), std::invalid_argument);
 }
 
 TEST(MockGrabControllerTest, RejectsBadCommandsAndReportsIt) {

@@ -94,6 +94,17 @@ TEST_F(LaunchCommandLineTest, RealDevicesAreAddressedFromTheScene) {
   EXPECT_THAT(Peers(Argv(P::SERVICE_TACTILE)), Contains("display=127.0.0.1:7001"));
 }
 
+// A real controller sends its status to the port it is configured with: the scene fixes the
+// bridge's controller-side port, which wins over the base port.
+TEST_F(LaunchCommandLineTest, TheSceneFixesTheBridgesControllerPort) {
+  Plan(testing::SceneFromText(R"(
+    name: "real" fabric { database_name: "wang2011_black_denim_11oz" }
+    fingers { finger: FINGER_THUMB }
+    device { grab { controller_address: "127.0.0.1:7000" } bridge_controller_port: 7002 })"));
+  EXPECT_EQ(plan_.Find(P::SERVICE_DEVICE_BRIDGE)->controller->port, 7002);
+  EXPECT_EQ(After(Argv(P::SERVICE_DEVICE_BRIDGE), "--controller-bind"), "127.0.0.1:7002");
+}
+
 TEST_F(LaunchCommandLineTest, RemoteHostsGetTheirOwnLauncherAndWildcardBinds) {
   scene_ = testing::ShippedScene("remote");
   plan_ = AssignPorts(scene_, DeriveServices(scene_), 47600, nullptr);

@@ -35,6 +35,10 @@ TEST(LaunchRunSummaryTest, ServicesLatencyDropsEventsAndNotes) {
   auto* lost = h.add_counters();
   lost->set_name("device_lost_events");
   lost->set_value(1);
+  // a per-reason counter of docs/grab-protocol.md section 6 (BridgeLoop's Health)
+  auto* bad_checksum = h.add_counters();
+  bad_checksum->set_name("status_frames_rejected_bad_checksum");
+  bad_checksum->set_value(4);
   bridge.last_health = h;
   run.services.push_back(bridge);
   run.not_needed.push_back({P::SERVICE_TACTILE, "tactile display off"});
@@ -56,7 +60,8 @@ TEST(LaunchRunSummaryTest, ServicesLatencyDropsEventsAndNotes) {
   EXPECT_THAT(json, HasSubstr(R"("rate_hz":5000)"));
   EXPECT_THAT(json, HasSubstr(R"("period_p99_us":250)"));
   EXPECT_THAT(json, HasSubstr(R"("motion_to_force":{"service":"device_bridge")"));
-  EXPECT_THAT(json, HasSubstr(R"("device_bridge":{"datagrams_dropped":3})"));
+  EXPECT_THAT(json, HasSubstr(R"("device_bridge":{"datagrams_dropped":3,"status_frames_rejected_bad_checksum":4})"));
+  EXPECT_THAT(json, HasSubstr(R"("device_lost_events":1,"status_frames_rejected_bad_checksum":4})"));
   EXPECT_THAT(json, HasSubstr(R"("launcher_received":{"bad_mac":2})"));
   EXPECT_THAT(json, HasSubstr(R"("counter":"device_lost_events","value":1)"));
   EXPECT_THAT(json, HasSubstr(R"("restarts":[{"t_s":1.5,"service":"device_bridge")"));

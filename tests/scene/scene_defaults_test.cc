@@ -82,6 +82,7 @@ TEST(SceneDefaultsTest, EmptySceneGivesTheDeviceCoreDefaults) {
   EXPECT_EQ(c.safety.stale_after_s, core.safety.stale_after_s);
   EXPECT_EQ(c.safety.stale_ramp_s, core.safety.stale_ramp_s);
   EXPECT_EQ(c.device_lost_after_s, core.device_lost_after_s);
+  EXPECT_TRUE(c.X_WD.isApprox(core.X_WD, 0.0)) << "D = W unless the scene places the device";
   // local_contact's ForceModel ttl is the bridge's staleness limit
   EXPECT_EQ(ForceModelStaleS(EmptyScene().scene), core.safety.stale_after_s);
 

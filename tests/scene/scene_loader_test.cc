@@ -289,6 +289,46 @@ TEST_F(SceneLoaderTest, PositionsLieNearTheOrigin) {
                        "touch_point_w_m must have a magnitude <= 10 m"));
 }
 
+// The device's pose in W (X_WD) and the bridge's controller-side port: a rotation must be a unit
+// quaternion, an origin near W's, a port a port; each refused at its field's line and column.
+TEST_F(SceneLoaderTest, DevicePoseAndBridgePortAreCheckedAtTheirFields) {
+  const std::string scene = std::string(kMinimal) + "fingers { finger: FINGER_THUMB }\n";
+  const auto rotation = Refused(scene + "device { mock {}\n  q_wd { w: 0.5 z: 0.5 } }\n");
+  ASSERT_EQ(rotation.size(), 1u);
+  EXPECT_EQ(rotation[0].line, 5);
+  EXPECT_EQ(rotation[0].column, 3);
+  EXPECT_NE(rotation[0].message.find("q_wd must be a unit quaternion"), std::string::npos) << rotation[0].message;
+  EXPECT_NE(rotation[0].message.find("got |q| = 0.707"), std::string::npos) << rotation[0].message;
+  const auto empty = Refused(scene + "device { mock {} q_wd {} }\n");
+  ASSERT_EQ(empty.size(), 1u);
+  EXPECT_NE(empty[0].message.find("got |q| = 0"), std::string::npos) << empty[0].message;
+  const auto not_a_number = Refused(scene + "device { mock {} q_wd { w: nan } }\n");
+  ASSERT_EQ(not_a_number.size(), 1u) << "one issue per field";
+  EXPECT_EQ(not_a_number[0].message, "device.q_wd.w must be a finite number, got nan");
+  EXPECT_EQ(not_a_number[0].column, 25);
+  EXPECT_TRUE(Mentions(Refused(scene + "device { mock {} d_origin_w_m { y: 11 } }\n"),
+                       "d_origin_w_m must have a magnitude <= 10 m"));
+  const auto infinite = Refused(scene + "device { mock {} d_origin_w_m { z: -inf } }\n");
+  ASSERT_EQ(infinite.size(), 1u);
+  EXPECT_EQ(infinite[0].message, "device.d_origin_w_m.z must be a finite number, got -inf");
+  const auto port = Refused(scene + "device { mock {}\n bridge_controller_port: 70000 }\n");
+  ASSERT_EQ(port.size(), 1u);
+  EXPECT_EQ(port[0].line, 5);
+  EXPECT_EQ(port[0].column, 2);
+  EXPECT_EQ(port[0].message, "bridge_controller_port must be 0 (the launcher picks) or 1..65535, got 70000");
+  // four decimals are a unit quaternion
+  EXPECT_NO_THROW(
+      ParseScene(scene + "device { mock {} q_wd { w: 0.7071 z: 0.7071 } bridge_controller_port: 47000 }\n", "t", db_));
+}
+
+// Below 1 kHz a command would be older than the controller's host timeout allows for jitter (and
+// every bridge tick a stall): the GRAB rates are 1-20 kHz.
+TEST_F(SceneLoaderTest, TheBridgeRateIsOneOfTheProtocolsRates) {
+  EXPECT_TRUE(
+      Mentions(Refused(std::string(kMinimal) + "rates { bridge_hz: 500 }\n"), "bridge_hz must be in [1000, 20000] Hz"));
+  EXPECT_NO_THROW(ParseScene(std::string(kMinimal) + "rates { bridge_hz: 1000 }\n", "t", db_));
+}
+
 // A 401 x 401 cloth ran at about 1 Hz and exited 0: particles x global rate is capped.
 TEST_F(SceneLoaderTest, ClothsTheGlobalLoopCannotStepInTimeAreRefused) {
   const auto cloth = [&](int side, int rate_hz) {

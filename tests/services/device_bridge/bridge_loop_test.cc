@@ -8,7 +8,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "libs/codec/message_conversion.h"
 #include "services/mock_grab/mock_grab_loop.h"
@@ -187,6 +189,43 @@ TEST_F(BridgeLoopTest, StrangersAndMalformedModelsAreCounted) {
   }
   EXPECT_EQ(strangers, 1u);
   EXPECT_EQ(rejected, 2u);
+}
+
+// docs/grab-protocol.md section 6 counts every rejected frame under its reason: each FrameError has
+// its own Health counter on both sides (and so in summary.json), and so do out-of-order frames.
+TEST_F(BridgeLoopTest, RejectedFramesAreCountedPerReasonOnBothSides) {
+  haptex::testing::CapturedOutbox out;
+  for (int k = 0; k < 10; ++k) Tick(out);
+  std::array<std::byte, device::kStatusFrameSize> corrupt{};
+  std::copy(mock_.status().begin(), mock_.status().end(), corrupt.begin());
+  corrupt[30] ^= std::byte{1};
+  bridge_.ReadController(corrupt, 0.002, 0.002, true);
+  bridge_.ReadController(mock_.status().first(10), 0.002, 0.002, true);
+  bridge_.ReadController(mock_.status(), 0.002, 0.002, true);  // the same frame again: not newer
+  std::array<std::byte, device::kCommandFrameSize> bad_command{};
+  std::copy(bridge_.command().begin(), bridge_.command().end(), bad_command.begin());
+  bad_command[0] ^= std::byte{1};
+  mock_.ReadHost(bad_command, 0.002, true);
+  mock_.ReadHost(bridge_.command(), 0.002, true);  // already taken: not newer
+  Tick(out);
+  mock_.Write(out);
+  const auto counter = [](runtime::HealthReporter& health, const std::string& name) -> std::int64_t {
+    for (const auto& c : health.Build(0.0).counters()) {
+      if (c.name() == name) return static_cast<std::int64_t>(c.value());
+    }
+    return -1;
+  };
+  for (std::size_t e = 1; e < device::kFrameErrorCount; ++e) {
+    const std::string reason(device::FrameErrorName(static_cast<device::FrameError>(e)));
+    EXPECT_GE(counter(health_, "status_frames_rejected_" + reason), 0) << reason;
+    EXPECT_GE(counter(mock_health_, "commands_rejected_" + reason), 0) << reason;
+  }
+  EXPECT_EQ(counter(health_, "status_frames_rejected_bad_checksum"), 1);
+  EXPECT_EQ(counter(health_, "status_frames_rejected_too_short"), 1);
+  EXPECT_EQ(counter(health_, "status_frames_rejected"), 2);
+  EXPECT_EQ(counter(health_, "status_frames_out_of_order"), 1);
+  EXPECT_EQ(counter(mock_health_, "commands_rejected_bad_magic"), 1);
+  EXPECT_EQ(counter(mock_health_, "commands_out_of_order"), 1);
 }
 
 TEST_F(BridgeLoopTest, WarmedUpTickDoesNotAllocate) {
