@@ -36,10 +36,9 @@ void DeviceBridgeConfig::Validate() const {
     throw std::invalid_argument("DeviceBridgeConfig: disarm_after_tick_gap_s must be > 0 s, got " +
                                 std::to_string(disarm_after_tick_gap_s));
   }
-  if (!(gap_confirm_slack_s >= 0.0) || !(gap_confirm_slack_s < disarm_after_tick_gap_s)) {
-    throw std::invalid_argument(
-        "DeviceBridgeConfig: gap_confirm_slack_s must be in [0, disarm_after_tick_gap_s), got " +
-        std::to_string(gap_confirm_slack_s));
+  if (!(gap_confirm_window_s > 0.0) || !std::isfinite(gap_confirm_window_s)) {
+    throw std::invalid_argument("DeviceBridgeConfig: gap_confirm_window_s must be > 0 s, got " +
+                                std::to_string(gap_confirm_window_s));
   }
   const Eigen::Matrix3d R = X_WD.linear();
   if (!X_WD.matrix().allFinite() || !(R.transpose() * R).isIdentity(1e-9) || std::abs(R.determinant() - 1.0) > 1e-9) {
@@ -130,6 +129,7 @@ FrameError DeviceBridge::OnStatusDatagram(std::span<const std::byte> datagram, d
   last_status_sequence_ = frame.sequence;
   last_status_time_ns_ = frame.controller_time_ns;
   last_status_echo_ = frame.echo_host_sequence;
+  if (gap_pending_ && (frame.controller_flags & controller_flags::kHostTimeout)) gap_timeout_seen_ = true;
   last_status_rx_s_ = t_rx_s;
   return error;
 }
@@ -202,18 +202,31 @@ void DeviceBridge::Tick(double t_s, double dt_s, std::span<std::byte, kCommandFr
   // the controller zeroed force because our commands stopped reaching it: disarm, so the force
   // ramps in again instead of jumping back when commands get through
   const bool controller_timed_out = (controller_flags_ & controller_flags::kHostTimeout) != 0;
-  // our own stall: the controller may have timed out before its flag could reach us, unless a
-  // status sampled through the gap shows it still applying our last command
-  bool tick_gap = dt_s >= config_.disarm_after_tick_gap_s;
-  if (tick_gap) {
-    const auto covered_ns = static_cast<std::int64_t>(last_status_time_ns_ - status_time_at_last_tick_ns_);
-    const bool held = !lost && !controller_timed_out && command_sequence_ != 0 &&
-                      last_status_echo_ == command_sequence_ &&
-                      1e-9 * static_cast<double>(covered_ns) >= dt_s - config_.gap_confirm_slack_s;
-    tick_gap = !held;
-    ++(held ? counters_.tick_gaps_held : counters_.tick_gap_disarms);
+  // our own stall: the controller may have timed out before its flag could reach us
+  bool tick_gap = false;
+  if (dt_s >= config_.disarm_after_tick_gap_s && !lost) {
+    if (controller_timed_out) {
+      tick_gap = true;
+      ++counters_.tick_gap_disarms;
+      gap_pending_ = false;
+    } else if (!gap_pending_) {
+      gap_pending_ = true;
+      gap_pending_since_s_ = t_s;
+      gap_first_command_ = NextSequence(command_sequence_);
+      gap_timeout_seen_ = false;
+    }
+  } else if (gap_pending_) {
+    const bool answered =
+        last_status_echo_ == gap_first_command_ || SequenceNewer(last_status_echo_, gap_first_command_);
+    if (gap_timeout_seen_ || lost || (!answered && t_s - gap_pending_since_s_ >= config_.gap_confirm_window_s - 1e-9)) {
+      tick_gap = true;
+      ++counters_.tick_gap_disarms;
+      gap_pending_ = false;
+    } else if (answered) {
+      ++counters_.tick_gaps_held;
+      gap_pending_ = false;
+    }
   }
-  status_time_at_last_tick_ns_ = last_status_time_ns_;
 
   UpdateLinkAge(t_s);
   if (link_too_slow_) ++counters_.slow_link_ticks;

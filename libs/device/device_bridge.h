@@ -32,17 +32,18 @@ struct DeviceBridgeConfig {
   GrabValueLimits value_limits;
   /// No accepted StatusFrame for this long: device lost, force zero, start-up ramp on return.
   double device_lost_after_s = 0.050;
-  /// A gap this long between two bridge ticks (the host process stalled) disarms, and force ramps
-  /// in again: the controller may have zeroed force for lack of commands (its host timeout is
-  /// 5 ms; 1 ms is left for link jitter), and the next command must not jump back to the old
-  /// force before the controller's timeout flag reaches us. Unless the controller has shown that
-  /// it held: a status sampled through the gap (its clock advanced by the gap, less
-  /// gap_confirm_slack_s) that echoes our last command without HOST_TIMEOUT. Then the device still
-  /// applies our last force, and cutting it would let the user's fingers fall into the fabric.
+  /// A gap this long between two bridge ticks (the host process stalled) puts the controller's
+  /// state in doubt: its host timeout is 5 ms (1 ms is left for link jitter) and may have fired
+  /// before its flag could reach us. The bridge then goes on commanding and waits for a status
+  /// that echoes a command sent after the gap: without HOST_TIMEOUT on it or on any status before
+  /// it, the device held the force all along (cutting it would let the user's fingers fall into
+  /// the fabric and come back against more force); with it, or with no such status within
+  /// gap_confirm_window_s, the bridge disarms and the force ramps in again. Meanwhile a controller
+  /// that did time out moves to the commanded force at its own slew limit (protocol rule).
   double disarm_after_tick_gap_s = 0.004;
-  /// How much of a tick gap the controller's confirming status may leave uncovered: two of its
-  /// periods (the status sent just before we woke may still be in flight).
-  double gap_confirm_slack_s = 0.0004;
+  /// How long the bridge waits for a status answering a command sent after a tick gap: about ten
+  /// controller periods, the round trip of a device link with room for jitter.
+  double gap_confirm_window_s = 0.002;
   /// Evaluate ForceModels at the predicted pose (compensates the link latency) or the measured one.
   bool evaluate_at_predicted_pose = true;
   /// The longest haptic-link round trip rendered: a ForceModel arriving longer than this after the
@@ -73,7 +74,7 @@ struct BridgeCounters {
   std::uint64_t device_lost_events = 0;    ///< transitions present -> lost
   std::uint64_t force_models = 0;          ///< ForceModels received
   std::uint64_t tick_gap_disarms = 0;      ///< gaps >= disarm_after_tick_gap_s that disarmed
-  std::uint64_t tick_gaps_held = 0;        ///< such gaps the controller was seen to hold through
+  std::uint64_t tick_gaps_held = 0;        ///< such gaps the controller confirmed it held through
   std::uint64_t slow_link_ticks = 0;       ///< ticks in which models were refused for their age
   std::uint64_t models_unknown_basis = 0;  ///< finger models based on no frame the bridge remembers
   std::uint64_t slow_link_events = 0;      ///< transitions into refusing models for age
@@ -211,8 +212,13 @@ class DeviceBridge {
   std::uint16_t controller_flags_ = 0;
   std::uint32_t last_status_sequence_ = 0;
   std::uint64_t last_status_time_ns_ = 0;
-  std::uint32_t last_status_echo_ = 0;             // echo_host_sequence of the newest status
-  std::uint64_t status_time_at_last_tick_ns_ = 0;  // controller clock of the newest status at the last Tick
+  std::uint32_t last_status_echo_ = 0;  // echo_host_sequence of the newest status
+  // a tick gap waiting for the controller's answer: since when, the first command sent after it,
+  // and whether a status since then reported HOST_TIMEOUT
+  bool gap_pending_ = false;
+  double gap_pending_since_s_ = 0.0;
+  std::uint32_t gap_first_command_ = 0;
+  bool gap_timeout_seen_ = false;
   double last_status_rx_s_ = 0.0;
   std::uint32_t last_reflected_sequence_ = 0;
   bool reflected_any_ = false;
