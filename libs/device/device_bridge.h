@@ -132,6 +132,8 @@ class DeviceBridge {
   std::uint16_t controller_flags() const { return controller_flags_; }
   bool device_lost() const { return device_lost_; }
   const FrameCounters& frame_counters() const { return frame_counters_; }
+  /// Valid StatusFrames newer than the one before: the ones that moved the finger states.
+  std::uint64_t status_frames_accepted() const { return frame_counters_.accepted() - counters_.status_out_of_order; }
   const BridgeCounters& counters() const { return counters_; }
   /// Host time from a controller packet's arrival to the send of the first force computed from
   /// it (both on the host clock).

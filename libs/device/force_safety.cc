@@ -44,6 +44,7 @@ void ForceSafetyConfig::Validate() const {
   Require(continuous_window_s > 0.0 && std::isfinite(continuous_window_s), "continuous_window_s", "must be > 0 s",
           continuous_window_s);
   Require(slew_N_per_tick > 0.0 && std::isfinite(slew_N_per_tick), "slew_N_per_tick", "must be > 0 N", slew_N_per_tick);
+  Require(slew_N_per_s > 0.0 && std::isfinite(slew_N_per_s), "slew_N_per_s", "must be > 0 N/s", slew_N_per_s);
   Require(stale_after_s > 0.0, "stale_after_s", "must be > 0 s", stale_after_s);
   Require(stale_ramp_s >= 0.0, "stale_ramp_s", "must be >= 0 s", stale_ramp_s);
   Require(stale_after_s + stale_ramp_s <= kMaxForceModelSilence_s + 1e-12, "stale_after_s + stale_ramp_s",
@@ -134,9 +135,9 @@ SafetyOutput ForceSafety::Step(const SafetyInput& input, double dt_s) {
   }
   if (ClampNorm(cap_N, &target)) out.limited = true;
 
-  // slew limit per tick
+  // slew limit per unit of time and per step
   Eigen::Vector3d delta = target - previous_W_N_;
-  if (ClampNorm(config_.slew_N_per_tick, &delta)) {
+  if (ClampNorm(std::min(config_.slew_N_per_tick, config_.slew_N_per_s * dt_s), &delta)) {
     out.limited = true;
     ++counters_.slew_limited;
   }

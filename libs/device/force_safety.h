@@ -21,7 +21,11 @@ struct ForceSafetyConfig {
   double continuous_force_N = 6.0;
   /// Time constant of the exponentially weighted mean of |F|^2 used for the continuous limit.
   double continuous_window_s = 1.0;
-  double slew_N_per_tick = 0.5;  ///< max |F(k) - F(k-1)| per Step (2.5 kN/s at 5 kHz)
+  /// Slew: |F(k) - F(k-1)| <= min(slew_N_per_tick, slew_N_per_s x dt). Per unit of time, so a
+  /// faster host moves no faster; per Step as well, so a host catching up after a stall (one long
+  /// Step) moves no more than one step's worth.
+  double slew_N_per_tick = 0.5;
+  double slew_N_per_s = 2500.0;  ///< 0.5 N per 5 kHz tick, the controller's own limit
   double stale_after_s = 0.010;  ///< a ForceModel is fresh for min(ttl, this) after arrival
   double stale_ramp_s = 0.010;   ///< then the force ramps linearly to zero over this
   double startup_ramp_s = 0.5;   ///< force scales in linearly over this after (re)arming

@@ -87,6 +87,8 @@ class MockGrabController {
   /// Sequence of the host command in force now, 0 before the first.
   std::uint32_t host_sequence() const { return has_command_ ? command_.sequence : 0; }
   const FrameCounters& frame_counters() const { return frame_counters_; }
+  /// Valid CommandFrames newer than the one in force: the ones it took.
+  std::uint64_t commands_accepted() const { return frame_counters_.accepted() - counters_.commands_out_of_order; }
   const MockCounters& counters() const { return counters_; }
   const ScriptParams& script() const { return script_; }
 

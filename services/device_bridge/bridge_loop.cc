@@ -119,7 +119,7 @@ void BridgeLoop::Write(services::Outbox& out) {
   for (std::size_t i = 0; i < device::kManipulatorCount; ++i) {
     non_finite += bridge_->safety(static_cast<device::Manipulator>(i)).counters().non_finite;
   }
-  health_->SetCounter(ids_.status_ok, bridge_->frame_counters().accepted());
+  health_->SetCounter(ids_.status_ok, bridge_->status_frames_accepted());
   health_->SetCounter(ids_.status_bad, bridge_->frame_counters().TotalRejected());
   for (std::size_t e = 1; e < device::kFrameErrorCount; ++e) {
     health_->SetCounter(ids_.rejected_by_reason[e], bridge_->frame_counters().Get(static_cast<device::FrameError>(e)));
@@ -186,7 +186,7 @@ std::string BridgeLoop::Summary() const {
                 "status frames %llu accepted, %llu rejected, %llu from strangers; %llu force models (%llu rejected); "
                 "motion-to-force p50 %.1f us p99 %.1f us max %.1f us; controller round trip p50 %.1f us p99 %.1f us "
                 "max %.1f us",
-                static_cast<unsigned long long>(bridge_->frame_counters().accepted()),
+                static_cast<unsigned long long>(bridge_->status_frames_accepted()),
                 static_cast<unsigned long long>(bridge_->frame_counters().TotalRejected()),
                 static_cast<unsigned long long>(foreign_frames_),
                 static_cast<unsigned long long>(bridge_->counters().force_models),

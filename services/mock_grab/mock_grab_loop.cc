@@ -56,7 +56,7 @@ void MockGrabLoop::Write(services::Outbox& /*out*/) {
     log_->Push(row);
   }
   health_->SetCounter(ids_.steps, controller_->counters().steps);
-  health_->SetCounter(ids_.accepted, controller_->frame_counters().accepted());
+  health_->SetCounter(ids_.accepted, controller_->commands_accepted());
   health_->SetCounter(ids_.rejected, controller_->frame_counters().TotalRejected());
   for (std::size_t e = 1; e < device::kFrameErrorCount; ++e) {
     health_->SetCounter(ids_.rejected_by_reason[e],

@@ -64,7 +64,7 @@ int Run(services::ServiceContext& context, const Options& options) {
 
   const device::MockGrabController& c = work.controller();
   context.log().info("mock_grab: {} steps, {} commands accepted, {} rejected, {} host timeouts, loop overruns {}",
-                     c.counters().steps, c.frame_counters().accepted(), c.frame_counters().TotalRejected(),
+                     c.counters().steps, c.commands_accepted(), c.frame_counters().TotalRejected(),
                      c.counters().host_timeouts, loop.stats().overruns);
   return 0;
 }

@@ -220,5 +220,20 @@ TEST(ForceSafetyTest, InvalidConfigsThrowWithClearMessages) {
   EXPECT_THROW(ForceSafety{c}, std::invalid_argument);
 }
 
+// At 20 kHz a step may move a quarter of what it may at 5 kHz (2.5 kN/s either way); one long
+// step after a stall moves no more than one tick's 0.5 N.
+TEST(ForceSafetyTest, SlewIsPerUnitOfTimeAndAtMostOneTicksWorthPerStep) {
+  ForceSafetyConfig config;
+  config.startup_ramp_s = 0.0;
+  ForceSafety dut(config);
+  const SafetyOutput fast = dut.Step(Request({5.0, 0.0, 0.0}), 5e-5);
+  EXPECT_NEAR(fast.force_W_N.x(), 2500.0 * 5e-5, 1e-12);
+  const SafetyOutput stalled = dut.Step(Request({5.0, 0.0, 0.0}), 0.008);
+  EXPECT_NEAR(stalled.force_W_N.x(), 2500.0 * 5e-5 + config.slew_N_per_tick, 1e-12);
+  ForceSafetyConfig bad;
+  bad.slew_N_per_s = std::numeric_limits<double>::infinity();
+  ExpectConfigError(bad, "slew_N_per_s");
+}
+
 }  // namespace
 }  // namespace haptex::device

@@ -229,6 +229,9 @@ TEST_F(BridgeLoopTest, RejectedFramesAreCountedPerReasonOnBothSides) {
   EXPECT_EQ(counter(health_, "status_frames_out_of_order"), 1);
   EXPECT_EQ(counter(mock_health_, "commands_rejected_bad_magic"), 1);
   EXPECT_EQ(counter(mock_health_, "commands_out_of_order"), 1);
+  // a frame not newer is valid but not taken: not counted as accepted
+  EXPECT_EQ(counter(health_, "status_frames_accepted"), 11);
+  EXPECT_EQ(counter(mock_health_, "commands_accepted"), 11);
 }
 
 TEST_F(BridgeLoopTest, WarmedUpTickDoesNotAllocate) {
