@@ -191,6 +191,36 @@ void DeviceBridge::UpdateLinkAge(double t_s) {
   if (t_s - young_since_s_ >= config_.recover_after_s) link_too_slow_ = false;
 }
 
+bool DeviceBridge::TickGapDisarms(double t_s, double dt_s, bool lost, bool controller_timed_out) {
+  if (dt_s >= config_.disarm_after_tick_gap_s && !lost) {
+    if (controller_timed_out) {
+      ++counters_.tick_gap_disarms;
+      gap_pending_ = false;
+      return true;
+    }
+    if (!gap_pending_) {  // ask: the answer to the next command tells whether it held
+      gap_pending_ = true;
+      gap_pending_since_s_ = t_s;
+      gap_first_command_ = NextSequence(command_sequence_);
+      gap_timeout_seen_ = false;
+    }
+    return false;
+  }
+  if (!gap_pending_) return false;
+  const bool answered = last_status_echo_ == gap_first_command_ || SequenceNewer(last_status_echo_, gap_first_command_);
+  const bool too_late = !answered && t_s - gap_pending_since_s_ >= config_.gap_confirm_window_s - 1e-9;
+  if (gap_timeout_seen_ || lost || too_late) {
+    ++counters_.tick_gap_disarms;
+    gap_pending_ = false;
+    return true;
+  }
+  if (answered) {
+    ++counters_.tick_gaps_held;
+    gap_pending_ = false;
+  }
+  return false;
+}
+
 void DeviceBridge::Tick(double t_s, double dt_s, std::span<std::byte, kCommandFrameSize> out) {
   ++counters_.ticks;
 
@@ -203,30 +233,7 @@ void DeviceBridge::Tick(double t_s, double dt_s, std::span<std::byte, kCommandFr
   // ramps in again instead of jumping back when commands get through
   const bool controller_timed_out = (controller_flags_ & controller_flags::kHostTimeout) != 0;
   // our own stall: the controller may have timed out before its flag could reach us
-  bool tick_gap = false;
-  if (dt_s >= config_.disarm_after_tick_gap_s && !lost) {
-    if (controller_timed_out) {
-      tick_gap = true;
-      ++counters_.tick_gap_disarms;
-      gap_pending_ = false;
-    } else if (!gap_pending_) {
-      gap_pending_ = true;
-      gap_pending_since_s_ = t_s;
-      gap_first_command_ = NextSequence(command_sequence_);
-      gap_timeout_seen_ = false;
-    }
-  } else if (gap_pending_) {
-    const bool answered =
-        last_status_echo_ == gap_first_command_ || SequenceNewer(last_status_echo_, gap_first_command_);
-    if (gap_timeout_seen_ || lost || (!answered && t_s - gap_pending_since_s_ >= config_.gap_confirm_window_s - 1e-9)) {
-      tick_gap = true;
-      ++counters_.tick_gap_disarms;
-      gap_pending_ = false;
-    } else if (answered) {
-      ++counters_.tick_gaps_held;
-      gap_pending_ = false;
-    }
-  }
+  const bool tick_gap = TickGapDisarms(t_s, dt_s, lost, controller_timed_out);
 
   UpdateLinkAge(t_s);
   if (link_too_slow_) ++counters_.slow_link_ticks;

@@ -178,6 +178,8 @@ class DeviceBridge {
   /// Refuses models for their age from the tick a model's basis is older than max_model_age_s,
   /// until every model has been young enough for recover_after_s.
   void UpdateLinkAge(double t_s);
+  // Whether this tick disarms for a stall of ours (DeviceBridgeConfig::disarm_after_tick_gap_s).
+  bool TickGapDisarms(double t_s, double dt_s, bool lost, bool controller_timed_out);
   /// When the frame `sequence` arrived, or -inf when the bridge does not remember it.
   double FrameArrivalS(std::uint64_t sequence) const;
 

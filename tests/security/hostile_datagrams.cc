@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cstddef>
+#include <span>
 
 #include "haptex/v1/envelope.pb.h"
 #include "libs/device/grab_protocol.h"
@@ -152,47 +153,59 @@ std::vector<std::uint64_t> ExpectedDrops(const std::vector<HostileDatagram>& dat
   return counts;
 }
 
-std::vector<std::vector<std::uint8_t>> ForgedStatusFrames(int count, std::mt19937& rng) {
+namespace {
+
+// Every other datagram garbage, the others the encoded frame make(i) returns.
+template <class Frame, std::size_t kBytes, class Make, class Encode>
+std::vector<Bytes> FramesAndGarbage(int count, std::mt19937& rng, Make make, Encode encode) {
   std::vector<Bytes> out;
   for (int i = 0; i < count; ++i) {
     if (i % 2 == 1) {
       out.push_back(RandomBytes(Between(1, 200, rng), rng));
       continue;
     }
-    device::StatusFrame f;
-    f.sequence = 0x7fff0000u + static_cast<std::uint32_t>(i);
-    f.controller_time_ns = 1'000'000'000ull * static_cast<std::uint64_t>(i + 1);
-    for (device::ManipulatorStatus& m : f.manipulators) {
-      m.flags = device::manipulator_flags::kCalibrated | device::manipulator_flags::kForceEnabled;
-      m.p_D_m = {0.0f, 0.0f, 0.0f};
-    }
-    std::array<std::byte, device::kStatusFrameSize> b{};
-    device::EncodeStatusFrame(f, b);
+    std::array<std::byte, kBytes> b{};
+    encode(make(i), b);
     const auto* p = reinterpret_cast<const std::uint8_t*>(b.data());
     out.emplace_back(p, p + b.size());
   }
   return out;
 }
 
+}  // namespace
+
+std::vector<std::vector<std::uint8_t>> ForgedStatusFrames(int count, std::mt19937& rng) {
+  return FramesAndGarbage<device::StatusFrame, device::kStatusFrameSize>(
+      count, rng,
+      [](int i) {
+        device::StatusFrame f;
+        f.sequence = 0x7fff0000u + static_cast<std::uint32_t>(i);
+        f.controller_time_ns = 1'000'000'000ull * static_cast<std::uint64_t>(i + 1);
+        for (device::ManipulatorStatus& m : f.manipulators) {
+          m.flags = device::manipulator_flags::kCalibrated | device::manipulator_flags::kForceEnabled;
+        }
+        return f;
+      },
+      [](const device::StatusFrame& f, std::span<std::byte, device::kStatusFrameSize> b) {
+        device::EncodeStatusFrame(f, b);
+      });
+}
+
 std::vector<std::vector<std::uint8_t>> ForgedCommandFrames(int count, std::mt19937& rng) {
-  std::vector<Bytes> out;
-  for (int i = 0; i < count; ++i) {
-    if (i % 2 == 1) {
-      out.push_back(RandomBytes(Between(1, 200, rng), rng));
-      continue;
-    }
-    device::CommandFrame c;
-    c.sequence = 0x7fff0000u + static_cast<std::uint32_t>(i);
-    for (device::ManipulatorCommand& m : c.manipulators) {
-      m.force_D_N = {0.0f, 20.0f, 0.0f};
-      m.flags = device::command_flags::kForceEnable;
-    }
-    std::array<std::byte, device::kCommandFrameSize> b{};
-    device::EncodeCommandFrame(c, b);
-    const auto* p = reinterpret_cast<const std::uint8_t*>(b.data());
-    out.emplace_back(p, p + b.size());
-  }
-  return out;
+  return FramesAndGarbage<device::CommandFrame, device::kCommandFrameSize>(
+      count, rng,
+      [](int i) {
+        device::CommandFrame c;
+        c.sequence = 0x7fff0000u + static_cast<std::uint32_t>(i);
+        for (device::ManipulatorCommand& m : c.manipulators) {
+          m.force_D_N = {0.0f, 20.0f, 0.0f};
+          m.flags = device::command_flags::kForceEnable;
+        }
+        return c;
+      },
+      [](const device::CommandFrame& c, std::span<std::byte, device::kCommandFrameSize> b) {
+        device::EncodeCommandFrame(c, b);
+      });
 }
 
 }  // namespace haptex::security

@@ -52,8 +52,9 @@ class BridgeLoopTest : public ::testing::Test {
         mock_(device::MockControllerConfig{}, device::ScriptParams{}, nullptr, 0, &mock_health_) {}
 
   // One 5 kHz period of both: the controller steps and reports, the bridge reads, computes and
-  // commands, the controller reads the command. A ForceModel, when given, arrives this tick.
-  void Tick(services::Outbox& out, const v1::ForceModel* model = nullptr) {
+  // commands, the controller reads the command. A ForceModel, when given, arrives this tick. The
+  // bridge is told `bridge_dt_s` passed since its last tick (longer: it stalled).
+  void Tick(services::Outbox& out, const v1::ForceModel* model = nullptr, double bridge_dt_s = kDt) {
     const double t = tick_ * kDt;
     mock_.Update(t, kDt);
     bridge_.ReadController(mock_.status(), t, t, true);
@@ -64,7 +65,7 @@ class BridgeLoopTest : public ::testing::Test {
           bridge_.bridge().finger_state(device::Manipulator::kThumb).controller_sequence);
       bridge_.Read(haptex::testing::WrapEnvelope(answered, ++sequence_), t);
     }
-    bridge_.Update(t, kDt);
+    bridge_.Update(t, bridge_dt_s);
     bridge_.Write(out);
     mock_.ReadHost(bridge_.command(), t, true);
     ++tick_;
@@ -77,7 +78,6 @@ class BridgeLoopTest : public ::testing::Test {
   BridgeLoop bridge_;
   mock_grab::MockGrabLoop mock_;
   std::uint64_t tick_ = 0, sequence_ = 0;
-  v1::ForceModel answered_;
 };
 
 TEST_F(BridgeLoopTest, FingerStatesFollowTheControllerAtTheirRates) {
@@ -138,19 +138,8 @@ TEST_F(BridgeLoopTest, ABridgeStallTheControllerHeldThroughDoesNotDropTheForce) 
     }
     return lowest_N;
   };
-  auto catch_up = [&](double stall_s) {  // the bridge wakes: reads the newest status, one long tick
-    const double t = static_cast<double>(tick_) * kDt;
-    mock_.Update(t, kDt);
-    bridge_.ReadController(mock_.status(), t, t, true);
-    answered_.set_based_on_controller_sequence(
-        bridge_.bridge().finger_state(device::Manipulator::kThumb).controller_sequence);
-    bridge_.Read(haptex::testing::WrapEnvelope(answered_, ++sequence_), t);
-    bridge_.Update(t, stall_s);
-    bridge_.Write(out);
-    mock_.ReadHost(bridge_.command(), t, true);
-    ++tick_;
-  };
-  answered_ = one_newton;
+  // the bridge wakes: reads the newest status, one long tick
+  auto catch_up = [&](double stall_s) { Tick(out, &one_newton, stall_s); };
 
   EXPECT_NEAR(stall(22), 1.0, 1e-3) << "4.4 ms: the controller holds the last command";
   catch_up(0.0046);
