@@ -37,10 +37,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The launcher's SCHED_FIFO priority by default: below the kernel's threaded interrupts (50 on a
-// real-time kernel), with room below it for the services' ranks.
-constexpr int kDefaultRtPriority = 40;
-
 struct LaunchOptions {
   std::string scene;
   double duration_s = -1;  // < 0: the scene's
@@ -57,7 +53,7 @@ struct LaunchOptions {
   // SCHED_FIFO for the launcher and, ranked by rate, every service; 0: normal scheduling. On by
   // default: on a busy host normal scheduling let the bridge's stall guard cut the force 16-83 times
   // in 15 s, and where the kernel refuses it the run goes on and says so.
-  int rt_priority = kDefaultRtPriority;
+  int rt_priority = runtime::kDefaultFifoPriority;
   bool dry_run = false;
   std::vector<std::string> impair;  // SERVICE-SERVICE[:KEY=VALUE,...], launch/impair_option.h
 };

@@ -14,6 +14,9 @@ struct RtSetupResult {
 
 /// mlockall(MCL_CURRENT | MCL_FUTURE): no page faults in hot loops.
 RtSetupResult TryLockMemory();
+/// The launcher's SCHED_FIFO priority by default: below the kernel's threaded interrupts (50 on a
+/// real-time kernel), with room below it for the services' ranks.
+inline constexpr int kDefaultFifoPriority = 40;
 /// SCHED_FIFO at `priority` (1..99) for the calling thread.
 RtSetupResult TrySetFifoPriority(int priority);
 /// Pins the calling thread to the given CPUs.

@@ -25,6 +25,7 @@
 #include "libs/device/grab_protocol.h"
 #include "libs/net/messenger.h"
 #include "libs/net/udp_address.h"
+#include "libs/runtime/rt_setup.h"
 #include "tests/support/subprocess.h"
 #include "tests/support/test_paths.h"
 
@@ -67,6 +68,9 @@ class DeviceBridgeProcessTest : public ::testing::Test {
   // The tests command constant forces: a constant force field does work on the finger it moves,
   // which the bridge's passivity controller damps; these tests check the plumbing and the limits
   // (the controller has its own tests), so it is off.
+  // Real-time, as the launcher runs them: the bridge, not a starved scheduler, is under test (where
+  // the kernel refuses, the services say so and run on).
+  static inline const std::string kRtPriority = std::to_string(runtime::kDefaultFifoPriority);
   void Start(const std::string& script, const std::vector<std::string>& mock_extra = {},
              const std::vector<std::string>& bridge_extra = {}) {
     // the bridge's GRAB port must be known before the mock starts: reserve one
@@ -83,7 +87,9 @@ class DeviceBridgeProcessTest : public ::testing::Test {
                                        "--force-log",
                                        log_,
                                        "--session-id",
-                                       std::to_string(kSession)};
+                                       std::to_string(kSession),
+                                       "--rt-priority",
+                                       kRtPriority};
     mock_argv.insert(mock_argv.end(), mock_extra.begin(), mock_extra.end());
     mock_ = std::make_unique<testing::Subprocess>(mock_argv, Env());
     const std::string mock_port = WaitForLine(*mock_, "listening on 127\\.0\\.0\\.1:([0-9]+)");
@@ -102,7 +108,9 @@ class DeviceBridgeProcessTest : public ::testing::Test {
                                          "--health-hz",
                                          "20",
                                          "--passivity",
-                                         "off"};
+                                         "off",
+                                         "--rt-priority",
+                                         kRtPriority};
     bridge_argv.insert(bridge_argv.end(), bridge_extra.begin(), bridge_extra.end());
     bridge_ = std::make_unique<testing::Subprocess>(bridge_argv, Env());
     WaitForLine(*bridge_, "controller socket on 127\\.0\\.0\\.1:([0-9]+)");
@@ -428,9 +436,7 @@ TEST_F(DeviceBridgeProcessTest, GarbageFloodFromAStrangerIsDroppedAndCounted) {
 // force (no spike, every change within the slew limit), and every garbage datagram is counted,
 // by the messenger or, where the socket queue overflowed, by the kernel.
 TEST_F(DeviceBridgeProcessTest, AFloodOnTheHaptexPortNeitherMovesTheForceNorGoesUncounted) {
-  // real-time, as the launcher runs them: the flood, not a starved scheduler, is under test (where
-  // the kernel refuses, the services say so and run on)
-  Start("grasp", {"--rt-priority", "40"}, {"--rt-priority", "40"});
+  Start("grasp");
   SendForce(0, 0, 2.0, 500ms);
   std::atomic<bool> flooding{true};
   std::atomic<std::uint64_t> garbage_sent{0};
