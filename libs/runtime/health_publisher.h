@@ -17,6 +17,8 @@ class HealthPublisher final {
 
   /// Sends Health when one period has passed since the last one. Returns true when it sent.
   bool MaybePublish(std::int64_t now_ns);
+  /// True when MaybePublish(now_ns) would send.
+  bool Due(std::int64_t now_ns) const { return now_ns >= next_ns_; }
   std::uint64_t published() const { return published_; }
 
  private:

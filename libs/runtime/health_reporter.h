@@ -2,6 +2,7 @@
 // Builds a service's Health message from its loops, counters and latencies. Register everything
 // at start-up; Build() then reuses the message and does not allocate.
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -34,6 +35,16 @@ class HealthReporter final {
   /// A latency kept elsewhere (e.g. a core's own tracker).
   void AddLatency(std::string name, LatencySource source);
   CounterId AddCounter(std::string name);
+  /// One counter per reason 1..N-1 of an enum whose 0 means "none" (drop reasons, frame errors),
+  /// each named `prefix` + name_of(reason); element 0 is unused.
+  template <class Reason, std::size_t N, class NameOf>
+  std::array<CounterId, N> AddCounterPerReason(std::string_view prefix, NameOf name_of) {
+    std::array<CounterId, N> ids{};
+    for (std::size_t r = 1; r < N; ++r) {
+      ids[r] = AddCounter(std::string(prefix) + std::string(name_of(static_cast<Reason>(r))));
+    }
+    return ids;
+  }
 
   void SetCounter(CounterId id, std::uint64_t value) { counter_values_[id] = value; }
   void SetState(v1::Health::State state) { state_ = state; }

@@ -42,10 +42,8 @@ ServiceContext::ServiceContext(std::string name, const ServiceOptions& options)
   }
   dropped_counter_ = health_.AddCounter("datagrams_dropped");
   // one per reason, so a campaign (or a user chasing losses) can tell an attack from a bug
-  for (std::size_t r = 1; r < net::kDropReasonCount; ++r) {
-    dropped_by_reason_[r] = health_.AddCounter(std::string("datagrams_dropped_") +
-                                               std::string(net::DropReasonName(static_cast<net::DropReason>(r))));
-  }
+  dropped_by_reason_ =
+      health_.AddCounterPerReason<net::DropReason, net::kDropReasonCount>("datagrams_dropped_", net::DropReasonName);
   kernel_dropped_counter_ = health_.AddCounter("datagrams_dropped_by_kernel");
   if (!options.record_path.empty()) {
     recorder_ = std::make_unique<EnvelopeRecorder>(options.record_path, name_, messenger_->identity().epoch,
@@ -81,7 +79,8 @@ bool ServiceContext::SendBody(PeerId peer, const google::protobuf::MessageLite& 
 }
 
 void ServiceContext::Tick(std::int64_t now_ns) {
-  if (!health_publisher_) return;
+  // the transport's counters are read only when Health goes out
+  if (!health_publisher_ || !health_publisher_->Due(now_ns)) return;
   health_.SetCounter(dropped_counter_, messenger_->received().TotalDropped());
   for (std::size_t r = 1; r < net::kDropReasonCount; ++r) {
     health_.SetCounter(dropped_by_reason_[r], messenger_->received().Get(static_cast<net::DropReason>(r)));

@@ -46,10 +46,8 @@ BridgeLoop::BridgeLoop(const BridgeLoopConfig& config, const BridgePeers& peers,
   ids_.foreign_echo_events = health_->AddCounter("foreign_echo_events");
   ids_.out_of_order = health_->AddCounter("status_frames_out_of_order");
   // docs/grab-protocol.md section 6: every rejection counted under its reason
-  for (std::size_t e = 1; e < device::kFrameErrorCount; ++e) {
-    ids_.rejected_by_reason[e] = health_->AddCounter(
-        "status_frames_rejected_" + std::string(device::FrameErrorName(static_cast<device::FrameError>(e))));
-  }
+  ids_.rejected_by_reason = health_->AddCounterPerReason<device::FrameError, device::kFrameErrorCount>(
+      "status_frames_rejected_", device::FrameErrorName);
   FillFingerStates(*bridge_, &states_);  // sized once, before the loop
   health_->ReserveLastError(kLastErrorCapacity);
 }

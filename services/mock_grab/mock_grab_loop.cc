@@ -19,10 +19,8 @@ MockGrabLoop::MockGrabLoop(const device::MockControllerConfig& config, device::S
   ids_.log_dropped = health_->AddCounter("force_log_dropped");
   ids_.strangers = health_->AddCounter("commands_from_strangers");
   ids_.out_of_order = health_->AddCounter("commands_out_of_order");
-  for (std::size_t e = 1; e < device::kFrameErrorCount; ++e) {
-    ids_.rejected_by_reason[e] = health_->AddCounter(
-        "commands_rejected_" + std::string(device::FrameErrorName(static_cast<device::FrameError>(e))));
-  }
+  ids_.rejected_by_reason = health_->AddCounterPerReason<device::FrameError, device::kFrameErrorCount>(
+      "commands_rejected_", device::FrameErrorName);
 }
 
 void MockGrabLoop::ReadHost(std::span<const std::byte> datagram, double t_s, bool from_host) {

@@ -29,6 +29,21 @@ TEST(HealthPublisherTest, RejectsBadRates) {
   EXPECT_THROW(HealthPublisher(&reporter, &m, 0, 5000.0, 0), std::invalid_argument);
 }
 
+// Due says whether MaybePublish would send, so a service refreshes what it reports only then.
+TEST(HealthPublisherTest, DueExactlyWhenItWouldSend) {
+  const auto key = net::SessionKey::Generate();
+  net::Messenger launcher(key, Config("launcher"));
+  net::Messenger service(key, Config("svc"));
+  HealthReporter reporter("svc");
+  HealthPublisher publisher(&reporter, &service, service.AddPeer("launcher", launcher.local_endpoint()), 10.0, 0);
+  EXPECT_TRUE(publisher.Due(0));
+  EXPECT_TRUE(publisher.MaybePublish(0));
+  EXPECT_FALSE(publisher.Due(99'999'999));
+  EXPECT_FALSE(publisher.MaybePublish(99'999'999));
+  EXPECT_TRUE(publisher.Due(100'000'000));
+  EXPECT_TRUE(publisher.MaybePublish(100'000'000));
+}
+
 // A loop publishes its own Health over real UDP; the launcher side receives it in order.
 TEST(HealthPublisherTest, LoopPublishesItsStatisticsAtTheHealthRate) {
   const auto key = net::SessionKey::Generate();

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <string_view>
+
 #include "tests/support/allocation_counter.h"
 
 namespace haptex::runtime {
@@ -37,6 +39,19 @@ TEST(HealthReporterTest, BuildsHealthFromRegisteredSources) {
   ASSERT_EQ(h.counters_size(), 1);
   EXPECT_EQ(h.counters(0).name(), "dropped_bad_mac");
   EXPECT_EQ(h.counters(0).value(), 7u);
+}
+
+TEST(HealthReporterTest, OneCounterPerReasonNamedByPrefixAndReason) {
+  enum class Reason { kNone, kTorn, kLate, kCount };
+  HealthReporter reporter("svc");
+  const auto ids = reporter.AddCounterPerReason<Reason, 3>(
+      "frames_", [](Reason r) -> std::string_view { return r == Reason::kTorn ? "torn" : "late"; });
+  reporter.SetCounter(ids[2], 7);
+  const v1::Health& h = reporter.Build(0.0);
+  ASSERT_EQ(h.counters_size(), 2);
+  EXPECT_EQ(h.counters(0).name(), "frames_torn");
+  EXPECT_EQ(h.counters(1).name(), "frames_late");
+  EXPECT_EQ(h.counters(1).value(), 7u);
 }
 
 TEST(HealthReporterTest, RebuildDoesNotAllocate) {
