@@ -55,7 +55,8 @@ int Run(services::ServiceContext& context, const Options& options) {
           work.ReadHost(bytes, t_s, from_bridge);
         });
         services::ReadMessages(context, work, t_s, 8);
-        work.Update(t_s, tick.dt_s);
+        // the time that really passed: a stall of ours is the core's to see (it pauses its world)
+        work.Update(t_s, tick.dt_s * static_cast<double>(1 + tick.skipped));
         bridge.Send(work.status());
         work.Write(context);
         context.Tick(tick.now_ns);
