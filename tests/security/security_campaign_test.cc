@@ -117,7 +117,9 @@ struct Sent {
 // What the mock controller was commanded over the run.
 struct Commanded {
   double peak_N = 0.0;
-  double largest_step_per_command_N = 0.0;  // between consecutive host commands
+  // the largest change between two rows over what the slew limits allow for it: 0.5 N per host
+  // command, and the controller's own 2.5 kN/s over the time between the rows (whichever is more)
+  double largest_step_to_limit = 0.0;
   std::size_t rows = 0;
 };
 
@@ -133,12 +135,15 @@ Commanded ReadCommanded(const std::string& run_dir) {
       if (rows[k].CommandedNormN(f) == 0.0) continue;
       // commands the mock never applied (it takes the newest of those waiting) count as steps
       const double commands = static_cast<double>(rows[k].host_sequence - rows[k - 1].host_sequence);
+      const double dt_s = 1e-9 * static_cast<double>(rows[k].time_ns - rows[k - 1].time_ns);
+      const device::ForceSafetyConfig slew;
+      const double allowed_N = std::max(slew.slew_N_per_tick * commands, slew.slew_N_per_s * dt_s) + 1e-3;
       double step2 = 0.0;
       for (int a = 0; a < 3; ++a) {
         const double d = rows[k].commanded_D_N[f][a] - rows[k - 1].commanded_D_N[f][a];
         step2 += d * d;
       }
-      c.largest_step_per_command_N = std::max(c.largest_step_per_command_N, std::sqrt(step2) / commands);
+      c.largest_step_to_limit = std::max(c.largest_step_to_limit, std::sqrt(step2) / allowed_N);
     }
   }
   return c;
@@ -237,15 +242,24 @@ double LongestHapticPeriodS(const pb::Struct& summary) {
   return longest_s;
 }
 
+// Cuts the device's watchdogs made because a loop stalled: the bridge disarmed after a stall of
+// its own, or the controller timed out waiting for it. On a paused or starved host these zero the
+// force by design (docs/grab-protocol.md section 7), attack or not.
+double StallCuts(const pb::Struct& summary) {
+  return Number(Object(haptex::testing::ServiceSummary(summary, "device_bridge"), "counters"), "tick_gap_disarms") +
+         Number(Object(haptex::testing::ServiceSummary(summary, "mock_grab"), "counters"), "host_timeouts");
+}
+
 TEST_F(SecurityCampaignTest, EveryPortOfALiveDemoCountsEveryAttackAndTheForceStaysTheCleanRunsForce) {
   pb::Struct clean, attacked;
   Commanded clean_force, attacked_force;
   Sent sent;
-  // A pause of the whole host longer than the model watchdog's 20 ms zeroes the force by design,
-  // attack or not: such a pair says nothing about the attack's effect on the force and is run
-  // again, once; the second is asserted on whatever happened (only a force dropout is excused,
-  // and only after such a pause).
+  // A stall of the host that makes a watchdog cut (the bridge's, the controller's, or the model
+  // watchdog's beyond 20 ms) zeroes the force by design, attack or not: such a pair says nothing
+  // about the attack's effect on the force and is run again, once; the second is asserted on
+  // whatever happened, a dropout excused only as one of those cuts.
   double paused_s = 0.0;
+  bool quiet = false;
   for (int attempt = 1; attempt <= 2; ++attempt) {
     const std::string suffix = "_" + std::to_string(attempt);
     clean = RunDemo("clean" + suffix, nullptr);
@@ -254,9 +268,11 @@ TEST_F(SecurityCampaignTest, EveryPortOfALiveDemoCountsEveryAttackAndTheForceSta
     attacked = RunDemo("attacked" + suffix, [&](const Ports& ports) { sent = Attack(key_, ports); });
     attacked_force = ReadCommanded(dir_ + "/attacked" + suffix);
     paused_s = std::max(LongestHapticPeriodS(clean), LongestHapticPeriodS(attacked));
-    if (paused_s < device::kMaxForceModelSilence_s) break;
-    std::cout << "[attempt " << attempt << "] a haptic loop stalled " << 1e3 * paused_s
-              << " ms (a paused host), beyond the model watchdog\n";
+    quiet = paused_s < device::kMaxForceModelSilence_s && StallCuts(clean) == 0 && StallCuts(attacked) == 0;
+    if (quiet) break;
+    std::cout << "[attempt " << attempt << "] a haptic loop stalled " << 1e3 * paused_s << " ms, " << StallCuts(clean)
+              << " and " << StallCuts(attacked)
+              << " watchdog cuts for stalls in the clean and attacked runs (a paused host)\n";
   }
 
   // nothing crashed or restarted
@@ -308,22 +324,30 @@ TEST_F(SecurityCampaignTest, EveryPortOfALiveDemoCountsEveryAttackAndTheForceSta
   EXPECT_EQ(Counter(bridge, "foreign_echoes"), 0u);
 
   // the device was commanded what the clean run commanded
-  std::cout << "[measured] clean: peak " << clean_force.peak_N << " N, largest step per command "
-            << clean_force.largest_step_per_command_N << " N; attacked: peak " << attacked_force.peak_N
-            << " N, largest step " << attacked_force.largest_step_per_command_N << " N; flood " << sent.flood
+  std::cout << "[measured] clean: peak " << clean_force.peak_N << " N, largest step "
+            << clean_force.largest_step_to_limit << " of the slew limit; attacked: peak " << attacked_force.peak_N
+            << " N, largest step " << attacked_force.largest_step_to_limit << " of it; flood " << sent.flood
             << " datagrams in " << std::chrono::duration<double>(kFloodDuration).count() << " s\n";
   ASSERT_GT(clean_force.rows, 10000u);
   ASSERT_GT(clean_force.peak_N, 1.0) << "the clean demo did not pinch";
-  EXPECT_NEAR(attacked_force.peak_N, clean_force.peak_N, 0.1 * clean_force.peak_N);
-  const double slew_N = device::ForceSafetyConfig{}.slew_N_per_tick;
-  EXPECT_LE(clean_force.largest_step_per_command_N, slew_N + 1e-3);
-  EXPECT_LE(attacked_force.largest_step_per_command_N, slew_N + 1e-3);
+  // after a stall's cut the fingers fall in and the force comes back higher, in either run
+  if (quiet) {
+    EXPECT_NEAR(attacked_force.peak_N, clean_force.peak_N, 0.1 * clean_force.peak_N);
+  }
+  EXPECT_LE(attacked_force.peak_N, device::ForceSafetyConfig{}.peak_force_N + 1e-3);
+  EXPECT_LE(clean_force.largest_step_to_limit, 1.0);
+  EXPECT_LE(attacked_force.largest_step_to_limit, 1.0);
   const double dropouts = Number(Object(Object(attacked, "forces"), "mock_controller_commanded"), "force_dropouts");
-  if (paused_s < device::kMaxForceModelSilence_s) {
+  if (quiet) {
     EXPECT_EQ(dropouts, 0);
   } else {
-    std::cout << "[not asserted] " << dropouts << " force dropouts after a " << 1e3 * paused_s
-              << " ms pause of the host: the model watchdog's doing, not the attack's\n";
+    // every dropout is one of those cuts (or the model watchdog's after a pause beyond it)
+    if (paused_s < device::kMaxForceModelSilence_s) {
+      EXPECT_LE(dropouts, StallCuts(attacked));
+    }
+    std::cout << "[explained, peaks not compared] " << dropouts << " force dropouts, " << StallCuts(clean) << " and "
+              << StallCuts(attacked) << " watchdog cuts for stalls, longest haptic period " << 1e3 * paused_s
+              << " ms\n";
   }
 }
 
