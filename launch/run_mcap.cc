@@ -7,6 +7,7 @@
 #include <fstream>
 #include <limits>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 #include <utility>
 
@@ -44,7 +45,7 @@ std::string DescriptorSetOf(const pb::Descriptor* type) {
 
 std::string McapTopic(const std::string& sender, const std::string& body) { return "/" + sender + "/" + body; }
 
-std::string MakeRunMcap(const std::vector<Recording>& recordings, RunMcapCounts* counts) {
+RunMcapCounts WriteRunMcap(const std::vector<Recording>& recordings, std::ostream& out) {
   struct Entry {
     std::int64_t send_time_ns;
     const v1::Envelope* envelope;
@@ -68,7 +69,7 @@ std::string MakeRunMcap(const std::vector<Recording>& recordings, RunMcapCounts*
   std::stable_sort(entries.begin(), entries.end(),
                    [](const Entry& a, const Entry& b) { return a.send_time_ns < b.send_time_ns; });
 
-  mcap::McapWriter writer;
+  mcap::McapWriter writer(out);
   std::map<const pb::Descriptor*, std::uint16_t> schemas;
   std::map<std::string, std::uint16_t> channels;  // by topic
   for (const Entry& entry : entries) {
@@ -93,16 +94,27 @@ std::string MakeRunMcap(const std::vector<Recording>& recordings, RunMcapCounts*
     ++tally.messages;
     ++tally.channels[topic];
   }
+  writer.Finish();
+  return tally;
+}
+
+std::string MakeRunMcap(const std::vector<Recording>& recordings, RunMcapCounts* counts) {
+  std::ostringstream out;
+  RunMcapCounts tally = WriteRunMcap(recordings, out);
   if (counts != nullptr) *counts = std::move(tally);
-  return writer.Finish();
+  return out.str();
 }
 
 RunMcapCounts WriteRunMcap(const std::vector<Recording>& recordings, const std::string& path) {
-  RunMcapCounts counts;
-  const std::string bytes = MakeRunMcap(recordings, &counts);
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  out.close();
+  if (!out) throw std::runtime_error("cannot write " + path);
+  RunMcapCounts counts;
+  try {
+    counts = WriteRunMcap(recordings, out);
+    out.close();
+  } catch (const mcap::McapError& e) {
+    throw std::runtime_error("cannot write " + path + ": " + e.what());
+  }
   if (!out) throw std::runtime_error("cannot write " + path);
   const auto slash = path.find_last_of('/');
   counts.file = slash == std::string::npos ? path : path.substr(slash + 1);

@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <map>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -29,11 +30,15 @@ struct RunMcapCounts {
 /// The topic of `sender`'s messages with the Envelope body field `body` ("/device_bridge/finger_states").
 std::string McapTopic(const std::string& sender, const std::string& body);
 
-/// run.mcap's bytes from the recordings, messages in send-time order; `counts` says what it holds.
-std::string MakeRunMcap(const std::vector<Recording>& recordings, RunMcapCounts* counts);
+/// Writes run.mcap from the recordings to `out`, messages in send-time order; returns what it holds
+/// (`file` empty). Throws mcap::McapError when the stream fails.
+RunMcapCounts WriteRunMcap(const std::vector<Recording>& recordings, std::ostream& out);
 
-/// Writes MakeRunMcap's file at `path`. Throws std::runtime_error when it cannot be written.
+/// Writes it at `path`. Throws std::runtime_error when it cannot be written.
 RunMcapCounts WriteRunMcap(const std::vector<Recording>& recordings, const std::string& path);
+
+/// Its bytes, in memory (tests, small runs); `counts` (may be null) says what it holds.
+std::string MakeRunMcap(const std::vector<Recording>& recordings, RunMcapCounts* counts);
 
 /// The recordings again from a run.mcap, one per sending service (sorted by name), its Envelopes
 /// holding sender, sequence, send time and body. Throws std::runtime_error (mcap::McapError) for a

@@ -54,13 +54,21 @@ struct Group {
 
 }  // namespace
 
-McapWriter::McapWriter(WriterOptions options) : options_(std::move(options)) {
+McapWriter::McapWriter(std::ostream& out, WriterOptions options) : sink_(&out), options_(std::move(options)) {
   out_.append(kMagic);
   std::string header;
   ByteWriter w(&header);
   w.String(options_.profile);
   w.String(options_.library);
   AppendRecord(&out_, Opcode::kHeader, header);
+  Flush();
+}
+
+void McapWriter::Flush() {
+  if (!data_ended_) data_crc_.Update(out_);
+  sink_->write(out_.data(), static_cast<std::streamsize>(out_.size()));
+  flushed_ += out_.size();
+  out_.clear();
 }
 
 std::uint16_t McapWriter::AddSchema(std::string name, std::string encoding, std::string data) {
@@ -122,7 +130,7 @@ void McapWriter::CloseChunk() {
   ChunkIndex index;
   index.start_time = chunk_has_messages_ ? chunk_start_time_ : 0;
   index.end_time = chunk_has_messages_ ? chunk_end_time_ : 0;
-  index.chunk_offset = out_.size();
+  index.chunk_offset = Position();
   index.records_size = chunk_.size();
 
   std::string content;
@@ -135,12 +143,12 @@ void McapWriter::CloseChunk() {
   w.U64(chunk_.size());
   w.Raw(chunk_);
   AppendRecord(&out_, Opcode::kChunk, content);
-  index.chunk_length = out_.size() - index.chunk_offset;
+  index.chunk_length = Position() - index.chunk_offset;
 
   // one Message Index per channel in the chunk, by channel id
-  const std::uint64_t indexes_start = out_.size();
+  const std::uint64_t indexes_start = Position();
   for (const auto& [channel_id, entries] : chunk_index_) {
-    index.message_index_offsets[channel_id] = out_.size();
+    index.message_index_offsets[channel_id] = Position();
     std::string array;
     ByteWriter a(&array);
     for (const auto& [log_time, offset] : entries) {
@@ -153,31 +161,35 @@ void McapWriter::CloseChunk() {
     r.String(array);
     AppendRecord(&out_, Opcode::kMessageIndex, record);
   }
-  index.message_index_length = out_.size() - indexes_start;
+  index.message_index_length = Position() - indexes_start;
   chunk_indexes_.push_back(std::move(index));
 
   chunk_.clear();
   chunk_index_.clear();
   chunk_has_messages_ = false;
+  Flush();
 }
 
-std::string McapWriter::Finish() {
+void McapWriter::Finish() {
   if (finished_) throw McapError("Finish() twice");
   finished_ = true;
   CloseChunk();
 
   // Data End: the CRC of everything before it, from the leading magic on
   {
+    Flush();
     std::string content;
-    ByteWriter(&content).U32(options_.crcs ? Crc32Of(out_) : 0);
+    ByteWriter(&content).U32(options_.crcs ? data_crc_.value() : 0);
     AppendRecord(&out_, Opcode::kDataEnd, content);
+    data_ended_ = true;
+    Flush();
   }
 
   // Summary, grouped by opcode
-  const std::uint64_t summary_start = out_.size();
+  const std::uint64_t summary_start = Position();
   std::vector<Group> groups;
-  auto begin_group = [&](Opcode op) { groups.push_back({op, out_.size(), 0}); };
-  auto end_group = [&] { groups.back().length = out_.size() - groups.back().start; };
+  auto begin_group = [&](Opcode op) { groups.push_back({op, Position(), 0}); };
+  auto end_group = [&] { groups.back().length = Position() - groups.back().start; };
   if (!schemas_.empty()) {
     begin_group(Opcode::kSchema);
     for (const Schema& s : schemas_) AppendRecord(&out_, Opcode::kSchema, SchemaContent(s));
@@ -236,7 +248,7 @@ std::string McapWriter::Finish() {
   }
 
   // Summary Offsets: where each group is
-  const std::uint64_t summary_offset_start = out_.size();
+  const std::uint64_t summary_offset_start = Position();
   for (const Group& g : groups) {
     std::string content;
     ByteWriter w(&content);
@@ -252,12 +264,11 @@ std::string McapWriter::Finish() {
   w.U64(kFooterContentBytes);
   w.U64(summary_start);
   w.U64(summary_offset_start);
-  w.U32(options_.crcs ? Crc32Of(std::string_view(out_).substr(summary_start)) : 0);
+  w.U32(options_.crcs ? Crc32Of(out_) : 0);  // out_ holds the file from summary_start on
   w.Raw(kMagic);
-
-  std::string file = std::move(out_);
-  out_.clear();
-  return file;
+  Flush();
+  sink_->flush();
+  if (!*sink_) throw McapError("the output stream failed");
 }
 
 }  // namespace haptex::mcap

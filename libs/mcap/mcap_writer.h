@@ -1,5 +1,5 @@
 #pragma once
-// Writes an MCAP file into memory: magic, Header, then messages grouped into uncompressed Chunks
+// Writes an MCAP file to a stream: magic, Header, then messages grouped into uncompressed Chunks
 // (each followed by its Message Index records), Data End with the data section's CRC, a Summary
 // (Schemas, Channels, Statistics with per-channel counts, Chunk Indexes), Summary Offsets, Footer
 // and magic (https://mcap.dev/spec). A schema and channel are written into the chunk of their
@@ -8,10 +8,12 @@
 #include <cstddef>
 #include <cstdint>
 #include <map>
+#include <ostream>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "libs/mcap/crc32.h"
 #include "libs/mcap/mcap_records.h"
 
 namespace haptex::mcap {
@@ -27,7 +29,9 @@ struct WriterOptions {
 
 class McapWriter {
  public:
-  explicit McapWriter(WriterOptions options = {});
+  /// Writes to `out` as it goes: a chunk at a time, the summary at Finish(). Keeps only the open
+  /// chunk and the index entries in memory.
+  explicit McapWriter(std::ostream& out, WriterOptions options = {});
 
   /// Returns the new schema's id (from 1). Throws McapError past 65535 schemas.
   std::uint16_t AddSchema(std::string name, std::string encoding, std::string data);
@@ -38,9 +42,9 @@ class McapWriter {
   /// Throws McapError for an unknown channel, or after Finish().
   void AddMessage(const Message& message);
 
-  /// Closes the data section, writes the summary and footer, and returns the whole file.
-  /// The writer takes nothing more after this.
-  std::string Finish();
+  /// Closes the data section and writes the summary and footer. The writer takes nothing more after
+  /// this. Throws McapError when the stream has failed.
+  void Finish();
 
  private:
   struct ChunkIndex {
@@ -52,9 +56,15 @@ class McapWriter {
   };
 
   void CloseChunk();
+  void Flush();                                                      // out_ to the stream
+  std::uint64_t Position() const { return flushed_ + out_.size(); }  // in the file
 
+  std::ostream* sink_;
   WriterOptions options_;
-  std::string out_;  // the file so far
+  std::string out_;            // written but not yet flushed
+  std::uint64_t flushed_ = 0;  // bytes given to the stream
+  Crc32 data_crc_;             // of the data section so far
+  bool data_ended_ = false;
   std::vector<Schema> schemas_;
   std::vector<Channel> channels_;
   std::vector<bool> schema_written_, channel_written_;  // into the data section, by id - 1

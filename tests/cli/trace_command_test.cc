@@ -115,10 +115,12 @@ TEST_F(TraceCommandTest, MissingCutAndForeignInputsAreClearErrors) {
   EXPECT_NE(r.code, 0);
   EXPECT_THAT(r.err, HasSubstr("not an MCAP file"));
 
-  mcap::McapWriter w;
+  std::ofstream camera(dir_ + "/camera.mcap", std::ios::binary);
+  mcap::McapWriter w(camera);
   const auto c = w.AddChannel(w.AddSchema("sensor_msgs.Image", "protobuf", ""), "/camera/image", "protobuf");
   w.AddMessage({c, 0, 1, 1, ""});
-  WriteBytes(dir_ + "/camera.mcap", w.Finish());
+  w.Finish();
+  camera.close();
   r = Export({dir_ + "/camera.mcap", "--csv"});
   EXPECT_NE(r.code, 0);
   EXPECT_THAT(r.err, HasSubstr("not a haptex run's MCAP"));

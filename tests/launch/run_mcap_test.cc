@@ -143,11 +143,13 @@ TEST(LaunchRunMcapTest, MissingCutAndForeignFilesAreClearErrors) {
   EXPECT_THAT(ErrorOf(dir + "/cut.mcap"), HasSubstr("cut.mcap: cut short"));
 
   auto foreign = [&](const std::string& name, const std::string& topic, const std::string& schema_name) {
-    mcap::McapWriter w;
+    std::ofstream out(dir + "/" + name, std::ios::binary);
+    mcap::McapWriter w(out);
     const auto s = w.AddSchema(schema_name, "protobuf", "");
     const auto c = w.AddChannel(s, topic, "protobuf");
     w.AddMessage({c, 0, 1, 1, ""});
-    std::ofstream(dir + "/" + name, std::ios::binary) << w.Finish();
+    w.Finish();
+    out.close();
     return ErrorOf(dir + "/" + name);
   };
   EXPECT_THAT(foreign("a.mcap", "/camera/image", "sensor_msgs.Image"), HasSubstr("not a haptex run's MCAP"));

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -45,7 +47,8 @@ Message Msg(std::uint16_t channel, std::uint64_t t, std::string data, std::uint3
 
 // three channels on two schemas, 60 messages, small chunks
 std::string ThreeChannelFile(std::size_t chunk_size, bool crcs = true) {
-  McapWriter w({.profile = "", .library = "haptex", .chunk_size = chunk_size, .crcs = crcs});
+  std::ostringstream out;
+  McapWriter w(out, {.profile = "", .library = "haptex", .chunk_size = chunk_size, .crcs = crcs});
   const auto a = w.AddSchema("test.A", "protobuf", std::string("schema\0A", 8));
   const auto b = w.AddSchema("test.B", "protobuf", "schema B");
   const auto c1 = w.AddChannel(a, "/one/a", "protobuf", {{"k", "v"}});
@@ -57,7 +60,8 @@ std::string ThreeChannelFile(std::size_t chunk_size, bool crcs = true) {
     if (i % 2 == 0) w.AddMessage(Msg(c3, 1003 + 10 * i, "one-b " + std::to_string(i), i));
   }
   w.AddMessage(Msg(c1, 500, "early"));  // out of order: readers sort by log time
-  return w.Finish();
+  w.Finish();
+  return out.str();
 }
 
 TEST(McapWriterTest, RoundTripsSchemasChannelsAndMessagesInLogTimeOrder) {
@@ -164,12 +168,28 @@ TEST(McapWriterTest, LaysOutTheFileAsTheSpecificationSays) {
 }
 
 TEST(McapWriterTest, AFileWithoutMessagesIsValid) {
-  McapWriter w;
-  const McapFile f = ReadMcap(w.Finish());
+  std::ostringstream out;
+  McapWriter w(out);
+  w.Finish();
+  const McapFile f = ReadMcap(out.str());
   EXPECT_TRUE(f.messages.empty());
   EXPECT_EQ(f.chunks, 0u);
   ASSERT_TRUE(f.statistics.has_value());
   EXPECT_EQ(f.statistics->message_count, 0u);
+}
+
+TEST(McapWriterTest, WritesEachChunkAsItClosesAndRefusesAFailedStream) {
+  std::ostringstream out;
+  McapWriter w(out, {.profile = "", .library = "haptex", .chunk_size = 100, .crcs = true});
+  const auto c = w.AddChannel(0, "/a", "json");
+  w.AddMessage(Msg(c, 1, std::string(200, 'x')));
+  EXPECT_GT(out.str().size(), 200u);  // the chunk is in the stream before Finish()
+  w.Finish();
+  EXPECT_EQ(ReadMcap(out.str()).messages.size(), 1u);
+
+  std::ofstream bad(::testing::TempDir() + "/no_such_folder/x.mcap");
+  McapWriter failing(bad);
+  EXPECT_THROW(failing.Finish(), McapError);
 }
 
 TEST(McapWriterTest, WithoutCrcsWritesZeroes) {
@@ -178,7 +198,8 @@ TEST(McapWriterTest, WithoutCrcsWritesZeroes) {
 }
 
 TEST(McapWriterTest, RefusesUnknownChannelsAndSchemas) {
-  McapWriter w;
+  std::ostringstream out;
+  McapWriter w(out);
   EXPECT_THROW(w.AddChannel(1, "/x", "protobuf"), McapError);
   const auto c = w.AddChannel(0, "/no_schema", "json");
   EXPECT_THROW(w.AddMessage(Msg(c + 1, 0, "")), McapError);
