@@ -22,6 +22,7 @@
 #include "launch/port_plan.h"
 #include "launch/recording.h"
 #include "launch/run_folder.h"
+#include "launch/run_mcap.h"
 #include "launch/run_report.h"
 #include "launch/run_summary.h"
 #include "launch/service_set.h"
@@ -335,14 +336,24 @@ int Launch(const LaunchOptions& o) {
   for (const auto& r : recordings) {
     files.push_back({fs::path(r.path).filename().string(), r.envelopes.size(), r.unparsable, r.truncated});
   }
+  std::optional<RunMcapCounts> mcap;
+  try {
+    mcap = WriteRunMcap(recordings, run_dir + "/run.mcap");
+  } catch (const std::exception& e) {
+    record.errors.push_back(std::string("run.mcap: ") + e.what());
+  }
   const auto analysis = AnalyseRecordings(recordings);
   const auto force_log = ReadForceLog(ForceLogPath(run_dir));
   std::vector<PlotResult> plots;
   if (!o.no_plots) plots = MakePlots(run_dir, scene, recordings, force_log);
-  std::ofstream(run_dir + "/summary.json") << SummaryJson(record, files, analysis, force_log, plots);
+  std::ofstream(run_dir + "/summary.json") << SummaryJson(record, files, analysis, force_log, plots, mcap);
 
   PrintRelayResults(record.relays);
   for (const std::string& e : record.errors) std::cout << "error: " << e << "\n";
+  if (mcap) {
+    std::cout << "recording " << run_dir << "/run.mcap: " << mcap->messages << " messages on " << mcap->channels.size()
+              << " channels\n";
+  }
   for (const auto& p : plots) {
     std::cout << "plot " << p.name << ": " << (p.file.empty() ? "skipped, " + p.skipped : p.file) << "\n";
   }

@@ -145,7 +145,7 @@ void WriteNetwork(JsonWriter& j, const std::vector<RelayRecord>& relays) {
 
 std::string SummaryJson(const RunRecord& run, const std::vector<RecordingFiles>& recordings,
                         const RecordingAnalysis& analysis, const std::optional<ForceLog>& force_log,
-                        const std::vector<PlotResult>& plots) {
+                        const std::vector<PlotResult>& plots, const std::optional<RunMcapCounts>& mcap) {
   JsonWriter j;
   j.BeginObject();
   j.Field("scene", run.scene_name).Field("scene_path", run.scene_path).Field("run_dir", run.run_dir);
@@ -292,6 +292,17 @@ std::string SummaryJson(const RunRecord& run, const std::vector<RecordingFiles>&
         .EndObject();
   }
   j.EndArray();
+  // run.mcap, assembled from the recordings: messages per topic as written
+  j.BeginObject("recording");
+  if (mcap) {
+    j.Field("mcap", mcap->file).Field("messages", mcap->messages).Field("without_body", mcap->without_body);
+    j.BeginObject("channels");
+    for (const auto& [topic, count] : mcap->channels) j.Field(topic, count);
+    j.EndObject();
+  } else {
+    j.Field("mcap", "").Field("note", "run.mcap was not written (see errors)");
+  }
+  j.EndObject();
   j.BeginObject("plots");
   for (const PlotResult& p : plots) {
     j.BeginObject(p.name);

@@ -12,6 +12,7 @@
 #include "haptex/v1/health.pb.h"
 #include "launch/port_plan.h"
 #include "launch/relay_report_reader.h"
+#include "launch/run_mcap.h"
 #include "launch/run_report.h"
 #include "libs/scene/scene_network.h"
 
@@ -78,9 +79,9 @@ struct RecordingFiles {
   bool truncated = false;
 };
 
-/// summary.json's text.
+/// summary.json's text. `mcap`: what run.mcap holds (none when it could not be written).
 std::string SummaryJson(const RunRecord& run, const std::vector<RecordingFiles>& recordings,
                         const RecordingAnalysis& analysis, const std::optional<ForceLog>& force_log,
-                        const std::vector<PlotResult>& plots);
+                        const std::vector<PlotResult>& plots, const std::optional<RunMcapCounts>& mcap = std::nullopt);
 
 }  // namespace haptex::launch

@@ -120,10 +120,15 @@ TEST_F(LaunchSystemTest, RunFolderHasSummaryRecordingsLogsAndPlots) {
   EXPECT_TRUE(std::filesystem::exists(run_ + "/plots/loop_periods.png"));
   EXPECT_TRUE(std::filesystem::exists(run_ + "/commands.txt"));
   EXPECT_FALSE(ForceRows().empty());
+  // run.mcap: the recordings as one MCAP file, counted in the summary
+  EXPECT_THAT(summary, ::testing::ContainsRegex(R"("recording":\{"mcap":"run.mcap","messages":[1-9][^}]*)"
+                                                R"("channels":\{[^}]*"/device_bridge/finger_states":[1-9])"));
+  EXPECT_THAT(launcher->Stdout(), HasSubstr("/run.mcap: "));
 
-  // haptex trace export RUN --csv
+  // haptex trace export RUN --csv (reads run.mcap)
   haptex::testing::Subprocess exporter({haptex::testing::BuildDir() + "/cli/haptex", "trace", "export", run_, "--csv"});
   EXPECT_EQ(exporter.WaitFor(60s), 0) << exporter.Stderr();
+  EXPECT_THAT(exporter.Stdout(), HasSubstr("run.mcap /device_bridge/*: "));
   EXPECT_THAT(testing::ReadText(run_ + "/csv/health.csv"), HasSubstr("t_s,sender,state"));
   EXPECT_THAT(testing::ReadText(run_ + "/csv/health.csv"), HasSubstr(",device_bridge,STATE_"));
   EXPECT_TRUE(std::filesystem::exists(run_ + "/csv/health_counters.csv"));

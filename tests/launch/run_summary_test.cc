@@ -87,6 +87,18 @@ TEST(LaunchRunSummaryTest, ContactStateHistogram) {
   EXPECT_THAT(json, HasSubstr(R"("mock_controller_commanded":{"note":"no mock controller force log"})"));
 }
 
+TEST(LaunchRunSummaryTest, RecordingSectionCountsRunMcap) {
+  RunMcapCounts mcap;
+  mcap.file = "run.mcap";
+  mcap.messages = 7;
+  mcap.channels = {{"/device_bridge/finger_states", 5}, {"/global_sim/cloth_frame", 2}};
+  const std::string json = SummaryJson(RunRecord{}, {}, RecordingAnalysis{}, std::nullopt, {}, mcap);
+  EXPECT_THAT(json, HasSubstr(R"("recording":{"mcap":"run.mcap","messages":7,"without_body":0,)"
+                              R"("channels":{"/device_bridge/finger_states":5,"/global_sim/cloth_frame":2}})"));
+  const std::string without = SummaryJson(RunRecord{}, {}, RecordingAnalysis{}, std::nullopt, {});
+  EXPECT_THAT(without, HasSubstr(R"("recording":{"mcap":"","note":)"));
+}
+
 TEST(LaunchRunSummaryTest, NetworkSectionHasAskedAndAchievedPerLink) {
   RunRecord run;
   const std::string json_without = SummaryJson(run, {}, RecordingAnalysis{}, std::nullopt, {});
