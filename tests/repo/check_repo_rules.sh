@@ -5,9 +5,10 @@ root=$1
 failed=0
 fail() { echo "RULE BROKEN: $*"; failed=1; }
 
-# files of the source tree, without build folders
+# files of the source tree, without build folders and installed npm packages (web/node_modules,
+# scripts/setup)
 files() { (cd "$root" && find . -path ./build -prune -o -path './build-*' -prune -o -path ./runs -prune \
-  -o -path ./.git -prune -o -type f -print | sed 's|^\./||'); }
+  -o -path ./.git -prune -o -name node_modules -prune -o -type f -print | sed 's|^\./||'); }
 
 # 1. generated protobuf code is built, never committed
 gen=$(files | grep -E '\.pb\.(h|cc)$|_pb2\.py$' || true)
