@@ -123,6 +123,7 @@ class FoxgloveServer::Impl {
   AtomicCounters counters_;
 
   std::promise<void> stopped_;
+  std::future<void> stopped_future_ = stopped_.get_future();  // taken before the thread may set it
   std::thread thread_;
 };
 
@@ -163,7 +164,7 @@ FoxgloveServer::Impl::Impl(const Options& options)
 
 FoxgloveServer::Impl::~Impl() {
   asio::post(server_.get_io_service(), [this] { CloseAll(); });
-  if (stopped_.get_future().wait_for(kShutdownGrace) != std::future_status::ready) server_.stop();
+  if (stopped_future_.wait_for(kShutdownGrace) != std::future_status::ready) server_.stop();
   thread_.join();
 }
 
