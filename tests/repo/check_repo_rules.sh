@@ -5,7 +5,8 @@ root=$1
 failed=0
 fail() { echo "RULE BROKEN: $*"; failed=1; }
 
-# files of the source tree, without build folders and installed npm packages (scripts/setup)
+# files of the source tree, without build folders and installed npm packages (web/node_modules,
+# scripts/setup)
 files() { (cd "$root" && find . -path ./build -prune -o -path './build-*' -prune -o -path ./runs -prune \
   -o -path ./.git -prune -o -name node_modules -prune -o -type f -print | sed 's|^\./||'); }
 
