@@ -16,6 +16,7 @@
 #include "cli/sim_command.h"
 #include "cli/tactile_command.h"
 #include "cli/trace_command.h"
+#include "cli/view_command.h"
 #include "launch/launch_command.h"
 #include "libs/flags/finite_number.h"
 #include "libs/scene/text_proto.h"
@@ -33,6 +34,7 @@ int main(int argc, char** argv) {
   haptex::launch::AddLaunchCommand(app, &exit_code);
   haptex::cli::AddTraceCommand(app, &exit_code);
   haptex::cli::AddRelayCommand(app, &exit_code);
+  haptex::cli::AddViewCommand(app, &exit_code);
   haptex::flags::RefuseNonFiniteNumbers(app);  // every numeric flag of every subcommand
   try {
     app.parse(argc, argv);

@@ -54,6 +54,9 @@ ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::vect
       sched_param param{};
       param.sched_priority = fifo_priority;
       sched_setscheduler(0, SCHED_FIFO, &param);  // refused: the launcher's policy stays
+    } else if (fifo_priority < 0) {
+      sched_param param{};  // a real-time launcher's child would inherit its policy
+      sched_setscheduler(0, SCHED_OTHER, &param);
     }
     // the launcher's signal dispositions are not the service's
     signal(SIGINT, SIG_DFL);

@@ -17,7 +17,7 @@ class ChildProcess final {
   /// Starts argv[0]. Throws std::runtime_error when the log cannot be opened or fork fails; an
   /// executable that cannot be run exits with code 127 (its log says why). `fifo_priority` > 0 runs
   /// it under SCHED_FIFO at that priority (set in the child before exec; a refusal leaves it with
-  /// the launcher's policy); 0 keeps the launcher's.
+  /// the launcher's policy); 0 keeps the launcher's; < 0 runs it at normal scheduling (SCHED_OTHER).
   ChildProcess(const std::vector<std::string>& argv, const std::vector<std::string>& env, const std::string& log_path,
                int fifo_priority = 0);
   /// Kills a child that still runs (SIGKILL) and reaps it.

@@ -104,6 +104,11 @@ std::vector<std::string> CommandLine(const PlacedService& service, const PortPla
     case P::SERVICE_MOCK_PINS:
       argv.insert(argv.end(), {"--log-csv", options.run_dir + "/pins.csv"});
       break;
+    case P::SERVICE_VIEWER:
+      if (options.viewer_http_port >= 0) {
+        argv.insert(argv.end(), {"--http-port", std::to_string(options.viewer_http_port)});
+      }
+      break;
     default:
       break;  // tactile, global_sim and local_contact take everything from the scene
   }

@@ -17,6 +17,7 @@ struct CommandOptions {
   std::string scene_path;  // absolute path of the scene file
   std::string run_dir;     // the run folder (recordings, force log, pin log)
   std::string log_level = "info";
+  int viewer_http_port = -1;  // the viewer's page and WebSocket; < 0: the scene's
 };
 
 /// Path of a service's executable.

@@ -1,5 +1,6 @@
 #include "launch/launch_command.h"
 
+#include <arpa/inet.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -28,6 +29,7 @@
 #include "launch/service_set.h"
 #include "launch/supervisor.h"
 #include "libs/runtime/rt_setup.h"
+#include "libs/scene/scene_defaults.h"
 #include "libs/scene/scene_loader.h"
 #include "libs/scene/session_key_source.h"
 
@@ -57,6 +59,8 @@ struct LaunchOptions {
   int rt_priority = runtime::kDefaultFifoPriority;
   bool dry_run = false;
   std::vector<std::string> impair;  // SERVICE-SERVICE[:KEY=VALUE,...], launch/impair_option.h
+  int viewer_port = -1;             // < 0: the scene's; 0: any free port
+  bool viewer = false;              // the viewer also where the scene has none
 };
 
 // The build folder: this executable is BUILD/cli/haptex.
@@ -65,6 +69,27 @@ std::string DefaultBuildDir() {
   const fs::path self = fs::read_symlink("/proc/self/exe", error);
   if (error) return "build";
   return self.parent_path().parent_path().string();
+}
+
+// The viewer's TCP port: `wanted` when it is free on `bind_address` (0: any), else one the system
+// has free now, so a second run or a test beside the first still gets its page.
+std::uint16_t ViewerTcpPort(const std::string& bind_address, std::uint16_t wanted, bool* fell_back) {
+  *fell_back = false;
+  for (const std::uint16_t port : {wanted, std::uint16_t{0}}) {
+    const int fd = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    if (fd < 0) throw std::runtime_error("no TCP socket for the viewer's port");
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_port = htons(port);
+    if (inet_pton(AF_INET, bind_address.c_str(), &address.sin_addr) != 1) address.sin_addr.s_addr = htonl(INADDR_ANY);
+    socklen_t length = sizeof(address);
+    const bool ok = bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof(address)) == 0 &&
+                    getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) == 0;
+    close(fd);
+    if (ok) return ntohs(address.sin_port);
+    *fell_back = true;
+  }
+  throw std::runtime_error(std::string("cannot find a free TCP port for the viewer: ") + std::strerror(errno));
 }
 
 // A port the system has free now (single-host runs): bind port 0, read it, release it.
@@ -186,7 +211,8 @@ int Launch(const LaunchOptions& o) {
   // the scene, validated (errors at file:line:column; main prints them and exits 2)
   const scene::FabricDatabase fabrics(scene::FabricDatabase::DefaultDirectory());
   const scene::LoadedScene loaded = scene::LoadScene(o.scene, fabrics);
-  const v1::Scene& scene = loaded.scene;
+  v1::Scene scene = loaded.scene;
+  if (o.viewer) scene.mutable_viewer()->set_enabled(true);
   const std::string scene_path = fs::absolute(o.scene).string();
 
   // what it needs, and why
@@ -254,6 +280,19 @@ int Launch(const LaunchOptions& o) {
   if (!starts_any && !o.dry_run) throw std::invalid_argument("nothing to start on host " + here);
   const std::string run_dir = RunDirectory(o, scene.name());
   CommandOptions command_options{build_dir, scene_path, run_dir, o.log_level};
+  std::string viewer_line;
+  if (const auto* viewer = plan.Find(v1::ServicePlacement::SERVICE_VIEWER); viewer && runs_here(viewer->service)) {
+    const std::string bind = scene::ViewerBindAddress(scene);
+    bool fell_back = false;
+    const std::uint32_t wanted =
+        o.viewer_port >= 0 ? static_cast<std::uint32_t>(o.viewer_port) : scene::ViewerPort(scene);
+    command_options.viewer_http_port = ViewerTcpPort(bind, static_cast<std::uint16_t>(wanted), &fell_back);
+    viewer_line = "viewer: open http://" + (bind == "0.0.0.0" ? std::string("127.0.0.1") : bind) + ":" +
+                  std::to_string(command_options.viewer_http_port) + "/ (Foxglove: ws://" +
+                  (bind == "0.0.0.0" ? std::string("127.0.0.1") : bind) + ":" +
+                  std::to_string(command_options.viewer_http_port) + ")" +
+                  (fell_back && wanted != 0 ? "; port " + std::to_string(wanted) + " was taken" : "");
+  }
   SupervisorConfig config;
   config.launcher = plan.launchers.at(here);
   config.identity = o.host.empty() ? "launcher" : "launcher@" + o.host;
@@ -278,6 +317,9 @@ int Launch(const LaunchOptions& o) {
   fs::create_directories(run_dir + "/recordings");
   if (!relays.empty()) fs::create_directories(run_dir + "/network");
   std::ofstream(run_dir + "/commands.txt") << plan_text;
+  // the scene as run, so the folder replays (haptex view) even after the scene file changes
+  std::error_code copy_error;
+  fs::copy_file(scene_path, run_dir + "/scene.textproto", fs::copy_options::overwrite_existing, copy_error);
   const net::SessionKey key = scene::ResolveSessionKey(scene.session_key());
   config.child_env = ChildEnvironment(key);
   config.duration_s = o.duration_s >= 0 ? o.duration_s : scene.duration_s();
@@ -287,6 +329,7 @@ int Launch(const LaunchOptions& o) {
   config.status_in_place = isatty(STDOUT_FILENO) != 0;
   std::cout << "run folder " << run_dir << "\n"
             << "launcher receiving Health on " << config.launcher.Peer() << "; Ctrl-C stops the run" << std::endl;
+  if (!viewer_line.empty()) std::cout << viewer_line << std::endl;
 
   std::string scheduling = "normal scheduling (--rt-priority 0)";
   if (o.rt_priority > 0) {
@@ -404,6 +447,12 @@ void AddLaunchCommand(CLI::App& app, int* exit_code) {
                    "device_bridge-local_contact:rtt_ms=100,jitter_ms=5,loss=0.05 (keys: the scene's LinkImpairment "
                    "fields; replaces the scene's link of that pair); repeatable")
       ->allow_extra_args(false);  // one link per --impair: the scene after it stays the scene
+  launch->add_flag("--viewer", o->viewer, "start the viewer even where the scene does not ask for it");
+  launch
+      ->add_option("--viewer-port", o->viewer_port,
+                   "the viewer's page and WebSocket port (default: the scene's viewer.port, else 8765; 0: any free "
+                   "port; a taken port falls back to a free one)")
+      ->check(CLI::Range(0, 65535));
   launch->callback([o, exit_code] { *exit_code = Launch(*o); });
 }
 

@@ -57,6 +57,9 @@ Need NeedOf(ServiceKind kind, const v1::Scene& scene) {
       if (!tactile) return {false, "tactile display off"};
       if (!scene.tactile().mock_display()) return {false, "a real pin display at " + scene.tactile().display_address()};
       return {true, "tactile display on with mock_display: the mock pin display"};
+    case P::SERVICE_VIEWER:
+      if (!scene.viewer().enabled()) return {false, "viewer off"};
+      return {true, "viewer on: the fabric, fingers and forces in a web page and for Foxglove"};
     default:
       return {false, "not a launched service"};
   }

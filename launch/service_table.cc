@@ -9,9 +9,9 @@ namespace haptex::launch {
 const std::vector<ServiceSpec>& ServiceTable() {
   using P = v1::ServicePlacement;
   // Start order: the device bridge first (it holds zero force until the launcher enables it), its
-  // controller, then what feeds it. Stop order: the models first, the bridge last of the haptex
-  // services; the mock controller stands in for the hardware and stops after the bridge, so its
-  // force log shows the bridge's zero commands.
+  // controller, then what feeds it, the viewer last. Stop order: the viewer, the models, the bridge
+  // last of the haptex services; the mock controller stands in for the hardware and stops after the
+  // bridge, so its force log shows the bridge's zero commands.
   namespace peer = net::peer;
   static const std::vector<ServiceSpec> table = {
       {P::SERVICE_DEVICE_BRIDGE,
@@ -19,19 +19,20 @@ const std::vector<ServiceSpec>& ServiceTable() {
        "services/device_bridge/haptex-device-bridge",
        "services/device_bridge",
        0,
-       4,
+       5,
        3,
        4,
        0,  // rt_rank: 5 kHz
        {{peer::kLauncher, P::SERVICE_LAUNCHER},
         {peer::kLocalContact, P::SERVICE_LOCAL_CONTACT},
-        {peer::kGlobalSim, P::SERVICE_GLOBAL_SIM}}},
+        {peer::kGlobalSim, P::SERVICE_GLOBAL_SIM},
+        {peer::kViewer, P::SERVICE_VIEWER}}},
       {P::SERVICE_MOCK_GRAB,
        "mock_grab",
        "services/mock_grab/haptex-mock-grab",
        "services/mock_grab",
        1,
-       5,
+       6,
        6,
        7,
        0,  // rt_rank: 5 kHz
@@ -41,7 +42,7 @@ const std::vector<ServiceSpec>& ServiceTable() {
        "services/mock_pins/haptex-mock-pins",
        "services/mock_pins",
        2,
-       3,
+       4,
        8,
        -1,
        2,  // rt_rank: 40 Hz frames, 320 Hz pins
@@ -51,34 +52,50 @@ const std::vector<ServiceSpec>& ServiceTable() {
        "services/tactile/haptex-tactile",
        "services/tactile",
        3,
-       2,
+       3,
        5,
        -1,
        2,  // rt_rank: 320 Hz
-       {{peer::kLauncher, P::SERVICE_LAUNCHER}, {peer::kDisplay, P::SERVICE_MOCK_PINS}}},
+       {{peer::kLauncher, P::SERVICE_LAUNCHER},
+        {peer::kDisplay, P::SERVICE_MOCK_PINS},
+        {peer::kViewer, P::SERVICE_VIEWER}}},
       {P::SERVICE_GLOBAL_SIM,
        "global_sim",
        "services/global_sim/haptex-global-sim",
        "services/global_sim",
        4,
-       1,
+       2,
        1,
        -1,
        3,  // rt_rank: 100 Hz
-       {{peer::kLauncher, P::SERVICE_LAUNCHER}, {peer::kLocalContact, P::SERVICE_LOCAL_CONTACT}}},
+       {{peer::kLauncher, P::SERVICE_LAUNCHER},
+        {peer::kLocalContact, P::SERVICE_LOCAL_CONTACT},
+        {peer::kViewer, P::SERVICE_VIEWER}}},
       {P::SERVICE_LOCAL_CONTACT,
        "local_contact",
        "services/local_contact/haptex-local-contact",
        "services/local_contact",
        5,
-       0,
+       1,
        2,
        -1,
        1,  // rt_rank: 1 kHz
        {{peer::kLauncher, P::SERVICE_LAUNCHER},
         {peer::kGlobalSim, P::SERVICE_GLOBAL_SIM},
         {peer::kBridge, P::SERVICE_DEVICE_BRIDGE},
-        {peer::kTactile, P::SERVICE_TACTILE}}},
+        {peer::kTactile, P::SERVICE_TACTILE},
+        {peer::kViewer, P::SERVICE_VIEWER}}},
+      // Started last and stopped first: it only watches.
+      {P::SERVICE_VIEWER,
+       "viewer",
+       "services/viewer/haptex-viewer",
+       "services/viewer",
+       6,
+       0,
+       9,
+       -1,
+       kNotRealTime,  // a person watches at 30-60 Hz; never ahead of a haptic loop
+       {{peer::kLauncher, P::SERVICE_LAUNCHER}}},
   };
   return table;
 }

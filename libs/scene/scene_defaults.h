@@ -5,6 +5,8 @@
 // (rates, the patch margin) are the scene layer's own and named here.
 
 #include <algorithm>
+#include <cstdint>
+#include <string>
 
 #include "haptex/v1/scene.pb.h"
 #include "libs/contact/finger_geometry.h"
@@ -71,6 +73,15 @@ inline double FingerStatesToGlobalHz(const v1::Scene& scene) {
 }
 inline double ClothFrameHz(const v1::Scene& scene) {
   return std::min(kMaxClothFrameHz, OrDefault(scene.rates().cloth_frame_hz(), kDefaultClothFrameHz));
+}
+
+/// The viewer's page and WebSocket (scene.proto's ViewerSpec); 8765 is Foxglove's usual port.
+inline constexpr std::uint32_t kDefaultViewerPort = 8765;
+inline std::uint32_t ViewerPort(const v1::Scene& scene) {
+  return scene.viewer().port() != 0 ? scene.viewer().port() : kDefaultViewerPort;
+}
+inline std::string ViewerBindAddress(const v1::Scene& scene) {
+  return scene.viewer().bind_address().empty() ? std::string("127.0.0.1") : scene.viewer().bind_address();
 }
 
 }  // namespace haptex::scene

@@ -449,6 +449,18 @@ std::vector<TextIssue> ValidateScene(const v1::Scene& scene, const FieldLocator&
       }
     }
   }
+  if (scene.has_viewer()) {
+    const FieldLocator at = where.Nested(scene, "viewer");
+    if (scene.viewer().port() > 65535) c.Add(at.At(scene.viewer(), "port", -1, "port must be 0..65535"));
+    if (!scene.viewer().bind_address().empty()) {
+      try {
+        net::ResolveUdpAddress(scene.viewer().bind_address() + ":0");
+      } catch (const std::exception& e) {
+        c.Add(at.At(scene.viewer(), "bind_address", -1,
+                    std::string("viewer bind_address is not an address: ") + e.what()));
+      }
+    }
+  }
   CheckRatesAndModel(scene, where, c);
   CheckPlacement(scene, where, c);
   CheckSessionKey(scene, where, c);

@@ -29,6 +29,10 @@ constexpr Talk kTalks[] = {
     {P::SERVICE_LOCAL_CONTACT, P::SERVICE_TACTILE, "TouchTrace"},
     {P::SERVICE_TACTILE, P::SERVICE_MOCK_PINS, "PinFrame"},
     {P::SERVICE_DEVICE_BRIDGE, P::SERVICE_MOCK_GRAB, "the GRAB protocol"},
+    {P::SERVICE_DEVICE_BRIDGE, P::SERVICE_VIEWER, "FingerStates and Health for the viewer"},
+    {P::SERVICE_LOCAL_CONTACT, P::SERVICE_VIEWER, "ForceModels, TouchTraces and Health for the viewer"},
+    {P::SERVICE_GLOBAL_SIM, P::SERVICE_VIEWER, "ClothFrames and Health for the viewer"},
+    {P::SERVICE_TACTILE, P::SERVICE_VIEWER, "PinFrames and Health for the viewer"},
 };
 
 // Why the scene does not run `kind`; "" when it does.
@@ -48,6 +52,8 @@ std::string NotRunBecause(const v1::Scene& scene, ServiceKind kind) {
     case P::SERVICE_MOCK_PINS:
       if (!scene.tactile().enabled()) return "tactile display off";
       return scene.tactile().mock_display() ? "" : "the pin display is a real one";
+    case P::SERVICE_VIEWER:
+      return scene.viewer().enabled() ? "" : "viewer off";
     default:
       return "not a service";
   }

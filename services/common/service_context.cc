@@ -50,6 +50,7 @@ ServiceContext::ServiceContext(std::string name, const ServiceOptions& options)
                                                    messenger_->identity().session_id);
     record_dropped_counter_ = health_.AddCounter("record_dropped");
   }
+  viewer_ = FindPeer(net::peer::kViewer);
   if (const auto launcher = FindPeer("launcher")) {
     health_publisher_ =
         std::make_unique<runtime::HealthPublisher>(&health_, messenger_.get(), *launcher, options.health_hz, start_ns_);
@@ -74,7 +75,10 @@ PeerId ServiceContext::RequirePeer(std::string_view name) const {
 }
 
 bool ServiceContext::SendBody(PeerId peer, const google::protobuf::MessageLite& body, int body_field_number) {
-  if (recorder_) recorder_->RecordBody(body, body_field_number, base::SteadyNowNs());
+  // The viewer gets copies of what also goes to a service (FingerStates, ForceModel, ...): recorded
+  // once, so the run's counts stay those of the haptic loops. The cloth goes to the viewer alone.
+  const bool copy_for_viewer = viewer_ && peer == *viewer_ && body_field_number != v1::Envelope::kClothFrameFieldNumber;
+  if (recorder_ && !copy_for_viewer) recorder_->RecordBody(body, body_field_number, base::SteadyNowNs());
   return messenger_->SendBody(peer, body, body_field_number);
 }
 
@@ -87,10 +91,11 @@ void ServiceContext::Tick(std::int64_t now_ns) {
   }
   health_.SetCounter(kernel_dropped_counter_, messenger_->kernel_drops());
   if (recorder_) health_.SetCounter(record_dropped_counter_, recorder_->dropped());
-  if (health_publisher_->MaybePublish(now_ns) && recorder_) {
-    // the Health just sent, rebuilt into the same message (no allocation)
-    recorder_->Record(health_.Build(static_cast<double>(now_ns - start_ns_) * 1e-9), now_ns);
-  }
+  if (!health_publisher_->MaybePublish(now_ns) || (!recorder_ && !viewer_)) return;
+  // the Health just sent, rebuilt into the same message (no allocation)
+  const v1::Health& health = health_.Build(static_cast<double>(now_ns - start_ns_) * 1e-9);
+  if (recorder_) recorder_->Record(health, now_ns);
+  if (viewer_) messenger_->Send(*viewer_, health);
 }
 
 ServiceContext::ControlResult ServiceContext::HandleControl(const v1::Envelope& envelope) {

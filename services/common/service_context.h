@@ -82,6 +82,7 @@ class ServiceContext final : public Outbox {
   std::vector<std::pair<std::string, net::Messenger::PeerId>> peers_;
   runtime::HealthReporter health_;
   std::unique_ptr<runtime::HealthPublisher> health_publisher_;
+  std::optional<PeerId> viewer_;  ///< also gets each Health (loop rates and overruns on the page)
   std::unique_ptr<EnvelopeRecorder> recorder_;
   runtime::HealthReporter::CounterId record_dropped_counter_ = 0;
   runtime::HealthReporter::CounterId dropped_counter_ = 0;         // datagrams the messenger dropped, every reason

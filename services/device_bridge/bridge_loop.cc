@@ -23,6 +23,7 @@ BridgeLoop::BridgeLoop(const BridgeLoopConfig& config, const BridgePeers& peers,
       bridge_(std::make_unique<device::DeviceBridge>(config.bridge)),
       local_every_(std::max<std::int64_t>(1, std::llround(config.rate_hz / config.finger_states_to_local_hz))),
       global_every_(std::max<std::int64_t>(1, std::llround(config.rate_hz / config.finger_states_to_global_hz))),
+      viewer_every_(std::max<std::int64_t>(1, std::llround(config.rate_hz / config.finger_states_to_viewer_hz))),
       horizon_update_every_(static_cast<std::uint64_t>(std::max(1.0, config.rate_hz / 2))) {
   const device::DeviceBridge* bridge = bridge_.get();
   health_->AddLatency("motion_to_force", [bridge] { return LatencyOf(bridge->motion_to_force_latency()); });
@@ -107,10 +108,12 @@ void BridgeLoop::Write(services::Outbox& out) {
   const auto k = static_cast<std::int64_t>(tick_);
   const bool to_local = peers_.local_contact && k % local_every_ == 0;
   const bool to_global = peers_.global_sim && k % global_every_ == 0;
-  if (to_local || to_global) {
+  const bool to_viewer = peers_.viewer && k % viewer_every_ == 0;
+  if (to_local || to_global || to_viewer) {
     FillFingerStates(*bridge_, &states_);
     if (to_local) out.Send(*peers_.local_contact, states_);
     if (to_global) out.Send(*peers_.global_sim, states_);
+    if (to_viewer) out.Send(*peers_.viewer, states_);
   }
   ++tick_;
   std::uint64_t non_finite = 0;

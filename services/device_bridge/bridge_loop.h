@@ -4,7 +4,8 @@
 // finger) and Control (zero-force hold). Update: the prediction horizon from the measured
 // latencies, then device::DeviceBridge::Tick (evaluate F = F0 + K (x - x0), clamp, watchdogs)
 // into the CommandFrame. Write: the CommandFrame goes to the controller (the caller sends
-// command()), FingerStates to local_contact and global_sim at their rates. Allocates nothing once
+// command()), FingerStates to local_contact and global_sim at their rates, and to the viewer at its frame
+// rate. Allocates nothing once
 // warmed up.
 
 #include <array>
@@ -28,13 +29,14 @@ struct BridgeLoopConfig {
   double rate_hz = device::kControllerRate_Hz;
   double finger_states_to_local_hz = 1000.0;
   double finger_states_to_global_hz = 100.0;
+  double finger_states_to_viewer_hz = 30.0;
   /// Predict finger poses one link latency ahead, measured as the bridge runs (else the
   /// estimator's fixed horizon).
   bool measured_prediction_horizon = true;
 };
 
 struct BridgePeers {
-  std::optional<services::PeerId> local_contact, global_sim;
+  std::optional<services::PeerId> local_contact, global_sim, viewer;
 };
 
 class BridgeLoop final {
@@ -72,8 +74,8 @@ class BridgeLoop final {
   BridgeLoopConfig config_;
   BridgePeers peers_;
   runtime::HealthReporter* health_;
-  std::unique_ptr<device::DeviceBridge> bridge_;  // ~80 kB of histograms: on the heap, made once
-  std::int64_t local_every_, global_every_;       // ticks between FingerStates
+  std::unique_ptr<device::DeviceBridge> bridge_;            // ~80 kB of histograms: on the heap, made once
+  std::int64_t local_every_, global_every_, viewer_every_;  // ticks between FingerStates
   std::uint64_t horizon_update_every_;
   std::uint64_t tick_ = 0;
   std::array<std::byte, device::kCommandFrameSize> command_{};

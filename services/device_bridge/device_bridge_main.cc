@@ -34,12 +34,15 @@ struct Options {
 
 int Run(services::ServiceContext& context, const Options& options) {
   const v1::Scene scene = context.scene() != nullptr ? context.scene()->scene : v1::Scene{};
-  BridgeLoopConfig config{scene::BridgeConfigFromScene(scene), options.rate_hz, scene::FingerStatesToLocalHz(scene),
-                          scene::FingerStatesToGlobalHz(scene), options.prediction_horizon_ms < 0};
+  BridgeLoopConfig config{scene::BridgeConfigFromScene(scene), options.rate_hz,
+                          scene::FingerStatesToLocalHz(scene), scene::FingerStatesToGlobalHz(scene),
+                          scene::ClothFrameHz(scene),          options.prediction_horizon_ms < 0};
   if (!config.measured_prediction_horizon)
     config.bridge.estimator.prediction_horizon_s = options.prediction_horizon_ms * 1e-3;
   if (!options.passivity.empty()) config.bridge.passivity.enabled = options.passivity == "on";
-  BridgeLoop work(config, {context.FindPeer(net::peer::kLocalContact), context.FindPeer(net::peer::kGlobalSim)},
+  BridgeLoop work(config,
+                  {context.FindPeer(net::peer::kLocalContact), context.FindPeer(net::peer::kGlobalSim),
+                   context.FindPeer(net::peer::kViewer)},
                   &context.health());
   services::DeviceLink controller(options.controller_bind, options.controller);
   std::cout << "device_bridge controller socket on " << controller.local_address() << std::endl;

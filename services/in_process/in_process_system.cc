@@ -120,7 +120,7 @@ InProcessSystem::InProcessSystem(const scene::LoadedScene& scene, const LinkImpa
                                                       scene::FingerStatesToLocalHz(sc),
                                                       scene::FingerStatesToGlobalHz(sc), true};
   bridge_ = std::make_unique<device_bridge::BridgeLoop>(
-      bridge_config, device_bridge::BridgePeers{kFirstPeer, kSecondPeer}, &bridge_health_);
+      bridge_config, device_bridge::BridgePeers{kFirstPeer, kSecondPeer, std::nullopt}, &bridge_health_);
   const scene::ClothSetup setup = scene::MakeClothSetup(scene);
   const double local_hz = scene::LocalRateHz(sc);
   local_contact::PatchBuildSpec spec{setup.material, setup.model_options, scene::LocalStepOptions(sc, local_hz),
@@ -132,8 +132,8 @@ InProcessSystem::InProcessSystem(const scene::LoadedScene& scene, const LinkImpa
   builder_ = std::make_unique<local_contact::PatchBuilder>(spec, local_contact::PatchBuilder::Threading::kCallerRuns);
   const local_contact::LocalContactConfig local_config{local_hz, scene::SceneFingers(sc), scene::ForceModelStaleS(sc)};
   local_ = std::make_unique<local_contact::LocalContactLoop>(
-      local_config, local_contact::LocalContactPeers{kFirstPeer, kSecondPeer, std::nullopt}, builder_.get(),
-      &local_health_);
+      local_config, local_contact::LocalContactPeers{kFirstPeer, kSecondPeer, std::nullopt, std::nullopt},
+      builder_.get(), &local_health_);
   global_ = std::make_unique<global_sim::GlobalSimLoop>(
       scene, scene::GlobalRateHz(sc), global_sim::GlobalSimPeers{kFirstPeer, std::nullopt}, &global_health_);
 

@@ -1,12 +1,19 @@
 #include "services/local_contact/local_contact_loop.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "services/local_contact/local_contact_codec.h"
 
 namespace haptex::local_contact {
 
 LocalContactLoop::LocalContactLoop(const LocalContactConfig& config, const LocalContactPeers& peers,
                                    PatchBuilder* builder, runtime::HealthReporter* health)
-    : config_(config), peers_(peers), builder_(builder), health_(health) {
+    : config_(config),
+      peers_(peers),
+      builder_(builder),
+      health_(health),
+      viewer_every_ticks_(std::max<std::int64_t>(1, std::llround(config.rate_hz / config.viewer_hz))) {
   ids_.models = health_->AddCounter("force_models_sent");
   ids_.patches = health_->AddCounter("patches_received");
   ids_.busy = health_->AddCounter("patches_dropped_busy");
@@ -92,10 +99,14 @@ void LocalContactLoop::Write(services::Outbox& out) {
     FillForceModel(contact_, fingers_, controller_sequence_, config_.force_model_ttl_s, &force_model_);
     if (out.Send(peers_.bridge, force_model_)) ++counters_.force_models_sent;
   }
-  if (contact_ != nullptr && peers_.tactile) {
+  const bool to_viewer = peers_.viewer && --ticks_to_viewer_ <= 0;
+  if (to_viewer) ticks_to_viewer_ = viewer_every_ticks_;
+  if (contact_ != nullptr && (peers_.tactile || to_viewer)) {
     FillTouchTrace(*contact_, patch_->sim->state().time_s, &touch_);
-    out.Send(*peers_.tactile, touch_);
+    if (peers_.tactile) out.Send(*peers_.tactile, touch_);
+    if (to_viewer) out.Send(*peers_.viewer, touch_);
   }
+  if (to_viewer && fingers_known_) out.Send(*peers_.viewer, force_model_);
   if (result_due_) {
     dual_layer::FillPatchResult(global_step_, patch_.get(), &result_);
     ToMessage(result_, &result_message_);

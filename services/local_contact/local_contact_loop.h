@@ -32,11 +32,13 @@ struct LocalContactConfig {
   /// bridge's model lifetime takes the force away) until fresh ones come. A model computed from
   /// old poses would be wrong, and arriving old it would be reported as a slow link.
   double finger_states_stale_s = 0.050;
+  /// The viewer's copies of the ForceModel and TouchTrace: a person watches at most this often.
+  double viewer_hz = 30.0;
 };
 
 struct LocalContactPeers {
   services::PeerId bridge = 0;
-  std::optional<services::PeerId> global_sim, tactile;
+  std::optional<services::PeerId> global_sim, tactile, viewer;
 };
 
 class LocalContactLoop final {
@@ -82,6 +84,7 @@ class LocalContactLoop final {
   std::uint64_t global_step_ = 0;                    ///< of the newest patch received
   const contact::ContactOutput* contact_ = nullptr;  ///< this tick's, null without a patch
   bool result_due_ = false;
+  std::int64_t viewer_every_ticks_ = 1, ticks_to_viewer_ = 0;
   v1::ForceModel force_model_;
   v1::TouchTrace touch_;
   dual_layer::PatchResultData result_;

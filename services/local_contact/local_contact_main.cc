@@ -35,6 +35,7 @@ int Run(services::ServiceContext& context, const Options& options) {
   config.rate_hz = options.rate_hz > 0 ? options.rate_hz : scene::LocalRateHz(loaded.scene);
   config.scene_fingers = scene::SceneFingers(loaded.scene);
   config.force_model_ttl_s = scene::ForceModelStaleS(loaded.scene);
+  config.viewer_hz = scene::ClothFrameHz(loaded.scene);
   const scene::ClothSetup setup = scene::MakeClothSetup(loaded);
   PatchBuildSpec spec{setup.material,
                       setup.model_options,
@@ -48,7 +49,7 @@ int Run(services::ServiceContext& context, const Options& options) {
                            .id_space());
   PatchBuilder builder(spec, PatchBuilder::Threading::kOwnThread);
   const LocalContactPeers peers{context.RequirePeer(net::peer::kBridge), context.FindPeer(net::peer::kGlobalSim),
-                                context.FindPeer(net::peer::kTactile)};
+                                context.FindPeer(net::peer::kTactile), context.FindPeer(net::peer::kViewer)};
   LocalContactLoop work(config, peers, &builder, &context.health());
 
   runtime::PeriodicLoop loop("local_contact", config.rate_hz);

@@ -37,10 +37,17 @@ void TactileLoop::OnTouchTrace(const v1::TouchTrace& trace, double now_s) {
   }
 }
 
-void TactileLoop::Update(double t_s, double dt_s) { frame_ready_ = Tick(t_s, dt_s, &frame_); }
+void TactileLoop::Update(double t_s, double dt_s) {
+  t_s_ = t_s;
+  frame_ready_ = Tick(t_s, dt_s, &frame_);
+}
 
 void TactileLoop::Write(services::Outbox& out) {
   if (frame_ready_ && display_ && out.Send(*display_, frame_)) ++frames_sent_;
+  if (frame_ready_ && viewer_ && t_s_ >= next_view_s_) {
+    next_view_s_ = t_s_ + viewer_period_s_;
+    out.Send(*viewer_, frame_);
+  }
   if (health_ == nullptr) return;
   health_->SetCounter(ids_.frames, frames_sent_);
   health_->SetCounter(ids_.traces, touch_traces_);

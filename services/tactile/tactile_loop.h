@@ -1,7 +1,7 @@
 #pragma once
 // The tactile service's work per display tick, apart from sockets. Read: the newest TouchTrace
 // per finger. Update: one RenderStep per finger. Write: the PinFrame to the display when a frame
-// completed. Allocates nothing once warmed up.
+// completed, and to the viewer at most at its frame rate. Allocates nothing once warmed up.
 
 #include <array>
 #include <cstdint>
@@ -28,6 +28,12 @@ class TactileLoop final {
                        std::optional<services::PeerId> display = std::nullopt,
                        runtime::HealthReporter* health = nullptr);
 
+  /// Also sends the viewer a completed frame at most every `period_s`.
+  void SetViewer(services::PeerId viewer, double period_s) {
+    viewer_ = viewer;
+    viewer_period_s_ = period_s;
+  }
+
   void Read(const v1::Envelope& envelope, double t_s);
   /// Takes the fingers of a TouchTrace received at `now_s` (newest wins per finger).
   void OnTouchTrace(const v1::TouchTrace& trace, double now_s);
@@ -50,7 +56,8 @@ class TactileLoop final {
  private:
   std::unique_ptr<tactile::RendererModel> model_;
   double stale_after_s_;
-  std::optional<services::PeerId> display_;
+  std::optional<services::PeerId> display_, viewer_;
+  double viewer_period_s_ = 0, next_view_s_ = 0, t_s_ = 0;
   runtime::HealthReporter* health_;
   std::array<tactile::FingerInput, 2> inputs_{};  // by codec slot: 0 thumb, 1 index
   std::array<double, 2> input_time_s_{-1e9, -1e9};

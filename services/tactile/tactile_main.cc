@@ -10,6 +10,7 @@
 #include <memory>
 
 #include "libs/net/peer_names.h"
+#include "libs/scene/scene_defaults.h"
 #include "libs/scene/tactile_fabric.h"
 #include "services/common/run_loop.h"
 #include "services/tactile/tactile_loop.h"
@@ -46,6 +47,9 @@ int Run(services::ServiceContext& context, const Options& options) {
   const double rate_hz = config.display_rate_hz;
   TactileLoop work(std::make_unique<tactile::RendererModel>(LoadOrBuildTile(context, options), config),
                    TactileLoop::kDefaultStaleAfterS, context.RequirePeer(net::peer::kDisplay), &context.health());
+  if (const auto viewer = context.FindPeer(net::peer::kViewer)) {
+    work.SetViewer(*viewer, 1.0 / scene::ClothFrameHz(context.scene() ? context.scene()->scene : v1::Scene{}));
+  }
 
   runtime::PeriodicLoop loop("tactile", rate_hz);
   context.health().AddLoop(&loop.stats());

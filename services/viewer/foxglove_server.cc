@@ -72,6 +72,11 @@ class FoxgloveServer::Impl {
 
   std::uint16_t port() const { return port_; }
   std::uint32_t AddChannel(const FoxgloveChannel& channel);
+  void SetDocument(const std::string& path, std::string body, const std::string& content_type) {
+    auto document = std::make_shared<const Document>(Document{std::move(body), content_type});
+    const std::lock_guard lock(documents_mutex_);
+    documents_[path] = std::move(document);
+  }
   void Publish(std::uint32_t channel_id, std::uint64_t log_time_ns, std::string_view payload);
   bool HasSubscribers(std::uint32_t channel_id) const;
   std::size_t clients() const { return client_count_.load(); }
@@ -108,6 +113,12 @@ class FoxgloveServer::Impl {
   const std::size_t max_pending_publish_bytes_;
   WebSocketServer server_;
   std::uint16_t port_ = 0;
+
+  struct Document {
+    std::string body, content_type;
+  };
+  std::mutex documents_mutex_;  // guards documents_
+  std::map<std::string, std::shared_ptr<const Document>> documents_;
 
   mutable std::mutex mutex_;  // guards channels_, next_channel_id_ and subscriber_counts_
   std::map<std::uint32_t, FoxgloveChannel> channels_;
@@ -390,6 +401,19 @@ void FoxgloveServer::Impl::OnHttp(ConnectionHandle connection) {
     con->append_header("Allow", "GET");
     return;
   }
+  std::shared_ptr<const Document> document;
+  {
+    const std::lock_guard lock(documents_mutex_);
+    const std::string& resource = con->get_resource();
+    const auto it = documents_.find(resource.substr(0, resource.find('?')));
+    if (it != documents_.end()) document = it->second;
+  }
+  if (document) {
+    con->set_status(websocketpp::http::status_code::ok);
+    con->append_header("Content-Type", document->content_type);
+    con->set_body(document->body);
+    return;
+  }
   const std::optional<StaticFile> file = ResolveStaticFile(roots_, con->get_resource());
   std::optional<std::string> content;
   if (file) content = ReadWholeFile(file->path);
@@ -417,6 +441,9 @@ FoxgloveServer::FoxgloveServer(const Options& options) : impl_(std::make_unique<
 FoxgloveServer::~FoxgloveServer() = default;
 std::uint16_t FoxgloveServer::port() const { return impl_->port(); }
 std::uint32_t FoxgloveServer::AddChannel(const FoxgloveChannel& channel) { return impl_->AddChannel(channel); }
+void FoxgloveServer::SetDocument(const std::string& path, std::string body, const std::string& content_type) {
+  impl_->SetDocument(path, std::move(body), content_type);
+}
 void FoxgloveServer::Publish(std::uint32_t channel_id, std::uint64_t log_time_ns, std::string_view payload) {
   impl_->Publish(channel_id, log_time_ns, payload);
 }

@@ -49,6 +49,10 @@ class FoxgloveServer {
   /// The bound port.
   std::uint16_t port() const;
 
+  /// Thread-safe. From now on a GET of exactly `path` ("/session.json") answers `body`, before any
+  /// static file: what the server's owner makes at run time (the session, a run's recording).
+  void SetDocument(const std::string& path, std::string body, const std::string& content_type);
+
   /// Thread-safe. Returns the channel's id; connected clients get its advertisement.
   std::uint32_t AddChannel(const FoxgloveChannel& channel);
 

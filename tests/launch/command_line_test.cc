@@ -59,7 +59,7 @@ TEST_F(LaunchCommandLineTest, BridgeAndMockPointAtEachOther) {
   EXPECT_EQ(After(mock, "--seed"), "1");
   EXPECT_EQ(After(bridge, "--rate"), "5000");
   EXPECT_THAT(Peers(bridge), ::testing::ElementsAre("launcher=127.0.0.1:40000", "local_contact=127.0.0.1:40002",
-                                                    "global_sim=127.0.0.1:40001"));
+                                                    "global_sim=127.0.0.1:40001", "viewer=127.0.0.1:40009"));
   EXPECT_THAT(Peers(mock), ::testing::ElementsAre("launcher=127.0.0.1:40000"));
   EXPECT_EQ(After(bridge, "--record"), "/run/recordings/device_bridge.pb");
   EXPECT_THAT(bridge, Not(Contains("--duration")));  // the launcher stops the services itself
@@ -70,9 +70,9 @@ TEST_F(LaunchCommandLineTest, LocalContactAndTactilePeers) {
   Plan(testing::ShippedScene("demo"));
   EXPECT_THAT(Peers(Argv(P::SERVICE_LOCAL_CONTACT)),
               ::testing::ElementsAre("launcher=127.0.0.1:40000", "global_sim=127.0.0.1:40001", "bridge=127.0.0.1:40003",
-                                     "tactile=127.0.0.1:40005"));
+                                     "tactile=127.0.0.1:40005", "viewer=127.0.0.1:40009"));
   EXPECT_THAT(Peers(Argv(P::SERVICE_TACTILE)),
-              ::testing::ElementsAre("launcher=127.0.0.1:40000", "display=127.0.0.1:40008"));
+              ::testing::ElementsAre("launcher=127.0.0.1:40000", "display=127.0.0.1:40008", "viewer=127.0.0.1:40009"));
   EXPECT_EQ(After(Argv(P::SERVICE_MOCK_PINS), "--log-csv"), "/run/pins.csv");
 }
 
@@ -138,12 +138,13 @@ TEST_F(LaunchRelayCommandLineTest, PeersOfAnImpairedLinkPointAtTheRelay) {
   const int listen = 40000 + RelayPortOffset(P::SERVICE_DEVICE_BRIDGE, P::SERVICE_LOCAL_CONTACT);
   const std::string relay_listen = "127.0.0.1:" + std::to_string(listen);
   const std::string relay_upstream = "127.0.0.1:" + std::to_string(listen + 1);
-  EXPECT_THAT(Peers(Argv(P::SERVICE_DEVICE_BRIDGE)),
-              ::testing::ElementsAre("launcher=127.0.0.1:40000", "local_contact=" + relay_listen,
-                                     "global_sim=127.0.0.1:40001"));  // the bridge's other link stays direct
+  EXPECT_THAT(
+      Peers(Argv(P::SERVICE_DEVICE_BRIDGE)),
+      ::testing::ElementsAre("launcher=127.0.0.1:40000", "local_contact=" + relay_listen, "global_sim=127.0.0.1:40001",
+                             "viewer=127.0.0.1:40009"));  // the bridge's other links stay direct
   EXPECT_THAT(Peers(Argv(P::SERVICE_LOCAL_CONTACT)),
               ::testing::ElementsAre("launcher=127.0.0.1:40000", "global_sim=127.0.0.1:40001",
-                                     "bridge=" + relay_upstream, "tactile=127.0.0.1:40005"));
+                                     "bridge=" + relay_upstream, "tactile=127.0.0.1:40005", "viewer=127.0.0.1:40009"));
   EXPECT_THAT(Peers(Argv(P::SERVICE_GLOBAL_SIM)), Contains("local_contact=127.0.0.1:40002"));
   EXPECT_EQ(After(Argv(P::SERVICE_DEVICE_BRIDGE), "--controller"), "127.0.0.1:40007");  // GRAB link direct
 

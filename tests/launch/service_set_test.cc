@@ -46,8 +46,9 @@ TEST(LaunchServiceSetTest, OfflineValidationScenesNeedOnlyTheFabric) {
 
 TEST(LaunchServiceSetTest, DemoNeedsEverythingInStartOrder) {
   const auto services = DeriveServices(testing::ShippedScene("demo"));
-  EXPECT_THAT(Kinds(services), ElementsAre(P::SERVICE_DEVICE_BRIDGE, P::SERVICE_MOCK_GRAB, P::SERVICE_MOCK_PINS,
-                                           P::SERVICE_TACTILE, P::SERVICE_GLOBAL_SIM, P::SERVICE_LOCAL_CONTACT));
+  EXPECT_THAT(Kinds(services),
+              ElementsAre(P::SERVICE_DEVICE_BRIDGE, P::SERVICE_MOCK_GRAB, P::SERVICE_MOCK_PINS, P::SERVICE_TACTILE,
+                          P::SERVICE_GLOBAL_SIM, P::SERVICE_LOCAL_CONTACT, P::SERVICE_VIEWER));
   EXPECT_THAT(ReasonOf(services, P::SERVICE_LOCAL_CONTACT), HasSubstr("two fingers (thumb and index)"));
   EXPECT_THAT(ReasonOf(services, P::SERVICE_MOCK_GRAB), HasSubstr("KIND_DEMO"));
   EXPECT_THAT(ReasonOf(services, P::SERVICE_MOCK_PINS), HasSubstr("mock_display"));
@@ -114,8 +115,10 @@ TEST(LaunchServiceSetTest, TheSceneLayerAgreesOnWhatASceneRuns) {
 
 TEST(LaunchServiceSetTest, StopOrderPutsModelsFirstAndTheBridgeAfterThem) {
   const auto stop = StopOrder(DeriveServices(testing::ShippedScene("demo")));
-  EXPECT_THAT(Kinds(stop), ElementsAre(P::SERVICE_LOCAL_CONTACT, P::SERVICE_GLOBAL_SIM, P::SERVICE_TACTILE,
-                                       P::SERVICE_MOCK_PINS, P::SERVICE_DEVICE_BRIDGE, P::SERVICE_MOCK_GRAB));
+  // the viewer only watches: it goes first
+  EXPECT_THAT(Kinds(stop),
+              ElementsAre(P::SERVICE_VIEWER, P::SERVICE_LOCAL_CONTACT, P::SERVICE_GLOBAL_SIM, P::SERVICE_TACTILE,
+                          P::SERVICE_MOCK_PINS, P::SERVICE_DEVICE_BRIDGE, P::SERVICE_MOCK_GRAB));
 }
 
 }  // namespace

@@ -29,7 +29,7 @@ TEST(LaunchServiceTableTest, EveryServiceOnceWithDistinctRanksAndPorts) {
     EXPECT_NE(spec.port_offset, kLauncherPortOffset);
     EXPECT_EQ(spec.executable.find("haptex-"), spec.executable.rfind('/') + 1) << spec.executable;
   }
-  EXPECT_EQ(kinds.size(), 6u);  // every service but the launcher
+  EXPECT_EQ(kinds.size(), 7u);  // every service but the launcher
 }
 
 TEST(LaunchServiceTableTest, PeersAreLauncherOrKnownServices) {

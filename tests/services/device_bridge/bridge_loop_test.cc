@@ -48,7 +48,7 @@ class BridgeLoopTest : public ::testing::Test {
   BridgeLoopTest()
       : health_("device_bridge"),
         mock_health_("mock_grab"),
-        bridge_(ConstantForceConfig(), {kLocal, kGlobal}, &health_),
+        bridge_(ConstantForceConfig(), {kLocal, kGlobal, std::nullopt}, &health_),
         mock_(device::MockControllerConfig{}, device::ScriptParams{}, nullptr, 0, &mock_health_) {}
 
   // One 5 kHz period of both: the controller steps and reports, the bridge reads, computes and

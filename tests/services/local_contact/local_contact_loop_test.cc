@@ -66,7 +66,8 @@ class LocalContactLoopTest : public ::testing::Test {
                                 scene::ContactOptionsFromScene(scene_), static_cast<int>(refined_.id_space()), 4096},
                  PatchBuilder::Threading::kCallerRuns),
         health_("local_contact"),
-        loop_(LocalContactConfig{1000.0, {true, true}, 0.010}, {kBridge, kGlobal, kTactile}, &builder_, &health_) {}
+        loop_(LocalContactConfig{1000.0, {true, true}, 0.010}, {kBridge, kGlobal, kTactile, std::nullopt}, &builder_,
+              &health_) {}
 
   // The patch global_sim would cut around the thumb from the cloth at rest.
   v1::LocalPatch Patch(std::uint64_t id, std::uint64_t global_step) const {
