@@ -38,6 +38,7 @@ std::vector<std::vector<std::string>> Subcommands() {
           {"fabric", "list"},
           {"tactile", "build", "wang2011_black_denim_11oz"},
           {"trace", "export", "/no/such/run", "--csv"},
+          {"view", "/no/such/run", "--seconds", "1"},
           {"scene", "check", Scene()},
           {"key", "generate"}};
 }

@@ -19,7 +19,7 @@ using ::testing::HasSubstr;
 TEST(LaunchPortPlanTest, BasePortPlusTableOffsets) {
   const v1::Scene scene = testing::ShippedScene("demo");
   const PortPlan plan = AssignPorts(scene, DeriveServices(scene), 40000, [] { return std::uint16_t{1}; });
-  ASSERT_EQ(plan.services.size(), 6u);
+  ASSERT_EQ(plan.services.size(), 7u);
   EXPECT_EQ(plan.launchers.at("local").port, 40000);
   const PlacedService* bridge = plan.Find(P::SERVICE_DEVICE_BRIDGE);
   ASSERT_NE(bridge, nullptr);
@@ -42,7 +42,7 @@ TEST(LaunchPortPlanTest, FreePortsWhenNoBasePortOnOneHost) {
       EXPECT_TRUE(ports.insert(s.controller->port).second);
     }
   }
-  EXPECT_EQ(ports.size(), 9u);  // launcher + 6 services + 2 controller sockets
+  EXPECT_EQ(ports.size(), 10u);  // launcher + 7 services + 2 controller sockets
 }
 
 TEST(LaunchPortPlanTest, AFreePortHandedOutTwiceIsAskedForAgain) {
@@ -58,7 +58,7 @@ TEST(LaunchPortPlanTest, AFreePortHandedOutTwiceIsAskedForAgain) {
       EXPECT_TRUE(ports.insert(s.controller->port).second);
     }
   }
-  EXPECT_EQ(ports.size(), 9u);
+  EXPECT_EQ(ports.size(), 10u);
 }
 
 TEST(LaunchPortPlanTest, ScenePlacementWins) {
@@ -177,7 +177,7 @@ TEST(LaunchPortPlanTest, FreeRelayPortsOnOneHostAreDistinct) {
   }
   ports.insert(plan.relays.at(0).listen.port);
   ports.insert(plan.relays.at(0).upstream.port);
-  EXPECT_EQ(ports.size(), 11u);
+  EXPECT_EQ(ports.size(), 12u);
 }
 
 TEST(LaunchPortPlanTest, ARemoteLinksRelayRunsOnItsFirstServicesHost) {

@@ -26,6 +26,17 @@ window.haptexViewer = {
   stats,
   clothVertex: (k) => (cloth.positions ? Array.from(cloth.positions.slice(3 * k, 3 * k + 3)) : null),
   seek: (t) => seek(t),
+  // replay: the first moment both fingers pinch (state VIII or IX), shown; -1 when never
+  seekToPinch: () => {
+    setPlaying(false);
+    seek(0);
+    const pinched = (s) => s === "VIII" || s === "IX";
+    for (let t = 0; t <= stats.durationS; t += 0.02) {
+      seek(t);
+      if (pinched(stats.contactStates.thumb) && pinched(stats.contactStates.index)) return t;
+    }
+    return -1;
+  },
   play: () => setPlaying(true),
   pause: () => setPlaying(false),
 };
