@@ -3,14 +3,14 @@
 // alike); prints, per run and as mean, spread and range, the overruns and period p99 of
 // local_contact's 1 kHz loop and the device bridge's 5 kHz loop, from summary.json.
 // Run it alone on the machine (the services are real-time processes).
-//   node bench/viewer/viewer_cost.mjs HAPTEX SCENE WORK_DIR [RUNS=4] [DURATION_S=12]
+//   node bench/viewer/viewer_cost.mjs HAPTEX SCENE WORK_DIR [RUNS=4] [DURATION_S=20]
 
 import { spawn } from "node:child_process";
 import { mkdirSync, readFileSync, rmSync, writeFileSync } from "node:fs";
 import { join } from "node:path";
 import { launchChromium, openViewer } from "../../web/tools/browser.mjs";
 
-const [haptex, scene, work, runsText = "4", durationText = "12"] = process.argv.slice(2);
+const [haptex, scene, work, runsText = "4", durationText = "20"] = process.argv.slice(2);
 if (!haptex || !scene || !work) {
   console.error("usage: viewer_cost.mjs HAPTEX SCENE WORK_DIR [RUNS] [DURATION_S]");
   process.exit(2);

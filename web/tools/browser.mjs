@@ -17,8 +17,23 @@ export async function launchChromium() {
   });
 }
 
+/// Waits until the viewer at `url` serves its page (the launcher prints the address before the
+/// viewer is up).
+export async function waitUntilServed(url, timeoutMs = 30000) {
+  const until = Date.now() + timeoutMs;
+  for (;;) {
+    try {
+      if ((await fetch(new URL("/session.json", url))).ok) return;
+    } catch (e) {
+      if (Date.now() > until) throw new Error(`the viewer at ${url} never answered: ${e.message}`);
+    }
+    await new Promise((r) => setTimeout(r, 100));
+  }
+}
+
 /// Opens the page at `url` and waits until it shows a cloth; returns the page.
 export async function openViewer(browser, url, timeoutMs = 30000) {
+  await waitUntilServed(url, timeoutMs);
   const page = await browser.newPage();
   await page.setViewport({ width: 1024, height: 640 });
   const errors = [];

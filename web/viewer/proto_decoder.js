@@ -127,7 +127,13 @@ function decodeWith(types, typeName, bytes) {
   const type = types.get(typeName);
   if (!type) throw new Error(`protobuf: no schema for ${typeName}`);
   const out = {};
-  for (const f of type.fields.values()) if (f.label === LABEL_REPEATED) out[f.name] = [];
+  // proto3: a field not on the wire has its type's default (messages stay undefined)
+  for (const f of type.fields.values()) {
+    if (f.label === LABEL_REPEATED) out[f.name] = [];
+    else if (f.type === TYPE.STRING) out[f.name] = "";
+    else if (f.type === TYPE.BOOL) out[f.name] = false;
+    else if (f.type !== TYPE.MESSAGE && f.type !== TYPE.BYTES && f.type !== TYPE.GROUP) out[f.name] = 0;
+  }
   const r = new Reader(bytes);
   while (!r.done()) {
     const key = Number(r.varint());

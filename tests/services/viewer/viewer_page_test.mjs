@@ -9,7 +9,7 @@ import { spawn } from "node:child_process";
 import { existsSync, readFileSync, rmSync, mkdirSync } from "node:fs";
 import { join } from "node:path";
 import assert from "node:assert/strict";
-import { launchChromium, openViewer, stats } from "../../../web/tools/browser.mjs";
+import { launchChromium, openViewer, stats, waitUntilServed } from "../../../web/tools/browser.mjs";
 import { createRequire } from "node:module";
 
 const requireFromWeb = createRequire(new URL("../../../web/package.json", import.meta.url));
@@ -115,17 +115,6 @@ function foxgloveClient(url, topics, count) {
   return done;
 }
 
-async function served(url) {
-  // the launcher prints the address before it starts the services
-  for (let tries = 0; ; ++tries) {
-    try {
-      if ((await fetch(new URL("/session.json", url))).ok) return;
-    } catch (e) {
-      if (tries > 300) throw e;
-    }
-    await sleep(100);
-  }
-}
 
 // Two live runs of the demo. Under the launcher's real-time scheduling the services take ~1.9 of
 // this machine's 2 cores (real-time throttling leaves the rest 5 %), too little for a browser to
@@ -140,7 +129,7 @@ try {
   const rt = start(["launch", scene, "--duration", "12", "--out", rtDir, "--viewer-port", "0", "--no-plots"],
                    /viewer: open (http:\/\/[^ ]+\/)/);
   const rtUrl = await rt.url;
-  await served(rtUrl);
+  await waitUntilServed(rtUrl);
   const [independent] = await Promise.all([
     foxgloveClient(rtUrl, ["/global_sim/cloth_frame", "/local_contact/force_model", "/device_bridge/finger_states",
                            "/viewer/scene"], 5),
@@ -169,7 +158,6 @@ try {
   const launch = start(["launch", scene, "--duration", "20", "--out", runDir, "--viewer-port", "0", "--no-plots",
                         "--rt-priority", "0"], /viewer: open (http:\/\/[^ ]+\/)/);
   const liveUrl = await launch.url;
-  await served(liveUrl);
   const [page, second] = await Promise.all([openViewer(browser, liveUrl), openViewer(browser, liveUrl)]);
   await second.close();  // a person opens it twice, and closes one
   const before = await positions(page);
