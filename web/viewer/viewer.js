@@ -156,7 +156,8 @@ function showCloth(positions) {
   ++stats.clothFrames;
 }
 
-// The local patch: the particles within the patch radius of a finger (as global_sim cuts it).
+// The local patch, as near as the page can tell: the particles within the patch radius of a finger
+// (global_sim cuts the grid rectangle around those, from the finger's swept path).
 function colourPatch() {
   const radius = session.patch_radius_m ?? 0.015;
   const near = [];
