@@ -24,10 +24,17 @@ class Outbox {
   bool Send(PeerId peer, const Body& body) {
     return SendBody(peer, body, net::EnvelopeBody<Body>::kFieldNumber);
   }
+  /// Records `body` as sent, without sending it (a run's recording of what nobody receives live).
+  template <class Body>
+  void Record(const Body& body) {
+    RecordBody(body, net::EnvelopeBody<Body>::kFieldNumber);
+  }
 
  protected:
   /// `body_field_number`: the body's field in the Envelope oneof.
   virtual bool SendBody(PeerId peer, const google::protobuf::MessageLite& body, int body_field_number) = 0;
+  /// Nothing where there is no recording.
+  virtual void RecordBody(const google::protobuf::MessageLite& /*body*/, int /*body_field_number*/) {}
 };
 
 }  // namespace haptex::services

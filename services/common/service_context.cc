@@ -82,6 +82,10 @@ bool ServiceContext::SendBody(PeerId peer, const google::protobuf::MessageLite& 
   return messenger_->SendBody(peer, body, body_field_number);
 }
 
+void ServiceContext::RecordBody(const google::protobuf::MessageLite& body, int body_field_number) {
+  if (recorder_) recorder_->RecordBody(body, body_field_number, base::SteadyNowNs());
+}
+
 void ServiceContext::Tick(std::int64_t now_ns) {
   // the transport's counters are read only when Health goes out
   if (!health_publisher_ || !health_publisher_->Due(now_ns)) return;

@@ -71,6 +71,7 @@ class ServiceContext final : public Outbox {
   /// Sends `body` through the messenger and, with --record, records it (no allocation, no
   /// blocking): everything a service sends goes through here so that its run is recorded.
   bool SendBody(PeerId peer, const google::protobuf::MessageLite& body, int body_field_number) override;
+  void RecordBody(const google::protobuf::MessageLite& body, int body_field_number) override;
 
  private:
   std::string name_;

@@ -27,6 +27,7 @@ GlobalSimLoop::GlobalSimLoop(const scene::LoadedScene& scene, double rate_hz, co
       finger_reach_m_(scene::FingerReachM(scene.scene) + scene::ContactOptionsFromScene(scene).fabric_half_thickness_m),
       margin_m_(scene::PatchMarginM(scene.scene)),
       frame_period_s_(1.0 / scene::ClothFrameHz(scene.scene)),
+      record_cloth_frames_(scene.scene.recording().cloth_frames()),
       refined_(dual_layer::MakeRefinedGrid(cloth_.model.mesh.particles_warp(), cloth_.model.mesh.particles_weft(),
                                            static_cast<int>(scene.scene.model().patch_refinement()))),
       patch_(static_cast<int>(refined_.id_space())),
@@ -95,11 +96,15 @@ void GlobalSimLoop::Write(services::Outbox& out) {
       ++counters_.patches_not_sent;
     }
   }
-  if (peers_.viewer && t_s_ >= next_frame_s_) {
+  if ((peers_.viewer || record_cloth_frames_) && t_s_ >= next_frame_s_) {
     next_frame_s_ = t_s_ + frame_period_s_;
     for (int c = 0; c < ClothFrameChunks(cloth_.model.num_particles); ++c) {
       FillClothFrame(cloth_.model, cloth_.state, counters_.cloth_frames, c, &frame_);
-      out.Send(*peers_.viewer, frame_);
+      if (peers_.viewer) {
+        out.Send(*peers_.viewer, frame_);  // recorded as sent
+      } else {
+        out.Record(frame_);
+      }
     }
     ++counters_.cloth_frames;
   }

@@ -3,7 +3,8 @@
 // spheres the fingers may sweep) and PatchResults (merged at once, held through the coming step).
 // Update: the scene's loads, one step of the whole fabric, the merged particles released, the
 // next patch cut. Write: the LocalPatch to local_contact, a ClothFrame to the viewer when one is
-// due. Allocates nothing once warmed up.
+// due (only into the recording without a viewer, when the scene's recording.cloth_frames asks for
+// it, so `haptex view` shows the cloth). Allocates nothing once warmed up.
 
 #include <array>
 #include <cstdint>
@@ -63,6 +64,7 @@ class GlobalSimLoop final {
   GlobalSimPeers peers_;
   runtime::HealthReporter* health_;
   double finger_reach_m_, margin_m_, frame_period_s_;
+  bool record_cloth_frames_;
   dual_layer::RefinedGrid refined_;
   std::vector<int> merged_;  ///< patch interior held through the next step
   dual_layer::TwoStepVelocity cut_velocity_;

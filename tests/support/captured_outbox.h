@@ -42,9 +42,15 @@ class CapturedOutbox final : public services::Outbox {
     return counts_[static_cast<std::size_t>(net::EnvelopeBody<Body>::kFieldNumber)];
   }
   const std::vector<Sent>& sent() const { return sent_; }
+  /// Messages recorded without being sent (Outbox::Record), by body type.
+  template <class Body>
+  std::uint64_t Recorded() const {
+    return recorded_[static_cast<std::size_t>(net::EnvelopeBody<Body>::kFieldNumber)];
+  }
   void Clear() {
     sent_.clear();
     counts_.fill(0);
+    recorded_.fill(0);
   }
 
  protected:
@@ -53,10 +59,14 @@ class CapturedOutbox final : public services::Outbox {
     if (capture) sent_.push_back({peer, body_field_number, body.SerializeAsString()});
     return !refuse;
   }
+  void RecordBody(const google::protobuf::MessageLite& /*body*/, int body_field_number) override {
+    ++recorded_[static_cast<std::size_t>(body_field_number)];
+  }
 
  private:
   std::vector<Sent> sent_;
   std::array<std::uint64_t, 64> counts_{};
+  std::array<std::uint64_t, 64> recorded_{};
 };
 
 }  // namespace haptex::testing

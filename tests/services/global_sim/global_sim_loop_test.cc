@@ -107,6 +107,24 @@ TEST_F(GlobalSimLoopTest, ClothFramesAtTheirRateAndPatchesOnlyNearAFinger) {
   EXPECT_EQ(Counter("patches_sent"), 3u);
 }
 
+// Without a viewer, ClothFrames go only into the recording, and only when the scene asks for them:
+// a run replays with its cloth (haptex view) without a viewer having watched it.
+TEST(GlobalSimLoopRecordingTest, ClothFramesAreRecordedWithoutAViewerWhenTheSceneAsks) {
+  for (const bool asked : {false, true}) {
+    scene::LoadedScene scene = TestScene();
+    scene.scene.mutable_recording()->set_cloth_frames(asked);
+    runtime::HealthReporter health("global_sim");
+    GlobalSimLoop loop(scene, 1.0 / kDt, {kLocal, std::nullopt}, &health);
+    haptex::testing::CapturedOutbox out;
+    for (int s = 0; s < 20; ++s) {
+      loop.Update(s * kDt, kDt);
+      loop.Write(out);
+    }
+    EXPECT_EQ(out.Count<v1::ClothFrame>(), 0u) << "nobody to send them to";
+    EXPECT_EQ(out.Recorded<v1::ClothFrame>(), asked ? 5u : 0u) << "25 Hz over 0.2 s, recorded when asked";
+  }
+}
+
 // The global link's round trip, counted in global_sim's own steps from a patch's cut to the merge
 // of a result computed on it, travels with every patch to local_contact.
 TEST_F(GlobalSimLoopTest, PatchesCarryTheGlobalLinksRoundTrip) {
