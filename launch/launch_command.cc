@@ -71,42 +71,40 @@ std::string DefaultBuildDir() {
   return self.parent_path().parent_path().string();
 }
 
+// Binds a socket of `type` (SOCK_DGRAM, SOCK_STREAM) to `address`:`port` (0: any), reads the port
+// it got and releases it; 0 when the bind is refused. Throws when no socket can be made.
+std::uint16_t BindAndRelease(int type, in_addr_t address_be, std::uint16_t port) {
+  const int fd = socket(AF_INET, type | SOCK_CLOEXEC, 0);
+  if (fd < 0) throw std::runtime_error(std::string("no socket for a free port: ") + std::strerror(errno));
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_addr.s_addr = address_be;
+  address.sin_port = htons(port);
+  socklen_t length = sizeof(address);
+  const bool ok = bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof(address)) == 0 &&
+                  getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) == 0;
+  close(fd);
+  return ok ? ntohs(address.sin_port) : 0;
+}
+
 // The viewer's TCP port: `wanted` when it is free on `bind_address` (0: any), else one the system
 // has free now, so a second run or a test beside the first still gets its page.
 std::uint16_t ViewerTcpPort(const std::string& bind_address, std::uint16_t wanted, bool* fell_back) {
+  in_addr address{};
+  if (inet_pton(AF_INET, bind_address.c_str(), &address) != 1) address.s_addr = htonl(INADDR_ANY);
   *fell_back = false;
-  for (const std::uint16_t port : {wanted, std::uint16_t{0}}) {
-    const int fd = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-    if (fd < 0) throw std::runtime_error("no TCP socket for the viewer's port");
-    sockaddr_in address{};
-    address.sin_family = AF_INET;
-    address.sin_port = htons(port);
-    if (inet_pton(AF_INET, bind_address.c_str(), &address.sin_addr) != 1) address.sin_addr.s_addr = htonl(INADDR_ANY);
-    socklen_t length = sizeof(address);
-    const bool ok = bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof(address)) == 0 &&
-                    getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) == 0;
-    close(fd);
-    if (ok) return ntohs(address.sin_port);
+  if (wanted != 0) {
+    if (const std::uint16_t port = BindAndRelease(SOCK_STREAM, address.s_addr, wanted)) return port;
     *fell_back = true;
   }
+  if (const std::uint16_t port = BindAndRelease(SOCK_STREAM, address.s_addr, 0)) return port;
   throw std::runtime_error(std::string("cannot find a free TCP port for the viewer: ") + std::strerror(errno));
 }
 
 // A port the system has free now (single-host runs): bind port 0, read it, release it.
 std::uint16_t FreeUdpPort() {
-  const int fd = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
-  if (fd < 0) throw std::runtime_error("no UDP socket for a free port");
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  socklen_t length = sizeof(address);
-  if (bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof(address)) != 0 ||
-      getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) != 0) {
-    close(fd);
-    throw std::runtime_error(std::string("cannot find a free UDP port: ") + std::strerror(errno));
-  }
-  close(fd);
-  return ntohs(address.sin_port);
+  if (const std::uint16_t port = BindAndRelease(SOCK_DGRAM, htonl(INADDR_LOOPBACK), 0)) return port;
+  throw std::runtime_error(std::string("cannot find a free UDP port: ") + std::strerror(errno));
 }
 
 std::string TimeStamp() {

@@ -36,14 +36,14 @@ struct ServiceSpec {
   std::vector<PeerSpec> peers;  // peers it is given, when that peer is in the run
 };
 
-/// The SCHED_FIFO priority of a service of `rt_rank` under the launcher's `launcher_priority`.
-/// -1 (normal scheduling, not the launcher's inherited one; ChildProcess) for kNotRealTime.
-inline int FifoPriorityFor(int launcher_priority, int rt_rank) {
-  if (rt_rank < 0) return -1;
-  return launcher_priority - rt_rank >= 1 ? launcher_priority - rt_rank : 1;
-}
 /// An rt_rank for a service that stays at normal scheduling under `--rt-priority`.
 inline constexpr int kNotRealTime = -1;
+/// The SCHED_FIFO priority of a service of `rt_rank` under the launcher's `launcher_priority`;
+/// -1 (normal scheduling, not the launcher's inherited one; ChildProcess) for kNotRealTime.
+inline int FifoPriorityFor(int launcher_priority, int rt_rank) {
+  if (rt_rank == kNotRealTime) return -1;
+  return launcher_priority - rt_rank >= 1 ? launcher_priority - rt_rank : 1;
+}
 /// Relays carry the haptic link at 1 kHz: local_contact's rank.
 inline constexpr int kRelayRtRank = 1;
 

@@ -75,10 +75,10 @@ PeerId ServiceContext::RequirePeer(std::string_view name) const {
 }
 
 bool ServiceContext::SendBody(PeerId peer, const google::protobuf::MessageLite& body, int body_field_number) {
-  // The viewer gets copies of what also goes to a service (FingerStates, ForceModel, ...): recorded
-  // once, so the run's counts stay those of the haptic loops. The cloth goes to the viewer alone.
-  const bool copy_for_viewer = viewer_ && peer == *viewer_ && body_field_number != v1::Envelope::kClothFrameFieldNumber;
-  if (recorder_ && !copy_for_viewer) recorder_->RecordBody(body, body_field_number, base::SteadyNowNs());
+  // The viewer only watches: what it gets are copies (FingerStates, ForceModel, ...), not recorded
+  // twice, so the run's counts stay those of the haptic loops. A loop records what only the viewer
+  // gets with Outbox::Record.
+  if (recorder_ && peer != viewer_) recorder_->RecordBody(body, body_field_number, base::SteadyNowNs());
   return messenger_->SendBody(peer, body, body_field_number);
 }
 

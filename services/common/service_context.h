@@ -69,7 +69,8 @@ class ServiceContext final : public Outbox {
 
  protected:
   /// Sends `body` through the messenger and, with --record, records it (no allocation, no
-  /// blocking): everything a service sends goes through here so that its run is recorded.
+  /// blocking): everything a service sends goes through here so that its run is recorded; what
+  /// goes to the viewer is not (copies).
   bool SendBody(PeerId peer, const google::protobuf::MessageLite& body, int body_field_number) override;
   void RecordBody(const google::protobuf::MessageLite& body, int body_field_number) override;
 

@@ -4,9 +4,8 @@
 // finger) and Control (zero-force hold). Update: the prediction horizon from the measured
 // latencies, then device::DeviceBridge::Tick (evaluate F = F0 + K (x - x0), clamp, watchdogs)
 // into the CommandFrame. Write: the CommandFrame goes to the controller (the caller sends
-// command()), FingerStates to local_contact and global_sim at their rates, and to the viewer at its frame
-// rate. Allocates nothing once
-// warmed up.
+// command()), FingerStates to local_contact and global_sim at their rates, and to the viewer at
+// its frame rate. Allocates nothing once warmed up.
 
 #include <array>
 #include <cstddef>

@@ -96,15 +96,13 @@ void GlobalSimLoop::Write(services::Outbox& out) {
       ++counters_.patches_not_sent;
     }
   }
+  // the cloth is recorded when someone watches it or the scene asks: a replay shows it then
   if ((peers_.viewer || record_cloth_frames_) && t_s_ >= next_frame_s_) {
     next_frame_s_ = t_s_ + frame_period_s_;
     for (int c = 0; c < ClothFrameChunks(cloth_.model.num_particles); ++c) {
       FillClothFrame(cloth_.model, cloth_.state, counters_.cloth_frames, c, &frame_);
-      if (peers_.viewer) {
-        out.Send(*peers_.viewer, frame_);  // recorded as sent
-      } else {
-        out.Record(frame_);
-      }
+      out.Record(frame_);
+      if (peers_.viewer) out.Send(*peers_.viewer, frame_);
     }
     ++counters_.cloth_frames;
   }

@@ -3,8 +3,8 @@
 // spheres the fingers may sweep) and PatchResults (merged at once, held through the coming step).
 // Update: the scene's loads, one step of the whole fabric, the merged particles released, the
 // next patch cut. Write: the LocalPatch to local_contact, a ClothFrame to the viewer when one is
-// due (only into the recording without a viewer, when the scene's recording.cloth_frames asks for
-// it, so `haptex view` shows the cloth). Allocates nothing once warmed up.
+// due, recorded then and also without a viewer when the scene's recording.cloth_frames asks (so
+// `haptex view` shows the cloth). Allocates nothing once warmed up.
 
 #include <array>
 #include <cstdint>

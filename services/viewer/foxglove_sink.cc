@@ -18,7 +18,6 @@ void FoxgloveSink::Publish(std::string_view topic, const google::protobuf::Messa
   if (!server_->HasSubscribers(channel->id)) return;
   message.SerializeToString(&buffer_);  // reuses the buffer's capacity
   server_->Publish(channel->id, log_time_ns, buffer_);
-  ++serialized_;
 }
 
 }  // namespace haptex::viewer

@@ -16,7 +16,6 @@ class FoxgloveSink final : public ViewerSink {
  public:
   explicit FoxgloveSink(FoxgloveServer* server) : server_(server) {}
   void Publish(std::string_view topic, const google::protobuf::Message& message, std::uint64_t log_time_ns) override;
-  std::uint64_t serialized() const { return serialized_; }
 
  private:
   struct Channel {
@@ -26,7 +25,6 @@ class FoxgloveSink final : public ViewerSink {
   FoxgloveServer* server_;
   std::vector<Channel> channels_;
   std::string buffer_;
-  std::uint64_t serialized_ = 0;
 };
 
 }  // namespace haptex::viewer

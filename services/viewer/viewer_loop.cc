@@ -31,8 +31,12 @@ const std::string& ViewerLoop::TopicOf(const v1::Envelope& envelope) {
   return topics_.back().name;
 }
 
+std::uint64_t ViewerLoop::LogTimeNs(double t_s) const {
+  return config_.epoch_at_start_ns + static_cast<std::uint64_t>(std::max(0.0, t_s) * 1e9);
+}
+
 void ViewerLoop::Read(const v1::Envelope& envelope, double t_s) {
-  const auto time_ns = config_.epoch_at_start_ns + static_cast<std::uint64_t>(std::max(0.0, t_s) * 1e9);
+  const std::uint64_t time_ns = LogTimeNs(t_s);
   const google::protobuf::Message* body = nullptr;
   switch (envelope.body_case()) {
     case v1::Envelope::kClothFrame:
@@ -100,7 +104,7 @@ void ViewerLoop::Update(double t_s, double /*dt_s*/) {
   if (cloth_new_ && t_s >= next_scene_s_) {
     next_scene_s_ = t_s + 1.0 / config_.frame_hz;
     cloth_new_ = false;
-    const auto time_ns = config_.epoch_at_start_ns + static_cast<std::uint64_t>(std::max(0.0, t_s) * 1e9);
+    const std::uint64_t time_ns = LogTimeNs(t_s);
     sink_->Publish("/viewer/scene", scene_view_.Build(cloth_W_m_, u_, v_, fingers_, forces_, time_ns), time_ns);
     ++counters_.scene_updates;
   }

@@ -44,6 +44,7 @@ class ViewerLoop final {
 
  private:
   const std::string& TopicOf(const v1::Envelope& envelope);
+  std::uint64_t LogTimeNs(double t_s) const;
   void AssembleCloth(const v1::ClothFrame& chunk);
   void PublishCounters();
 
