@@ -73,7 +73,8 @@ void ViewerLoop::AssembleCloth(const v1::ClothFrame& chunk) {
   const std::uint64_t n = static_cast<std::uint64_t>(chunk.particles_u()) * chunk.particles_v();
   const std::uint64_t first = chunk.first_particle();
   const std::uint64_t count = static_cast<std::uint64_t>(chunk.position_w_m_size()) / 3;
-  // a chunk that does not fit its own grid is not drawn (hostile or corrupt)
+  // a chunk that does not fit its own grid is not drawn (hostile or corrupt); the largest grid a
+  // scene allows (401 x 401) comes in 41 chunks
   if (n == 0 || n > (1u << 20) || chunk.position_w_m_size() % 3 != 0 || first + count > n || chunk.chunk_count() == 0 ||
       chunk.chunk_count() > 64 || chunk.chunk_index() >= chunk.chunk_count()) {
     ++counters_.cloth_chunks_bad;
@@ -91,8 +92,10 @@ void ViewerLoop::AssembleCloth(const v1::ClothFrame& chunk) {
     const float x = chunk.position_w_m(static_cast<int>(i));
     assembling_W_m_[3 * first + i] = std::isfinite(x) ? x : 0.0f;
   }
-  chunks_seen_ |= 1u << chunk.chunk_index();
-  if (chunks_seen_ == (chunk.chunk_count() >= 32 ? ~0u : (1u << chunk.chunk_count()) - 1)) {
+  chunks_seen_ |= std::uint64_t{1} << chunk.chunk_index();
+  const std::uint64_t all =
+      chunk.chunk_count() == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << chunk.chunk_count()) - 1;
+  if (chunks_seen_ == all) {
     cloth_W_m_ = assembling_W_m_;
     cloth_new_ = true;
     chunks_seen_ = 0;

@@ -60,7 +60,8 @@ class ViewerLoop final {
   std::string unknown_topic_ = "/unknown";
   // the cloth being assembled and the newest whole one
   std::uint64_t assembling_frame_ = 0;
-  std::uint32_t chunks_seen_ = 0, u_ = 0, v_ = 0;
+  std::uint64_t chunks_seen_ = 0;  ///< bit k: chunk k of the frame being assembled arrived
+  std::uint32_t u_ = 0, v_ = 0;
   std::vector<float> assembling_W_m_, cloth_W_m_;
   bool cloth_new_ = false;
   v1::FingerStates fingers_;

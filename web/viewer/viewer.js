@@ -59,7 +59,7 @@ const sun = new THREE.DirectionalLight(0xffffff, 1.6);
 sun.position.set(0.3, 0.6, 0.5);
 scene.add(sun);
 
-const cloth = { mesh: null, positions: null, colors: null, u: 0, v: 0, assembling: null, frame: -1, seen: 0 };
+const cloth = { mesh: null, positions: null, colors: null, u: 0, v: 0, assembling: null, frame: -1, seen: new Set() };
 const clothMaterial = new THREE.MeshStandardMaterial({ vertexColors: true, side: THREE.DoubleSide, roughness: 0.9 });
 const stand = new THREE.Mesh(new THREE.BoxGeometry(1, 0.008, 0.008), new THREE.MeshStandardMaterial({ color: 0x8a8f98 }));
 stand.visible = false;
@@ -126,18 +126,18 @@ function buildCloth(u, v) {
 // ---- what each message changes
 function onClothFrame(m) {
   const u = m.particles_u, v = m.particles_v;
-  if (!u || !v || u * v > 1 << 20) return;
+  if (!u || !v || u * v > 1 << 20 || m.chunk_index >= m.chunk_count) return;
   if (u !== cloth.u || v !== cloth.v) buildCloth(u, v);
   if (m.frame_index !== cloth.frame) {
     cloth.frame = m.frame_index;
-    cloth.seen = 0;
+    cloth.seen = new Set();  // chunk indices: a 401 x 401 cloth comes in 41 chunks
     cloth.assembling = cloth.assembling && cloth.assembling.length === 3 * u * v ? cloth.assembling : new Float32Array(3 * u * v);
   }
   const p = m.position_w_m;
   if (3 * m.first_particle + p.length > cloth.assembling.length) return;
   cloth.assembling.set(p, 3 * m.first_particle);
-  cloth.seen |= 1 << m.chunk_index;
-  if (cloth.seen === (1 << m.chunk_count) - 1) showCloth(cloth.assembling);
+  cloth.seen.add(m.chunk_index);
+  if (cloth.seen.size === m.chunk_count) showCloth(cloth.assembling);
 }
 
 function showCloth(positions) {

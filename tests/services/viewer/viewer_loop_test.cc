@@ -126,6 +126,15 @@ TEST(ViewerLoopTest, AssemblesTheClothFromChunksInAnyOrderAndSendsOneSceneAtTheF
   EXPECT_DOUBLE_EQ(f.sink.last_scene.entities(0).triangles(0).points(19).z(), 20.5);
 }
 
+TEST(ViewerLoopTest, TheLargestClothAScenesAllowsIsAssembledFromItsManyChunks) {
+  Fixture f;
+  const auto chunks = Cloth(401, 401, 41, 1, 0.0f);  // global_sim's 4000 particles per chunk
+  for (std::size_t c = 0; c < chunks.size(); ++c) f.loop.Read(From("global_sim", chunks[c], c + 1), 0.1);
+  EXPECT_EQ(f.loop.counters().cloth_chunks_bad, 0u);
+  EXPECT_EQ(f.loop.counters().cloth_frames_whole, 1u);
+  ASSERT_EQ(f.loop.cloth_W_m().size(), 3u * 401 * 401);
+}
+
 TEST(ViewerLoopTest, ChunksThatDoNotFitTheirGridAreCountedAndNotDrawn) {
   Fixture f;
   v1::ClothFrame too_far = Cloth(5, 4, 1, 1, 0)[0];
