@@ -66,6 +66,19 @@ TEST(LaunchCommandTest, DryRunPrintsWhatStartsAndWhy) {
   EXPECT_THAT(r.out, HasSubstr("--bind 127.0.0.1:41001 --peer launcher=127.0.0.1:41000"));
 }
 
+TEST(LaunchCommandTest, TheViewerOnDemandIsStartedAndEveryServiceShownToIt) {
+  const Result without = Haptex({"launch", testing::ShippedScenePath("hanging"), "--dry-run", "--base-port", "41000"});
+  EXPECT_THAT(without.out, HasSubstr("not    viewer: viewer off"));
+  EXPECT_THAT(without.out, Not(HasSubstr("viewer=")));
+  const Result r = Haptex({"launch", testing::ShippedScenePath("hanging"), "--dry-run", "--base-port", "41000",
+                           "--viewer", "--viewer-port", "0"});
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("start  viewer: viewer on"));
+  EXPECT_THAT(r.out, HasSubstr("--peer viewer=127.0.0.1:41009"));  // global_sim sends it the cloth
+  EXPECT_THAT(r.out, HasSubstr("viewer (local): "));
+  EXPECT_THAT(r.out, HasSubstr("--http-port "));
+}
+
 TEST(LaunchCommandTest, HostsAndSkipsAreChecked) {
   const std::string remote = testing::ShippedScenePath("remote");
   Result r = Haptex({"launch", remote});
