@@ -1,16 +1,15 @@
 #include "launch/run_mcap.h"
 
 #include <google/protobuf/descriptor.h>
-#include <google/protobuf/descriptor.pb.h>
 
 #include <algorithm>
 #include <fstream>
 #include <limits>
-#include <set>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
 
+#include "libs/codec/file_descriptor_set.h"
 #include "libs/mcap/mcap_reader.h"
 #include "libs/mcap/mcap_writer.h"
 
@@ -25,20 +24,6 @@ const pb::OneofDescriptor& BodyOneof() {
   const pb::OneofDescriptor* body = v1::Envelope::descriptor()->FindOneofByName("body");
   if (body == nullptr) throw std::logic_error("haptex.v1.Envelope has no oneof body");
   return *body;
-}
-
-// a file after everything it imports, each once
-void AddFileAndImports(const pb::FileDescriptor* file, std::set<std::string>* added, pb::FileDescriptorSet* set) {
-  if (!added->insert(file->name()).second) return;
-  for (int i = 0; i < file->dependency_count(); ++i) AddFileAndImports(file->dependency(i), added, set);
-  file->CopyTo(set->add_file());
-}
-
-std::string DescriptorSetOf(const pb::Descriptor* type) {
-  pb::FileDescriptorSet set;
-  std::set<std::string> added;
-  AddFileAndImports(type->file(), &added, &set);
-  return set.SerializeAsString();
 }
 
 }  // namespace
@@ -76,7 +61,8 @@ RunMcapCounts WriteRunMcap(const std::vector<Recording>& recordings, std::ostrea
     const pb::Descriptor* type = entry.body->message_type();
     auto schema = schemas.find(type);
     if (schema == schemas.end()) {
-      schema = schemas.emplace(type, writer.AddSchema(type->full_name(), kEncoding, DescriptorSetOf(type))).first;
+      schema =
+          schemas.emplace(type, writer.AddSchema(type->full_name(), kEncoding, codec::FileDescriptorSetOf(type))).first;
     }
     const std::string topic = McapTopic(entry.envelope->sender(), entry.body->name());
     auto channel = channels.find(topic);

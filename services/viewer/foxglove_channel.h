@@ -9,7 +9,7 @@ namespace haptex::viewer {
 struct FoxgloveChannel {
   std::string topic;        // e.g. "/cloth"
   std::string schema_name;  // the message's full name, e.g. "foxglove.SceneUpdate"
-  std::string schema_data;  // a serialized google.protobuf.FileDescriptorSet (FileDescriptorSetOf)
+  std::string schema_data;  // a serialized google.protobuf.FileDescriptorSet (codec::FileDescriptorSetOf)
 };
 
 }  // namespace haptex::viewer

@@ -11,7 +11,7 @@
 #include <string>
 #include <string_view>
 
-#include "services/viewer/file_descriptor_set.h"
+#include "libs/codec/file_descriptor_set.h"
 #include "services/viewer/foxglove_channel.h"
 
 namespace haptex::viewer {

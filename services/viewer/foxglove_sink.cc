@@ -11,7 +11,7 @@ void FoxgloveSink::Publish(std::string_view topic, const google::protobuf::Messa
   if (channel == nullptr) {
     const auto* type = message.GetDescriptor();
     const std::uint32_t id =
-        server_->AddChannel({std::string(topic), std::string(type->full_name()), FileDescriptorSetOf(type)});
+        server_->AddChannel({std::string(topic), std::string(type->full_name()), codec::FileDescriptorSetOf(type)});
     channels_.push_back({std::string(topic), id});
     channel = &channels_.back();
   }

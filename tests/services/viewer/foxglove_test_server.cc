@@ -15,7 +15,7 @@
 
 namespace {
 
-using haptex::viewer::FileDescriptorSetOf;
+using haptex::codec::FileDescriptorSetOf;
 using haptex::viewer::FoxgloveServer;
 
 // A 2 x 2 grid the client checks value by value.

@@ -1,4 +1,4 @@
-#include "services/viewer/file_descriptor_set.h"
+#include "libs/codec/file_descriptor_set.h"
 
 #include <google/protobuf/descriptor.h>
 #include <google/protobuf/descriptor.pb.h>
@@ -14,7 +14,7 @@
 #include "haptex/v1/cloth_frame.pb.h"
 #include "haptex/v1/envelope.pb.h"
 
-namespace haptex::viewer {
+namespace haptex::codec {
 namespace {
 
 google::protobuf::FileDescriptorSet Parse(const std::string& bytes) {
@@ -85,4 +85,4 @@ TEST(FileDescriptorSetOfTest, IsEnoughToDecodeTheMessage) {
 TEST(FileDescriptorSetOfTest, NoTypeGivesAnEmptySet) { EXPECT_EQ(Parse(FileDescriptorSetOf(nullptr)).file_size(), 0); }
 
 }  // namespace
-}  // namespace haptex::viewer
+}  // namespace haptex::codec

@@ -1,4 +1,4 @@
-#include "services/viewer/file_descriptor_set.h"
+#include "libs/codec/file_descriptor_set.h"
 
 #include <google/protobuf/descriptor.h>
 #include <google/protobuf/descriptor.pb.h>
@@ -6,7 +6,7 @@
 #include <set>
 #include <string>
 
-namespace haptex::viewer {
+namespace haptex::codec {
 namespace {
 
 void AddWithDependencies(const google::protobuf::FileDescriptor* file, std::set<std::string>& added,
@@ -25,4 +25,4 @@ std::string FileDescriptorSetOf(const google::protobuf::Descriptor* type) {
   return set.SerializeAsString();
 }
 
-}  // namespace haptex::viewer
+}  // namespace haptex::codec
