@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "libs/codec/file_descriptor_set.h"
+#include "libs/codec/message_topic.h"
 #include "libs/mcap/mcap_reader.h"
 #include "libs/mcap/mcap_writer.h"
 
@@ -27,8 +28,6 @@ const pb::OneofDescriptor& BodyOneof() {
 }
 
 }  // namespace
-
-std::string McapTopic(const std::string& sender, const std::string& body) { return "/" + sender + "/" + body; }
 
 RunMcapCounts WriteRunMcap(const std::vector<Recording>& recordings, std::ostream& out) {
   struct Entry {
@@ -64,7 +63,7 @@ RunMcapCounts WriteRunMcap(const std::vector<Recording>& recordings, std::ostrea
       schema =
           schemas.emplace(type, writer.AddSchema(type->full_name(), kEncoding, codec::FileDescriptorSetOf(type))).first;
     }
-    const std::string topic = McapTopic(entry.envelope->sender(), entry.body->name());
+    const std::string topic = codec::MessageTopic(entry.envelope->sender(), entry.body->name());
     auto channel = channels.find(topic);
     if (channel == channels.end()) {
       channel = channels.emplace(topic, writer.AddChannel(schema->second, topic, kEncoding)).first;
@@ -145,7 +144,7 @@ std::vector<Recording> RecordingsFromMcap(const std::string& path) {
   for (const mcap::Message& m : file.messages) {
     const Source& s = sources.at(m.channel_id);  // the reader checked every message's channel
     Recording& r = by_sender[s.sender];
-    if (r.path.empty()) r.path = path + " " + McapTopic(s.sender, "*");
+    if (r.path.empty()) r.path = path + " " + codec::MessageTopic(s.sender, "*");
     v1::Envelope e;
     e.set_sender(s.sender);
     e.set_sequence(m.sequence);

@@ -27,9 +27,6 @@ struct RunMcapCounts {
   std::uint64_t without_body = 0;                 // envelopes with no body: not written
 };
 
-/// The topic of `sender`'s messages with the Envelope body field `body` ("/device_bridge/finger_states").
-std::string McapTopic(const std::string& sender, const std::string& body);
-
 /// Writes run.mcap from the recordings to `out`, messages in send-time order; returns what it holds
 /// (`file` empty). Throws mcap::McapError when the stream fails.
 RunMcapCounts WriteRunMcap(const std::vector<Recording>& recordings, std::ostream& out);

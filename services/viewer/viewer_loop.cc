@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "libs/codec/message_topic.h"
+
 namespace haptex::viewer {
 
 ViewerLoop::ViewerLoop(const ViewerLoopConfig& config, ViewerSink* sink, runtime::HealthReporter* health)
@@ -27,7 +29,7 @@ const std::string& ViewerLoop::TopicOf(const v1::Envelope& envelope) {
     return unknown_topic_;
   }
   const auto* field = v1::Envelope::descriptor()->FindFieldByNumber(body);
-  topics_.push_back({sender, body, "/" + sender + "/" + (field != nullptr ? field->name() : "unknown")});
+  topics_.push_back({sender, body, codec::MessageTopic(sender, field != nullptr ? field->name() : "unknown")});
   return topics_.back().name;
 }
 
