@@ -144,11 +144,12 @@ try {
   const rtSummary = JSON.parse(readFileSync(join(rtDir, "summary.json"), "utf8"));
   assert.equal((rtSummary.restarts ?? []).length, 0, "no service restarted");
   // A whole-VM pause long enough for a watchdog to cut the force is the host's, not the clients':
-  // every dropout must be such a cut (as in tests/security's campaign).
+  // every dropout must be such a cut (as in tests/security's campaign). Dropouts are counted per
+  // finger, and a cut takes both fingers' force.
   const cuts = rtSummary.watchdog.filter((w) => ["tick_gap_disarms", "host_timeouts", "device_lost_events"]
                                                   .includes(w.counter)).reduce((a, w) => a + w.value, 0);
   const dropouts = rtSummary.forces.mock_controller_commanded.force_dropouts;
-  assert.ok(dropouts === 0 || dropouts <= cuts, `no force dropout but a watchdog's cut for a stall (${dropouts}, ${cuts})`);
+  assert.ok(dropouts <= 2 * cuts, `no force dropout but a watchdog's cut for a stall (${dropouts}, ${cuts} cuts)`);
   const viewerCounters = rtSummary.services.find((x) => x.name === "viewer").counters;
   assert.ok(viewerCounters.client_messages_bad >= 6, `the viewer counted the garbage (${viewerCounters.client_messages_bad})`);
   console.log(`live, real-time: Foxglove's client decoded the cloth, forces and scene; ${viewerCounters.client_messages_bad} ` +
