@@ -128,6 +128,8 @@ int Sim(const SimOptions& options) {
       .Field("max_speed_end_m_per_s", textile::MaxSpeed(cloth.state))
       .Field("nan_count", diag.nan_events)
       .Field("cg_not_converged", diag.cg_not_converged)
+      .Field("newton_not_converged", diag.newton_not_converged)
+      .Field("step_halvings", diag.step_halvings)
       .Field("speed_capped", diag.speed_capped)
       .Field("steps_ok", status_counts[0])
       .EndObject();

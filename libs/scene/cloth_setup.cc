@@ -74,6 +74,10 @@ ClothSetup MakeClothSetup(const LoadedScene& loaded) {
   if (m.cg_tolerance() > 0) step.cg_tolerance = m.cg_tolerance();
   if (m.cg_max_iterations() > 0) step.cg_max_iterations = static_cast<int>(m.cg_max_iterations());
   if (m.substeps() > 0) step.substeps = static_cast<int>(m.substeps());
+  if (m.newton_max_iterations() > 0) step.newton_max_iterations = static_cast<int>(m.newton_max_iterations());
+  if (m.newton_tolerance() > 0) step.newton_tolerance = m.newton_tolerance();
+  if (m.has_max_step_halvings()) step.max_step_halvings = static_cast<int>(m.max_step_halvings());
+  if (m.has_max_strain_rise_per_step()) step.max_strain_rise_per_step = m.max_strain_rise_per_step();
   textile::ValidateStepOptions(step);
   return setup;
 }

@@ -15,6 +15,7 @@
 #include "libs/scene/field_checks.h"
 #include "libs/scene/scene_defaults.h"
 #include "libs/scene/scene_network.h"
+#include "libs/textile/step_options.h"
 
 namespace haptex::scene {
 namespace {
@@ -259,6 +260,10 @@ void CheckRatesAndModel(const v1::Scene& scene, const FieldLocator& where, Check
   c.ZeroOrRange(m, "local_cg_tolerance", m.local_cg_tolerance(), 1e-12, 0.5, "", mo);
   c.ZeroOrRange(m, "local_cg_max_iterations", m.local_cg_max_iterations(), 3, 100000, "", mo);
   c.ZeroOrRange(m, "substeps", m.substeps(), 1, 10000, "", mo);
+  c.ZeroOrRange(m, "newton_max_iterations", m.newton_max_iterations(), 1, 100, "", mo);
+  c.ZeroOrRange(m, "newton_tolerance", m.newton_tolerance(), 1e-12, 0.5, "", mo);
+  c.Range(m, "max_step_halvings", m.max_step_halvings(), 0, textile::kMaxStepHalvings, "", mo);
+  c.Range(m, "max_strain_rise_per_step", m.max_strain_rise_per_step(), 0.0, 1.0, "", mo);
   c.Range(m, "patch_radius_m", m.patch_radius_m(), 0.0, 0.1, "m", mo);
   c.Range(m, "patch_refinement", m.patch_refinement(), 0, 4, "", mo);
   CheckPatchFitsADatagram(scene, mo, c);

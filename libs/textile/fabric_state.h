@@ -27,8 +27,14 @@ struct FabricDiagnostics {
   /// Symplectic steps whose stability estimate at the state wanted more than max_substeps (the
   /// step used max_substeps).
   std::int64_t substeps_limited = 0;
-  int last_cg_iterations = 0;
+  /// Implicit steps kept with Newton above its tolerance (no halving left, or none allowed).
+  std::int64_t newton_not_converged = 0;
+  /// Implicit sub-steps retaken as two halves (Newton did not converge, strain bound, NaN).
+  std::int64_t step_halvings = 0;
+  int last_cg_iterations = 0;  ///< of the whole last step (every Newton iteration and sub-step)
   double last_cg_relative_residual = 0.0;
+  int last_newton_iterations = 0;  ///< linear solves of the last step
+  double last_newton_relative_residual = 0.0;
 };
 
 /// Rest placement in the world: x = origin + u axis_u + v axis_v.

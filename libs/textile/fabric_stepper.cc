@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "libs/base/demand.h"
+#include "libs/textile/fabric_strain.h"
 #include "libs/textile/symplectic_euler.h"
 
 namespace haptex::textile {
@@ -32,6 +33,67 @@ FabricStepper::FabricStepper(const FabricModel& model, const StepOptions& option
   last_substeps_ = substeps_;
 }
 
+// The implicit step as sub-steps of dt_s / 2^level: a sub-step whose Newton iterations do not
+// converge, or whose largest strain rises beyond the bound, or that is not finite, is retaken
+// from its start at half the size while halvings remain; the rest of the step keeps the size
+// that worked (a cloth in trouble now stays in trouble for the step). Anchors keep their
+// end-of-step positions in every sub-step.
+void FabricStepper::StepImplicit(FabricState* state, StepResult* result) {
+  const bool strain_bound = options_.max_strain_rise_per_step > 0.0;
+  StepOptions sub = options_;
+  int level = 0;
+  std::int64_t sub_steps = 1, done = 0;
+  int newton_iterations = 0, cg_iterations = 0;
+  result->newton_converged = true;
+  while (done < sub_steps) {
+    sub.dt_s = options_.dt_s / static_cast<double>(sub_steps);
+    const bool may_split = level < options_.max_step_halvings;
+    if (may_split) {
+      ws_.x_substep_start = state->x_W_m;
+      ws_.v_substep_start = state->v_W_m_per_s;
+    }
+    const double strain_before = strain_bound ? LargestTensileStrain(model_, state->x_W_m) : 0.0;
+    const double t_start = state->time_s;
+    const ImplicitStepReport report = ImplicitEulerStep(model_, sub, state, &ws_);
+    newton_iterations += report.newton_iterations;
+    cg_iterations += report.cg.iterations;
+    const bool finite = report.cg.finite && ws_.stepped_state_finite;
+    const bool strain_ok =
+        !strain_bound || !finite ||
+        LargestTensileStrain(model_, state->x_W_m) - strain_before <= options_.max_strain_rise_per_step;
+    if (may_split && !(finite && report.newton_converged && strain_ok)) {
+      state->x_W_m = ws_.x_substep_start;
+      state->v_W_m_per_s = ws_.v_substep_start;
+      state->time_s = t_start;
+      ++level;
+      sub_steps *= 2;
+      done *= 2;
+      ++state->diagnostics.step_halvings;
+      continue;
+    }
+    result->cg = report.cg;
+    result->newton_relative_residual = report.newton_relative_residual;
+    if (!report.newton_converged) result->newton_converged = false;
+    if (!finite) break;  // Step() rolls the whole step back
+    ++done;
+  }
+  result->cg.iterations = cg_iterations;
+  result->newton_iterations = newton_iterations;
+  result->step_halvings = level;
+  last_substeps_ = static_cast<int>(sub_steps);
+  FabricDiagnostics& d = state->diagnostics;
+  d.last_cg_iterations = cg_iterations;
+  d.last_cg_relative_residual = result->cg.relative_residual;
+  d.last_newton_iterations = newton_iterations;
+  d.last_newton_relative_residual = result->newton_relative_residual;
+  if (result->cg.preconditioner_fallback) ++d.preconditioner_fallbacks;
+  if (!result->newton_converged) ++d.newton_not_converged;
+  if (result->cg.finite && !result->cg.converged) {
+    result->status = StepStatus::kCgNotConverged;
+    ++d.cg_not_converged;
+  }
+}
+
 StepResult FabricStepper::Step(FabricState* state) {
   HAPTEX_DEMAND(state->num_particles() == model_.num_particles);
   StepResult result;
@@ -39,14 +101,7 @@ StepResult FabricStepper::Step(FabricState* state) {
   const double t0 = state->time_s;
   const bool implicit = options_.method == Integrator::kImplicitEuler;
   if (implicit) {
-    result.cg = ImplicitEulerStep(model_, options_, state, &ws_);
-    state->diagnostics.last_cg_iterations = result.cg.iterations;
-    state->diagnostics.last_cg_relative_residual = result.cg.relative_residual;
-    if (result.cg.preconditioner_fallback) ++state->diagnostics.preconditioner_fallbacks;
-    if (result.cg.finite && !result.cg.converged) {
-      result.status = StepStatus::kCgNotConverged;
-      ++state->diagnostics.cg_not_converged;
-    }
+    StepImplicit(state, &result);
   } else {
     // Substeps for the tension at this state (never fewer than configured).
     const double stable =

@@ -22,7 +22,12 @@ const char* ToString(StepStatus status);
 
 struct StepResult {
   StepStatus status = StepStatus::kOk;
-  CgReport cg;  ///< implicit Euler only
+  /// Implicit Euler only: the last sub-step's solve, with the iterations of the whole step.
+  CgReport cg;
+  int newton_iterations = 0;              ///< implicit: linear solves of the whole step, retaken sub-steps' too
+  double newton_relative_residual = 0.0;  ///< implicit: the last sub-step's (0: not measured)
+  bool newton_converged = true;           ///< false: a sub-step was kept above the tolerance
+  int step_halvings = 0;                  ///< implicit: the step ended at dt_s / 2^this
   int capped_particles = 0;
 };
 
@@ -36,12 +41,14 @@ class FabricStepper {
   StepResult Step(FabricState* state);
 
   const StepOptions& options() const { return options_; }
-  /// Symplectic substeps of the last step (before the first: the configured count; 1 for
-  /// implicit Euler). Each symplectic step uses at least the configured count, more when the
+  /// Substeps of the last step (before the first: the configured count; implicit Euler: 1, or
+  /// 2^halvings after a split). Each symplectic step uses at least the configured count, more when the
   /// stability estimate at the current state (tension) asks for it, up to max_substeps.
   int substeps() const { return last_substeps_; }
 
  private:
+  void StepImplicit(FabricState* state, StepResult* result);
+
   const FabricModel& model_;
   StepOptions options_;
   int substeps_ = 1;

@@ -34,6 +34,10 @@ struct FabricWorkspace {
   /// (Gauss-Seidel's PCG leaves dv at the guess on a breakdown), so stale on its steps.
   Eigen::VectorXd rhs, dv, dv0, r, c, q, s;
   Eigen::VectorXd x_backup;  ///< roll-back copy of the positions
+  /// The velocities at the start of an implicit step: its Newton residual's inertia term.
+  Eigen::VectorXd v_step_start;
+  /// Where a split step's current sub-step started, to retake it as two halves.
+  Eigen::VectorXd x_substep_start, v_substep_start;
   /// Set by ImplicitEulerStep when it updates the state, for FabricStepper's checks (no second
   /// scan): whether the new x and v are all finite, and the largest squared particle speed.
   bool stepped_state_finite = true;

@@ -306,64 +306,53 @@ bool RunGaussSeidelPcg(const FabricModel& model, const FabricState& state, const
   return breakdown;
 }
 
-}  // namespace
-
-CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options, FabricState* state,
-                           FabricWorkspace* ws) {
-  const double h = options.dt_s;
-  const int n = model.num_particles;
-  ws->stepped_state_finite = false;  // until a step has written the state
-
-  // Forces and the system matrix A = M - h df/dv - h^2 df/dx, starting from its constant part
-  // (mass, bending, linear drag), built once per model and step.
+// Forces at the state into ws->force_N and, with `jacobians`, the system A = M - h df/dv -
+// h^2 df/dx with (df/dx) v into ws->dfdx_v, starting from the constant part built once per
+// model and step.
+void Assemble(const FabricModel& model, double h, const FabricState& state, bool jacobians, FabricWorkspace* ws) {
   ForceSink sink;
   sink.force_N = &ws->force_N;
+  if (!jacobians) {
+    ws->force_N.setZero();
+    AccumulateForces(model, state, &sink);
+    AddAnchorSpringForces(model, state, &sink);
+    return;
+  }
   sink.system = &ws->system;
   sink.dx_scale = -h * h;
   sink.dv_scale = -h;
   sink.dfdx_v = &ws->dfdx_v;
-  sink.v = &state->v_W_m_per_s;
+  sink.v = &state.v_W_m_per_s;
   if (ws->system_base_model != &model || ws->system_base_dt_s != h) BuildSystemBase(model, h, &sink, ws);
   ResetStep(model, ws, &sink);
   sink.constant_jacobians_added = true;
-  AccumulateForces(model, *state, &sink);
-  AddAnchorSpringForces(model, *state, &sink);
+  AccumulateForces(model, state, &sink);
+  AddAnchorSpringForces(model, state, &sink);
+}
 
-  // Initial guess carries the prescribed velocity change (z). Data in locals: the stores to dv
-  // could alias the containers, so their pointers would be reloaded every particle.
-  const ParticleMode* mode = state->mode.data();
-  {
-    double* guess = ws->dv.data();
-    const double* prescribed = state->prescribed_v_W_m_per_s.data();
-    const double* v = state->v_W_m_per_s.data();
-    const bool zero_free = !options.cg_warm_start;
-    for (int p = 0; p < n; ++p) {
-      double* d = guess + 3 * p;
-      if (mode[p] == ParticleMode::kFree) {
-        // Warm start: the previous step's velocity change is a good guess for a smooth motion.
-        if (zero_free) {
-          Store2(d, V2{0.0, 0.0});
-          d[2] = 0.0;
-        }
-      } else {
-        Store2(d, Load2(prescribed + 3 * p) - Load2(v + 3 * p));
-        d[2] = prescribed[3 * p + 2] - v[3 * p + 2];
-      }
-    }
-  }
-
-  bool gauss_seidel_ok = true;
+// The configured preconditioner for the current system; false when Gauss-Seidel's breaks down.
+bool UpdatePreconditioner(const FabricModel& model, const StepOptions& options, const FabricState& state,
+                          FabricWorkspace* ws) {
+  const ParticleMode* mode = state.mode.data();
   if (options.preconditioner == Preconditioner::kMultilevel) {
-    ws->multilevel.Update(model, *state, ws->system);
+    ws->multilevel.Update(model, state, ws->system);
   } else if (options.preconditioner == Preconditioner::kGaussSeidel) {
-    HAPTEX_DEMAND(ws->gauss_seidel.rows() == n);  // a workspace built for it
-    gauss_seidel_ok = ws->gauss_seidel.Update(ws->system, options.ssor_omega,
-                                              [mode](int r) { return mode[r] == ParticleMode::kFree; });
+    HAPTEX_DEMAND(ws->gauss_seidel.rows() == model.num_particles);  // a workspace built for it
+    return ws->gauss_seidel.Update(ws->system, options.ssor_omega,
+                                   [mode](int r) { return mode[r] == ParticleMode::kFree; });
   } else {
     UpdateBlockJacobi(model, ws);
   }
+  return true;
+}
 
-  // Modified PCG; on a preconditioner breakdown retry from the same guess with block Jacobi.
+// Solves A dv = h (f + h dfdx_v) on the free particles from the guess in ws->dv (constrained
+// rows keep the guess): modified PCG, on a preconditioner breakdown again from the same guess
+// with block Jacobi. A non-finite dv is zeroed (never warm-start from garbage) and reported.
+CgReport Solve(const FabricModel& model, const StepOptions& options, const FabricState& state, bool gauss_seidel_ok,
+               FabricWorkspace* ws) {
+  const int n = model.num_particles;
+  const double h = options.dt_s;
   // Gauss-Seidel's PCG leaves dv at the guess on a breakdown; the others need a copy.
   const bool gs = options.preconditioner == Preconditioner::kGaussSeidel;
   if (!gs) {
@@ -373,8 +362,8 @@ CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options,
   CgReport report;
   Preconditioner pc = options.preconditioner;
   bool add_y = false;
-  bool breakdown = gs ? (!gauss_seidel_ok || RunGaussSeidelPcg(model, *state, options, ws, &report, &add_y))
-                      : RunPcg(model, *state, options, pc, ws, &report);
+  bool breakdown = gs ? (!gauss_seidel_ok || RunGaussSeidelPcg(model, state, options, ws, &report, &add_y))
+                      : RunPcg(model, state, options, pc, ws, &report);
   if (breakdown && pc != Preconditioner::kBlockJacobi) {
     report.preconditioner_fallback = true;
     if (gs) {
@@ -384,7 +373,7 @@ CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options,
     }
     pc = Preconditioner::kBlockJacobi;
     UpdateBlockJacobi(model, ws);
-    breakdown = RunPcg(model, *state, options, pc, ws, &report);
+    breakdown = RunPcg(model, state, options, pc, ws, &report);
   }
   if (breakdown) report.converged = false;
 
@@ -411,26 +400,28 @@ CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options,
   }
   report.finite =
       report.finite && std::isfinite(dv_zero01[0]) && std::isfinite(dv_zero01[1]) && std::isfinite(dv_zero2);
-  if (!report.finite) {
-    ws->dv.setZero();  // never warm-start from garbage
-    return report;
-  }
+  if (!report.finite) ws->dv.setZero();
+  return report;
+}
 
-  // Update: v += dv, x += h v; with the new state's finiteness and largest speed for the
-  // stepper's checks.
+// v += dv, then x += h v (`whole`: the step's first update) or x += h dv (a Newton correction);
+// records the new state's finiteness and largest speed for the stepper's checks.
+void Update(double h, bool whole, const Eigen::VectorXd& dv_all, FabricState* state, FabricWorkspace* ws) {
   V2 state_zero01 = {0.0, 0.0};
   double state_zero2 = 0.0;
   double max_speed2 = 0.0;
   double* v_all = state->v_W_m_per_s.data();
   double* x_all = state->x_W_m.data();
+  const double* dv = dv_all.data();
+  const int n = state->num_particles();
   for (int p = 0; p < n; ++p) {
     double* v = v_all + 3 * p;
     double* x = x_all + 3 * p;
     const double* d = dv + 3 * p;
     const V2 v01 = Load2(v) + Load2(d);
     const double v2 = v[2] + d[2];
-    const V2 x01 = Load2(x) + h * v01;
-    const double x2 = x[2] + h * v2;
+    const V2 x01 = Load2(x) + h * (whole ? v01 : Load2(d));
+    const double x2 = x[2] + h * (whole ? v2 : d[2]);
     Store2(v, v01);
     v[2] = v2;
     Store2(x, x01);
@@ -443,6 +434,124 @@ CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options,
   ws->stepped_state_finite =
       std::isfinite(state_zero01[0]) && std::isfinite(state_zero01[1]) && std::isfinite(state_zero2);
   ws->stepped_max_speed2_m2_per_s2 = max_speed2;
+}
+
+// |h (f + h dfdx_v)| over the free particles: the size of the step's first right-hand side.
+double RhsNorm(const FabricState& state, double h, const FabricWorkspace& ws) {
+  double sum2 = 0.0;
+  for (int p = 0; p < state.num_particles(); ++p) {
+    if (IsFree(state, p)) sum2 += (h * (ws.force_N.segment<3>(3 * p) + h * ws.dfdx_v.segment<3>(3 * p))).squaredNorm();
+  }
+  return std::sqrt(sum2);
+}
+
+// |h M g| over the free particles: the force level of a cloth at rest.
+double WeightImpulseNorm(const FabricModel& model, const FabricState& state, double h) {
+  double sum2 = 0.0;
+  for (int p = 0; p < model.num_particles; ++p) {
+    if (IsFree(state, p)) sum2 += model.mass_kg[p] * model.mass_kg[p];
+  }
+  return h * model.options.gravity_m_per_s2.norm() * std::sqrt(sum2);
+}
+
+// The Newton residual g = h f(x, v) - M (v - v0) on the free particles, written so the
+// right-hand side h (f + h dfdx_v) the solvers read is g: dfdx_v = -M (v - v0) / h^2 (a
+// constrained row's value is never read). Returns |g|.
+double NewtonResidual(const FabricModel& model, const FabricState& state, double h, FabricWorkspace* ws) {
+  double sum2 = 0.0;
+  const double inv_h2 = 1.0 / (h * h);
+  for (int p = 0; p < model.num_particles; ++p) {
+    const auto dv = state.v_W_m_per_s.segment<3>(3 * p) - ws->v_step_start.segment<3>(3 * p);
+    ws->dfdx_v.segment<3>(3 * p) = -model.mass_kg[p] * inv_h2 * dv;
+    if (IsFree(state, p)) sum2 += (h * ws->force_N.segment<3>(3 * p) - model.mass_kg[p] * dv).squaredNorm();
+  }
+  return std::sqrt(sum2);
+}
+
+// CG's relative tolerance for a right-hand side of size rhs_norm when the step's residual is to
+// end below target: no tighter than the target needs (half of it, the rest left to the
+// linearisation), never looser than configured, never below round-off.
+double CgToleranceFor(const StepOptions& options, double target, double rhs_norm) {
+  constexpr double kTightest = 1e-10;
+  if (!(rhs_norm > 0.0)) return options.cg_tolerance;
+  return std::clamp(0.5 * target / rhs_norm, kTightest, options.cg_tolerance);
+}
+
+}  // namespace
+
+ImplicitStepReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options, FabricState* state,
+                                     FabricWorkspace* ws) {
+  const double h = options.dt_s;
+  const int n = model.num_particles;
+  ws->stepped_state_finite = false;  // until a step has written the state
+  ImplicitStepReport report;
+
+  // Baraff-Witkin's step: the forces linearised at the step's start.
+  Assemble(model, h, *state, true, ws);
+
+  // Initial guess carries the prescribed velocity change (z). Data in locals: the stores to dv
+  // could alias the containers, so their pointers would be reloaded every particle.
+  const ParticleMode* mode = state->mode.data();
+  {
+    double* guess = ws->dv.data();
+    const double* prescribed = state->prescribed_v_W_m_per_s.data();
+    const double* v = state->v_W_m_per_s.data();
+    const bool zero_free = !options.cg_warm_start;
+    for (int p = 0; p < n; ++p) {
+      double* d = guess + 3 * p;
+      if (mode[p] == ParticleMode::kFree) {
+        // Warm start: the previous step's velocity change is a good guess for a smooth motion.
+        if (zero_free) {
+          Store2(d, V2{0.0, 0.0});
+          d[2] = 0.0;
+        }
+      } else {
+        Store2(d, Load2(prescribed + 3 * p) - Load2(v + 3 * p));
+        d[2] = prescribed[3 * p + 2] - v[3 * p + 2];
+      }
+    }
+  }
+
+  bool gauss_seidel_ok = UpdatePreconditioner(model, options, *state, ws);
+  const bool newton = options.newton_max_iterations > 1;
+  StepOptions solve_options = options;
+  double target = 0.0;
+  if (newton) {
+    const double rhs_norm = RhsNorm(*state, h, *ws);
+    target = options.newton_tolerance * std::max(rhs_norm, WeightImpulseNorm(model, *state, h));
+    solve_options.cg_tolerance = CgToleranceFor(options, target, rhs_norm);
+    ws->v_step_start = state->v_W_m_per_s;
+  }
+  report.cg = Solve(model, solve_options, *state, gauss_seidel_ok, ws);
+  report.newton_iterations = 1;
+  if (!report.cg.finite) return report;
+  Update(h, true, ws->dv, state, ws);
+
+  // Newton's further iterations on g(v1) = h f(x0 + h v1, v1) - M (v1 - v0) = 0, each from the
+  // residual at the latest iterate; the warm start keeps the whole step's velocity change.
+  for (int k = 1; newton && ws->stepped_state_finite; ++k) {
+    Assemble(model, h, *state, options.newton_update_jacobian, ws);
+    const double residual = NewtonResidual(model, *state, h, ws);
+    report.newton_relative_residual = target > 0.0 ? residual / (target / options.newton_tolerance) : 0.0;
+    if (residual <= target) break;
+    if (!std::isfinite(residual) || k == options.newton_max_iterations) {
+      report.newton_converged = false;
+      break;
+    }
+    if (options.newton_update_jacobian) gauss_seidel_ok = UpdatePreconditioner(model, options, *state, ws);
+    ws->dv.setZero();
+    solve_options.cg_tolerance = CgToleranceFor(options, target, residual);
+    const CgReport correction = Solve(model, solve_options, *state, gauss_seidel_ok, ws);
+    report.cg.iterations += correction.iterations;
+    report.cg.relative_residual = correction.relative_residual;
+    report.cg.converged = report.cg.converged && correction.converged;
+    report.cg.preconditioner_fallback = report.cg.preconditioner_fallback || correction.preconditioner_fallback;
+    report.cg.finite = correction.finite;
+    ++report.newton_iterations;
+    if (!correction.finite) return report;
+    Update(h, false, ws->dv, state, ws);
+  }
+  if (newton) ws->dv = state->v_W_m_per_s - ws->v_step_start;
   state->time_s += h;
   return report;
 }

@@ -17,10 +17,22 @@ struct CgReport {
   bool preconditioner_fallback = false;  ///< multilevel broke down; solved with block Jacobi
 };
 
+/// One implicit step's linear solves and Newton iterations.
+struct ImplicitStepReport {
+  /// The solves together: iterations summed, the last one's residual, converged only if all did,
+  /// finite false when one was not (the state then is partly stepped: the caller rolls back).
+  CgReport cg;
+  int newton_iterations = 0;              ///< linear solves taken (1: Baraff-Witkin's step)
+  double newton_relative_residual = 0.0;  ///< |g| / force level at exit; 0 when not measured (1 iteration)
+  bool newton_converged = true;           ///< false: newton_max_iterations reached above the tolerance
+};
+
 /// Solves (M - h df/dv - h^2 df/dx) dv = h (f + h df/dx v) for free particles; prescribed
-/// particles get exactly their prescribed velocity (filtered CG). Then v += dv, x += h v.
-/// Does not validate options (FabricStepper does) and never allocates.
-CgReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options, FabricState* state,
-                           FabricWorkspace* ws);
+/// particles get exactly their prescribed velocity (filtered CG). Then v += dv, x += h v. With
+/// options.newton_max_iterations > 1, Newton corrections follow until the residual impulse meets
+/// options.newton_tolerance (step_options.h). Does not validate options (FabricStepper does)
+/// and never allocates.
+ImplicitStepReport ImplicitEulerStep(const FabricModel& model, const StepOptions& options, FabricState* state,
+                                     FabricWorkspace* ws);
 
 }  // namespace haptex::textile

@@ -15,6 +15,14 @@ void ValidateStepOptions(const StepOptions& o) {
   if (o.max_substeps < 1) fail("max_substeps must be >= 1");
   if (!(o.max_speed_m_per_s > 0.0)) fail("max_speed_m_per_s must be > 0");
   if (!(o.ssor_omega > 0.0 && o.ssor_omega < 2.0)) fail("ssor_omega must be in (0, 2)");
+  if (o.newton_max_iterations < 1) fail("newton_max_iterations must be >= 1");
+  if (!(o.newton_tolerance > 0.0 && o.newton_tolerance < 1.0)) fail("newton_tolerance must be in (0, 1)");
+  if (o.max_step_halvings < 0 || o.max_step_halvings > kMaxStepHalvings) {
+    fail("max_step_halvings must be in [0, " + std::to_string(kMaxStepHalvings) + "]");
+  }
+  if (!(o.max_strain_rise_per_step >= 0.0 && std::isfinite(o.max_strain_rise_per_step))) {
+    fail("max_strain_rise_per_step must be finite and >= 0 (0 = no bound)");
+  }
   if (o.method != Integrator::kImplicitEuler && o.method != Integrator::kSymplecticEuler) {
     fail("method is unknown");
   }

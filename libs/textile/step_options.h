@@ -17,6 +17,9 @@ enum class Preconditioner {
   kGaussSeidel,
 };
 
+/// Deepest split of a step: 2^10 sub-steps is beyond any use and bounds a step's cost.
+inline constexpr int kMaxStepHalvings = 10;
+
 struct StepOptions {
   Integrator method = Integrator::kImplicitEuler;
   double dt_s = 0.01;           ///< step [s], > 0
@@ -32,6 +35,24 @@ struct StepOptions {
   int substeps = 0;
   int max_substeps = 2000;           ///< refuse configurations needing more
   double max_speed_m_per_s = 100.0;  ///< particle speeds above are clamped and counted
+
+  // Implicit Euler's nonlinear solve. One iteration is Baraff-Witkin's single linearised step,
+  // whose error in motion grows with the step (docs/fabric-model.md, "Accuracy in motion");
+  // more iterate until the step's residual impulse |h f(x1, v1) - M (v1 - v0)| is below
+  // newton_tolerance times the step's force level max(|h (f0 + h K v0)|, |h M g|), and CG then
+  // solves only as precisely as that target needs (at most cg_tolerance, relative).
+  int newton_max_iterations = 1;   ///< >= 1
+  double newton_tolerance = 1e-2;  ///< in (0, 1)
+  /// true: full Newton, reassembled each iteration; false: every iteration reuses the first
+  /// one's matrix and preconditioner (a chord method: a forces-only pass per iteration), which
+  /// diverges where the stiffness changes much within the step (elements going from compression
+  /// to tension).
+  bool newton_update_jacobian = true;
+  /// A step whose Newton iterations do not converge, or whose largest tensile strain rises by
+  /// more than max_strain_rise_per_step, is retaken as two halves, down to dt_s / 2^this; the
+  /// rest of the step keeps the smaller step. 0: never split.
+  int max_step_halvings = 0;
+  double max_strain_rise_per_step = 0.0;  ///< [-]; 0: no strain bound
 };
 
 /// @throws std::invalid_argument naming the option (dt_s <= 0, tolerance outside (0, 1), ...).

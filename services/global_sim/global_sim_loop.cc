@@ -41,6 +41,8 @@ GlobalSimLoop::GlobalSimLoop(const scene::LoadedScene& scene, double rate_hz, co
   ids_.results_bad = health_->AddCounter("patch_results_rejected");
   ids_.nan = health_->AddCounter("fabric_nan_events");
   ids_.cg = health_->AddCounter("cg_not_converged");
+  ids_.newton = health_->AddCounter("newton_not_converged");
+  ids_.halvings = health_->AddCounter("step_halvings");
 }
 
 void GlobalSimLoop::Read(const v1::Envelope& envelope, double /*t_s*/) {
@@ -114,8 +116,11 @@ void GlobalSimLoop::PublishCounters() {
   health_->SetCounter(ids_.unsent, counters_.patches_not_sent);
   health_->SetCounter(ids_.results, counters_.results_merged);
   health_->SetCounter(ids_.results_bad, counters_.results_rejected);
-  health_->SetCounter(ids_.nan, static_cast<std::uint64_t>(cloth_.state.diagnostics.nan_events));
-  health_->SetCounter(ids_.cg, static_cast<std::uint64_t>(cloth_.state.diagnostics.cg_not_converged));
+  const textile::FabricDiagnostics& d = cloth_.state.diagnostics;
+  health_->SetCounter(ids_.nan, static_cast<std::uint64_t>(d.nan_events));
+  health_->SetCounter(ids_.cg, static_cast<std::uint64_t>(d.cg_not_converged));
+  health_->SetCounter(ids_.newton, static_cast<std::uint64_t>(d.newton_not_converged));
+  health_->SetCounter(ids_.halvings, static_cast<std::uint64_t>(d.step_halvings));
 }
 
 }  // namespace haptex::global_sim

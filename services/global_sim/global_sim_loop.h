@@ -80,7 +80,7 @@ class GlobalSimLoop final {
   v1::ClothFrame frame_;
   Counters counters_;
   struct CounterIds {
-    runtime::HealthReporter::CounterId patches, unsent, results, results_bad, nan, cg;
+    runtime::HealthReporter::CounterId patches, unsent, results, results_bad, nan, cg, newton, halvings;
   } ids_{};
 };
 

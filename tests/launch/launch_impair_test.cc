@@ -275,9 +275,10 @@ TEST_F(LaunchImpairTest, ALinkTooSlowGivesNoForceAndTheLauncherSaysWhy) {
 // comes back. The force goes within the bridge's staleness limit and ramp (plus a loaded host's
 // margin) of the last model's arrival, and the bridge renders models again afterwards.
 TEST_F(LaunchImpairTest, ADeadLinkTakesTheForceAwayAndTheBridgeRendersAgainAfterIt) {
-  // the pinch holds from about 3.5 s after the mock starts
-  auto launcher = Launch(testing::ShippedScenePath("pinch_stretch"), "8",
-                         {"--impair", std::string(kLink) + ":rtt_ms=20,seed=1,outage_after_s=4.5,outage_s=1"});
+  // The pinch holds from about 3.5 s after the mock starts; the relay counts from the first
+  // datagram, which a loaded host's slow start may put well before that: 2 s of margin.
+  auto launcher = Launch(testing::ShippedScenePath("pinch_stretch"), "9",
+                         {"--impair", std::string(kLink) + ":rtt_ms=20,seed=1,outage_after_s=5.5,outage_s=1"});
   const auto code = launcher->WaitFor(180s);
   ASSERT_TRUE(code.has_value()) << launcher->Stdout();
   EXPECT_EQ(*code, 0) << launcher->Stdout() << launcher->Stderr();
@@ -295,7 +296,9 @@ TEST_F(LaunchImpairTest, ADeadLinkTakesTheForceAwayAndTheBridgeRendersAgainAfter
   ASSERT_GT(dead_ns, 0.0);
 
   const auto rows = testing::MockForceRows(run_ + "/mock_grab_forces.csv");
-  double before_N = 0.0;
+  // The pinch's force in the 300 ms before the link died: a loaded host's stall may have cut the
+  // force (watchdog) just then, and the test needs the pinch held, not that instant's value.
+  double before_N = 0.0, after_N = 0.0;
   int late_nonzero = 0;
   // the models in flight (half the round trip and the jitter), the 10 ms model lifetime and 10 ms
   // ramp, and 30 ms for a loaded machine's scheduling
@@ -303,14 +306,17 @@ TEST_F(LaunchImpairTest, ADeadLinkTakesTheForceAwayAndTheBridgeRendersAgainAfter
   double first_zero_ns = -1.0;
   for (const auto& r : rows) {
     const double f = std::max(r.thumb_N, r.index_N);
-    if (r.t_ns < dead_ns) before_N = f;
+    if (r.t_ns < dead_ns && r.t_ns >= dead_ns - 300e6) before_N = std::max(before_N, f);
     if (r.t_ns >= dead_ns && first_zero_ns < 0.0 && f == 0.0) first_zero_ns = r.t_ns;
     if (r.t_ns > zero_after_ns && r.t_ns < back_ns) late_nonzero += f > 0.0;
+    if (r.t_ns >= back_ns) after_N = std::max(after_N, f);
   }
   std::cout << "[measured] dead link: force zero " << (first_zero_ns - models_stop_ns) * 1e-6
-            << " ms after the models stopped (held " << before_N << " N)\n";
+            << " ms after the models stopped (held up to " << before_N << " N before, " << after_N
+            << " N after the link came back)\n";
   EXPECT_GT(before_N, 1.0) << "not pinching when the link died: the test would prove nothing";
   EXPECT_EQ(late_nonzero, 0) << "force while the link was dead";
+  EXPECT_GT(after_N, 1.0) << "no force rendered after the link came back";
   const pb::Struct bridge = BridgeSummary(ParseJson(testing::ReadText(run_ + "/summary.json")));
   EXPECT_EQ(At(bridge, "state").string_value(), "STATE_READY") << "the bridge did not recover";
   ExpectEndsAtZeroForce();

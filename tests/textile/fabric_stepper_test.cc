@@ -6,7 +6,9 @@
 #include <gtest/gtest.h>
 
 #include "libs/textile/external_force.h"
+#include "libs/textile/fabric_strain.h"
 #include "libs/textile/kes_material.h"
+#include "libs/textile/validation.h"
 #include "tests/textile/textile_test_util.h"
 
 namespace haptex::textile {
@@ -42,6 +44,20 @@ TEST_F(FabricStepperTest, InvalidOptionsThrowAtConfiguration) {
   o = {};
   o.max_speed_m_per_s = -1.0;
   expect_throw(o, "max_speed_m_per_s");
+  o = {};
+  o.newton_max_iterations = 0;
+  expect_throw(o, "newton_max_iterations");
+  o = {};
+  o.newton_tolerance = 1.0;
+  expect_throw(o, "newton_tolerance");
+  o = {};
+  o.max_step_halvings = -1;
+  expect_throw(o, "max_step_halvings");
+  o.max_step_halvings = kMaxStepHalvings + 1;
+  expect_throw(o, "max_step_halvings");
+  o = {};
+  o.max_strain_rise_per_step = std::numeric_limits<double>::infinity();
+  expect_throw(o, "max_strain_rise_per_step");
 }
 
 TEST_F(FabricStepperTest, NanIsRolledBackAndCounted) {
@@ -75,6 +91,7 @@ TEST_F(FabricStepperTest, SpeedsAreCappedAndCounted) {
 TEST_F(FabricStepperTest, CgIterationLimitIsReported) {
   FabricState s = MakeRestState(model_);
   StepOptions o;
+  o.newton_max_iterations = 1;
   o.cg_max_iterations = 1;
   o.cg_tolerance = 1e-12;
   FabricStepper dut(model_, o);
@@ -83,6 +100,90 @@ TEST_F(FabricStepperTest, CgIterationLimitIsReported) {
   EXPECT_EQ(r.status, StepStatus::kCgNotConverged);
   EXPECT_EQ(s.diagnostics.cg_not_converged, 1);
   EXPECT_EQ(r.cg.iterations, 1);
+}
+
+// A cloth thrown about, stepped 50 ms at a time.
+class StepSplittingTest : public ::testing::Test {
+ protected:
+  StepSplittingTest() : model_(BuildFabricModel(MaterialFromKes(testing::CompositeDenim()), {0.2, 0.2, 11, 11})) {
+    Placement hanging;
+    hanging.axis_u_W = Eigen::Vector3d(0, 0, -1);
+    hanging.axis_v_W = Eigen::Vector3d(1, 0, 0);
+    start_ = MakeRestState(model_, hanging);
+    for (int p : testing::WarpRow(model_, 0)) start_.Fix(p);
+    validation::Perturb(&start_, 0.004, 0.5, 3);
+  }
+  FabricModel model_;
+  FabricState start_;
+};
+
+// Newton cannot meet the tolerance: the step is retaken in halves down to the limit, the rest
+// of the step at that size, it still covers dt, and every event is counted.
+TEST_F(StepSplittingTest, AStepThatDoesNotConvergeIsHalvedToTheLimitAndCounted) {
+  StepOptions o;
+  o.dt_s = 0.05;
+  o.newton_max_iterations = 2;
+  o.newton_tolerance = 1e-13;
+  o.max_step_halvings = 3;
+  FabricStepper dut(model_, o);
+  FabricState s = start_;
+  const StepResult r = dut.Step(&s);
+  EXPECT_EQ(r.step_halvings, 3);
+  EXPECT_EQ(dut.substeps(), 8);
+  EXPECT_EQ(s.diagnostics.step_halvings, 3);
+  EXPECT_FALSE(r.newton_converged);
+  EXPECT_EQ(s.diagnostics.newton_not_converged, 1);
+  EXPECT_EQ(r.newton_iterations, 3 * 2 + 8 * 2) << "every solve counts, the retaken sub-steps' too";
+  EXPECT_NEAR(s.time_s, start_.time_s + 0.05, 1e-15);
+  EXPECT_TRUE(s.x_W_m.allFinite());
+}
+
+// Halves the tolerance can meet: halving ends where Newton converges, and the step is then
+// the converged implicit Euler of the smaller size, equal to stepping at that size throughout.
+TEST_F(StepSplittingTest, HalvingStopsWhereNewtonConvergesAndMatchesTheSmallerStep) {
+  StepOptions o;
+  o.dt_s = 0.05;
+  o.newton_max_iterations = 3;
+  o.newton_tolerance = 1e-3;
+  o.max_step_halvings = 6;
+  FabricStepper dut(model_, o);
+  FabricState s = start_;
+  const StepResult r = dut.Step(&s);
+  ASSERT_TRUE(r.newton_converged);
+  ASSERT_GT(r.step_halvings, 0) << "50 ms converged in 3 iterations: the test shows nothing";
+  const int parts = 1 << r.step_halvings;
+  StepOptions small = o;
+  small.dt_s = 0.05 / parts;
+  small.max_step_halvings = 0;
+  small.newton_max_iterations = 20;
+  small.newton_tolerance = 1e-10;
+  small.cg_tolerance = 1e-10;
+  FabricStepper fine(model_, small);
+  FabricState t = start_;
+  for (int i = 0; i < parts; ++i) fine.Step(&t);
+  EXPECT_LT((s.x_W_m - t.x_W_m).cwiseAbs().maxCoeff(), 1e-4) << "halves of " << 50.0 / parts << " ms";
+}
+
+// The strain bound: a step whose largest strain rises by more than the bound is split; without
+// the bound the same step is not.
+TEST_F(StepSplittingTest, AStrainRiseBeyondTheBoundSplitsTheStep) {
+  StepOptions o;
+  o.dt_s = 0.02;
+  o.newton_max_iterations = 10;
+  o.max_step_halvings = 4;
+  FabricStepper unbounded(model_, o);
+  FabricState a = start_;
+  const StepResult ra = unbounded.Step(&a);
+  const double rise = LargestTensileStrain(model_, a.x_W_m) - LargestTensileStrain(model_, start_.x_W_m);
+  ASSERT_GT(rise, 0.0);
+  EXPECT_EQ(ra.step_halvings, 0);
+  o.max_strain_rise_per_step = 0.3 * rise;
+  FabricStepper bounded(model_, o);
+  FabricState b = start_;
+  const StepResult rb = bounded.Step(&b);
+  EXPECT_GT(rb.step_halvings, 0);
+  EXPECT_EQ(b.diagnostics.step_halvings, rb.step_halvings);
+  EXPECT_NEAR(b.time_s, start_.time_s + 0.02, 1e-15);
 }
 
 }  // namespace

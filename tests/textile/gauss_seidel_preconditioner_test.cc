@@ -463,8 +463,8 @@ TEST(GaussSeidelPreconditionerTest, StepDoesNotReadStaleSplitVectors) {
   for (PaddedVector* p : {&v.r, &v.c, &v.q, &v.s, &v.t, &v.z, &v.y}) {
     p->vec().setConstant(std::numeric_limits<double>::quiet_NaN());
   }
-  const CgReport ra = ImplicitEulerStep(model, o, &a, &fresh);
-  const CgReport rb = ImplicitEulerStep(model, o, &b, &poisoned);
+  const CgReport ra = ImplicitEulerStep(model, o, &a, &fresh).cg;
+  const CgReport rb = ImplicitEulerStep(model, o, &b, &poisoned).cg;
   EXPECT_TRUE(rb.finite);
   EXPECT_FALSE(rb.preconditioner_fallback);
   EXPECT_EQ(ra.iterations, rb.iterations);

@@ -1,10 +1,18 @@
 #include "libs/textile/implicit_euler.h"
 
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <string>
+
 #include <gtest/gtest.h>
 
+#include "libs/textile/anchor_spring_force.h"
 #include "libs/textile/external_force.h"
+#include "libs/textile/fabric_forces.h"
 #include "libs/textile/fabric_stepper.h"
 #include "libs/textile/kes_material.h"
+#include "libs/textile/validation.h"
 #include "tests/support/allocation_counter.h"
 #include "tests/textile/textile_test_util.h"
 
@@ -110,6 +118,140 @@ TEST_F(ImplicitEulerTest, WarmedUpStepDoesNotAllocate) {
   haptex::testing::AllocationCounter counter;
   for (int i = 0; i < 5; ++i) stepper.Step(&s);
   EXPECT_EQ(counter.count(), 0);
+}
+
+// Implicit Euler's equations at a step's end, evaluated from the forces alone (not from the
+// solver's own bookkeeping): |h f(x1, v1) - M (v1 - v0)| over the free particles, and the
+// largest |x1 - x0 - h v1|.
+struct StepEquations {
+  double residual = 0.0;
+  double position_mismatch_m = 0.0;
+};
+StepEquations CheckStepEquations(const FabricModel& model, const FabricState& before, const FabricState& after,
+                                 double h) {
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(3 * model.num_particles);
+  ForceSink sink;
+  sink.force_N = &f;
+  AccumulateForces(model, after, &sink);
+  AddAnchorSpringForces(model, after, &sink);
+  StepEquations e;
+  double sum2 = 0.0;
+  for (int p = 0; p < model.num_particles; ++p) {
+    if (after.mode[static_cast<std::size_t>(p)] != ParticleMode::kFree) continue;
+    sum2 += (h * f.segment<3>(3 * p) - model.mass_kg[p] * (after.v(p) - before.v(p))).squaredNorm();
+    e.position_mismatch_m = std::max(e.position_mismatch_m, (after.x(p) - before.x(p) - h * after.v(p)).norm());
+  }
+  e.residual = std::sqrt(sum2);
+  return e;
+}
+
+// |h M g| over the free particles: the force level of the residual tolerance at rest.
+double WeightImpulse(const FabricModel& model, const FabricState& s, double h) {
+  double sum2 = 0.0;
+  for (int p = 0; p < model.num_particles; ++p) {
+    if (s.mode[static_cast<std::size_t>(p)] == ParticleMode::kFree) sum2 += model.mass_kg[p] * model.mass_kg[p];
+  }
+  return h * 9.81 * std::sqrt(sum2);
+}
+
+class NewtonTest : public ImplicitEulerTest, public ::testing::WithParamInterface<bool> {
+ protected:
+  // A hanging cloth thrown about (large random velocities and displacements): one linearised
+  // step of 20 ms is far from the nonlinear solution.
+  void SetUp() override {
+    model_ = std::make_unique<FabricModel>(MakeModel(11));
+    start_ = Hanging(*model_);
+    validation::Perturb(&start_, 0.004, 0.5, 7);
+  }
+  StepOptions Options() const {
+    StepOptions o;
+    o.dt_s = 0.02;
+    o.newton_update_jacobian = GetParam();
+    return o;
+  }
+  std::unique_ptr<FabricModel> model_;
+  FabricState start_;
+};
+
+// Newton's iterations solve implicit Euler's equations themselves, where Baraff-Witkin's single
+// linearised step leaves a residual of the order of the forces; the loose CG tolerance is
+// tightened to what the Newton tolerance needs.
+TEST_P(NewtonTest, IterationsSolveTheNonlinearStep) {
+  StepOptions single = Options();
+  single.newton_max_iterations = 1;
+  StepOptions newton = Options();
+  newton.newton_max_iterations = 40;
+  newton.newton_tolerance = 1e-8;
+  newton.cg_tolerance = 0.5;  // the loosest allowed: the Newton target sets the precision
+  newton.cg_max_iterations = 1000;
+  FabricState a = start_, b = start_;
+  FabricWorkspace wa(*model_, single.preconditioner), wb(*model_, newton.preconditioner);
+  const ImplicitStepReport ra = ImplicitEulerStep(*model_, single, &a, &wa);
+  const ImplicitStepReport rb = ImplicitEulerStep(*model_, newton, &b, &wb);
+  const double level = WeightImpulse(*model_, start_, 0.02);
+  const StepEquations ea = CheckStepEquations(*model_, start_, a, 0.02);
+  const StepEquations eb = CheckStepEquations(*model_, start_, b, 0.02);
+  EXPECT_EQ(ra.newton_iterations, 1);
+  EXPECT_GT(rb.newton_iterations, 2);
+  EXPECT_TRUE(rb.newton_converged);
+  EXPECT_LE(rb.newton_relative_residual, 1e-8);
+  EXPECT_GT(ea.residual, 1e-2 * level) << "the scenario is not nonlinear enough to tell";
+  EXPECT_LT(eb.residual, 1e-6 * level);
+  EXPECT_LT(eb.position_mismatch_m, 1e-12);
+  EXPECT_NEAR(b.time_s, start_.time_s + 0.02, 1e-15);
+}
+
+// Too few iterations for the tolerance: the step is still taken, and says so.
+TEST_P(NewtonTest, TooFewIterationsAreReported) {
+  StepOptions o = Options();
+  o.newton_max_iterations = 2;
+  o.newton_tolerance = 1e-12;
+  FabricState s = start_;
+  FabricWorkspace ws(*model_, o.preconditioner);
+  const ImplicitStepReport r = ImplicitEulerStep(*model_, o, &s, &ws);
+  EXPECT_EQ(r.newton_iterations, 2);
+  EXPECT_FALSE(r.newton_converged);
+  EXPECT_GT(r.newton_relative_residual, 1e-12);
+  EXPECT_TRUE(r.cg.finite);
+}
+
+// A cloth at rest needs no correction: the first check meets the tolerance.
+TEST_P(NewtonTest, AClothAtRestConvergesAtTheFirstCheck) {
+  StepOptions o = Options();
+  o.newton_max_iterations = 10;
+  FabricState s = MakeRestState(*model_);
+  s.v_W_m_per_s.setZero();
+  ModelOptions weightless;
+  weightless.gravity_m_per_s2.setZero();
+  const FabricModel model =
+      BuildFabricModel(MaterialFromKes(testing::CompositeDenim()), {0.2, 0.2, 11, 11}, weightless);
+  FabricWorkspace ws(model, o.preconditioner);
+  const ImplicitStepReport r = ImplicitEulerStep(model, o, &s, &ws);
+  EXPECT_EQ(r.newton_iterations, 1);
+  EXPECT_TRUE(r.newton_converged);
+}
+
+INSTANTIATE_TEST_SUITE_P(Jacobian, NewtonTest, ::testing::Bool(), [](const ::testing::TestParamInfo<bool>& param) {
+  return param.param ? std::string("Reassembled") : std::string("Frozen");
+});
+
+TEST_F(ImplicitEulerTest, NewtonAndSplittingDoNotAllocate) {
+  if (!haptex::testing::AllocationCountingSupported()) GTEST_SKIP() << "allocation counting off";
+  const FabricModel model = MakeModel(21);
+  FabricState s = Hanging(model);
+  SetPointLoad(model.mesh.Index(20, 10), Eigen::Vector3d(0, 5.0, 0), &s);
+  StepOptions opt;
+  opt.dt_s = 0.05;
+  opt.newton_max_iterations = 3;
+  opt.newton_tolerance = 1e-9;  // never met: every step splits to the bottom
+  opt.max_step_halvings = 2;
+  opt.max_strain_rise_per_step = 1e-6;
+  FabricStepper stepper(model, opt);
+  for (int i = 0; i < 3; ++i) stepper.Step(&s);
+  haptex::testing::AllocationCounter counter;
+  for (int i = 0; i < 3; ++i) stepper.Step(&s);
+  EXPECT_EQ(counter.count(), 0);
+  EXPECT_GT(s.diagnostics.step_halvings, 0);
 }
 
 }  // namespace

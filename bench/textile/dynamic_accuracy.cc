@@ -1,0 +1,172 @@
+// Accuracy in motion against cost (libs/textile/motion_accuracy.h): the three motions for four
+// fabrics, meshes and steps of 1-50 ms under several solver settings, each against a converged
+// reference of 0.1 ms steps on the same mesh. One row per run: the peak strain's error, the
+// strain's largest error in time, the positions' RMS distance, the energy's largest distance
+// and its growth after the release, and the median time per step with the solver's counts.
+//
+//   dynamic_accuracy [--meshes 21,41] [--steps-ms 1,2,5,10,20,50] [--fabrics light,heavy,stiff,denim]
+//                    [--motions swing,push,pinch] [--settings bw,default] [--csv FILE]
+//
+// Accuracy does not depend on the machine; the time per step does (a quiet machine for it).
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "libs/scene/fabric_conversion.h"
+#include "libs/textile/kes_material.h"
+#include "libs/textile/motion_accuracy.h"
+#include "libs/textile/validation.h"
+
+namespace haptex::textile {
+namespace {
+
+constexpr double kSide_m = 0.2;
+constexpr double kReferenceDt_s = 1e-4;
+
+// The database denim, its laws on a light (10 g/m2) and a heavy (1 kg/m2) cloth, and scaled
+// 100 times stiffer (nearly inextensible).
+FabricMaterial FabricNamed(const std::string& name) {
+  FabricMaterial denim = MaterialFromKes(scene::LoadKesFabric("wang2011_black_denim_11oz"));
+  if (name == "denim") return denim;
+  if (name == "light" || name == "heavy") {
+    denim.density_kg_per_m2 = name == "light" ? 0.01 : 1.0;
+    return denim;
+  }
+  if (name == "stiff") return validation::ScaleStiffness(denim, 100.0);
+  throw std::invalid_argument("unknown fabric '" + name + "' (light, heavy, stiff, denim)");
+}
+
+// The solver settings compared. "default" is whatever step_options.h says.
+std::map<std::string, StepOptions> Settings() {
+  std::map<std::string, StepOptions> s;
+  StepOptions bw;  // Baraff-Witkin's single linearised step, CG to 1e-2
+  bw.newton_max_iterations = 1;
+  bw.max_step_halvings = 0;
+  bw.max_strain_rise_per_step = 0.0;
+  bw.cg_tolerance = 1e-2;
+  s["bw"] = bw;
+  s["bw_cg1e-3"] = bw;
+  s["bw_cg1e-3"].cg_tolerance = 1e-3;
+  s["default"] = StepOptions{};
+  for (const double tol : {1e-2, 1e-3}) {
+    StepOptions newton = bw;
+    newton.newton_max_iterations = 8;
+    newton.newton_tolerance = tol;
+    const std::string suffix = tol == 1e-2 ? "" : "1e-3";
+    s["newton" + suffix] = newton;
+    newton.max_step_halvings = 4;
+    s["newton" + suffix + "_split"] = newton;
+    newton.max_step_halvings = 0;
+    newton.newton_update_jacobian = true;
+    s["newton" + suffix + "_full"] = newton;
+  }
+  return s;
+}
+
+std::vector<std::string> Split(const std::string& list) {
+  std::vector<std::string> out;
+  std::stringstream in(list);
+  for (std::string item; std::getline(in, item, ',');) {
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
+}
+
+int Main(int argc, char** argv) {
+  std::map<std::string, std::string> flags = {{"--meshes", "21,41"},
+                                              {"--steps-ms", "1,2,5,10,20,50"},
+                                              {"--fabrics", "light,heavy,stiff,denim"},
+                                              {"--motions", "swing,push,pinch"},
+                                              {"--settings", "bw,default"},
+                                              {"--csv", ""}};
+  for (int i = 1; i < argc; ++i) {
+    const std::string flag = argv[i];
+    if (!flags.count(flag) || i + 1 >= argc) {
+      std::cerr << "usage: dynamic_accuracy [--meshes 21,41] [--steps-ms 1,2,5,10,20,50] [--fabrics "
+                   "light,heavy,stiff,denim] [--motions swing,push,pinch] [--settings bw,default,...] [--csv FILE]\n";
+      return 2;
+    }
+    flags[flag] = argv[++i];
+  }
+  const auto settings = Settings();
+  for (const std::string& name : Split(flags["--settings"])) {
+    if (!settings.count(name)) throw std::invalid_argument("unknown setting '" + name + "'");
+  }
+  std::ofstream csv;
+  if (!flags["--csv"].empty()) {
+    csv.open(flags["--csv"]);
+    csv << "motion,fabric,mesh,dt_ms,setting,peak_strain_ref_pct,peak_strain_err_pct,strain_in_time_err_pct,"
+           "position_rms_mm,energy_err_pct,energy_growth_pct,step_ms_median,newton_iterations,cg_iterations,"
+           "halvings,newton_not_converged,nan_events\n";
+  }
+  std::printf("%-6s %-6s %4s %5s %-16s %9s %8s %8s %8s %7s %7s %8s %6s %6s %5s %5s\n", "motion", "fabric", "mesh",
+              "dt_ms", "setting", "peak_eps%", "eps_err%", "eps_t%", "x_rms_mm", "E_err%", "E_grow%", "ms/step",
+              "newton", "cg", "halv", "nconv");
+  for (const std::string& mesh_text : Split(flags["--meshes"])) {
+    const int mesh = std::stoi(mesh_text);
+    for (const std::string& fabric : Split(flags["--fabrics"])) {
+      const FabricModel model = BuildFabricModel(FabricNamed(fabric), {kSide_m, kSide_m, mesh, mesh});
+      const FabricState settled = validation::SettledHanging(model);
+      for (const std::string& motion_name : Split(flags["--motions"])) {
+        const validation::Motion motion =
+            validation::MakeMotion(validation::MotionKindNamed(motion_name), model, settled);
+        const validation::MotionTrace ref =
+            validation::RunMotion(motion, model, validation::ConvergedOptions(kReferenceDt_s));
+        for (const std::string& dt_text : Split(flags["--steps-ms"])) {
+          for (const std::string& setting : Split(flags["--settings"])) {
+            StepOptions o = settings.at(setting);
+            o.dt_s = std::stod(dt_text) * 1e-3;
+            std::vector<double> step_ms;
+            const validation::MotionTrace run =
+                validation::RunMotion(motion, model, o, [&step_ms](FabricStepper& stepper, FabricState& s) {
+                  const auto begin = std::chrono::steady_clock::now();
+                  const StepResult r = stepper.Step(&s);
+                  step_ms.push_back(
+                      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin).count());
+                  return r;
+                });
+            std::nth_element(step_ms.begin(), step_ms.begin() + static_cast<long>(step_ms.size() / 2), step_ms.end());
+            const double median_ms = step_ms[step_ms.size() / 2];
+            const validation::MotionErrors e = validation::CompareMotion(motion, run, ref);
+            std::printf("%-6s %-6s %4d %5g %-16s %9.4f %8.2f %8.2f %8.3f %7.2f %7.2f %8.3f %6.2f %6.1f %5lld %5lld\n",
+                        motion_name.c_str(), fabric.c_str(), mesh, o.dt_s * 1e3, setting.c_str(),
+                        100.0 * ref.peak_strain, e.peak_strain_pct, e.strain_in_time_pct, e.position_rms_mm,
+                        e.energy_pct, e.energy_growth_pct, median_ms, run.newton_iterations_per_step,
+                        run.cg_iterations_per_step, static_cast<long long>(run.step_halvings),
+                        static_cast<long long>(run.newton_not_converged));
+            std::fflush(stdout);
+            if (csv.is_open()) {
+              csv << motion_name << ',' << fabric << ',' << mesh << ',' << o.dt_s * 1e3 << ',' << setting << ','
+                  << 100.0 * ref.peak_strain << ',' << e.peak_strain_pct << ',' << e.strain_in_time_pct << ','
+                  << e.position_rms_mm << ',' << e.energy_pct << ',' << e.energy_growth_pct << ',' << median_ms << ','
+                  << run.newton_iterations_per_step << ',' << run.cg_iterations_per_step << ',' << run.step_halvings
+                  << ',' << run.newton_not_converged << ',' << run.nan_events << '\n';
+              csv.flush();
+            }
+          }
+        }
+      }
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+}  // namespace haptex::textile
+
+int main(int argc, char** argv) {
+  try {
+    return haptex::textile::Main(argc, argv);
+  } catch (const std::exception& e) {
+    std::cerr << "dynamic_accuracy: " << e.what() << "\n";
+    return 1;
+  }
+}
