@@ -52,6 +52,7 @@ ClothSetup MakeClothSetup(const LoadedScene& loaded) {
   setup.fixed_particles.erase(std::unique(setup.fixed_particles.begin(), setup.fixed_particles.end()),
                               setup.fixed_particles.end());
 
+  setup.model_options.material_angle_rad = ClothMaterialAngleRad(cloth);
   const v1::ModelOptions& m = scene.model();
   if (m.disable_gravity()) setup.model_options.gravity_m_per_s2.setZero();
   if (m.disable_air_drag()) {

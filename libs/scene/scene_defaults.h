@@ -6,10 +6,12 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <numbers>
 #include <string>
 
 #include "haptex/v1/scene.pb.h"
 #include "libs/contact/finger_geometry.h"
+#include "libs/textile/fabric_model.h"
 #include "libs/textile/grid_mesh.h"
 
 namespace haptex::scene {
@@ -30,6 +32,15 @@ inline int ClothParticlesU(const v1::ClothGeometry& c) {
 inline int ClothParticlesV(const v1::ClothGeometry& c) {
   return c.particles_v() > 0 ? static_cast<int>(c.particles_v()) : textile::GridSpec{}.particles_weft;
 }
+
+/// The fabric's warp direction from the grid's u axis [rad]: the scene's degrees, else
+/// textile::ModelOptions's (warp along u).
+inline double ClothMaterialAngleRad(const v1::ClothGeometry& c) {
+  return c.material_angle_deg() != 0.0 ? c.material_angle_deg() * (std::numbers::pi / 180.0)
+                                       : textile::ModelOptions{}.material_angle_rad;
+}
+/// The largest |material_angle_deg| a scene may give: half a turn each way.
+inline constexpr double kMaxMaterialAngleDeg = 180.0;
 
 /// A finger's shape: the scene's radius and length where given, else contact::FingerShape's; a
 /// sphere has no length.

@@ -71,6 +71,10 @@ void CheckCloth(const v1::ClothGeometry& cloth, const FieldLocator& at, Checker&
   c.ZeroOrRange(cloth, "height_m", cloth.height_m(), 0.01, 5.0, "m", at);
   c.ZeroOrRange(cloth, "particles_u", cloth.particles_u(), 2, 401, "particles", at);
   c.ZeroOrRange(cloth, "particles_v", cloth.particles_v(), 2, 401, "particles", at);
+  // One turn either way covers every cut; a larger value is more likely a unit slip (radians
+  // written as degrees cannot be caught, larger numbers can).
+  c.Range(cloth, "material_angle_deg", cloth.material_angle_deg(), -kMaxMaterialAngleDeg, kMaxMaterialAngleDeg, "deg",
+          at);
   const double height = ClothHeightM(cloth);
   if (cloth.mounting() == v1::ClothGeometry::MOUNTING_FLAT_LEDGE) {
     c.Range(cloth, "ledge_v_m", cloth.ledge_v_m(), 1e-3, height, "m (must lie on the cloth)", at);

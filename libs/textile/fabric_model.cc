@@ -28,6 +28,9 @@ void ValidateInputs(const FabricMaterial& m, const ModelOptions& o) {
   RequireNonNegative("drag.linear_N_s_per_m3", o.drag.linear_N_s_per_m3);
   RequireNonNegative("drag.quadratic_coefficient", o.drag.quadratic_coefficient);
   RequireNonNegative("drag.air_density_kg_per_m3", o.drag.air_density_kg_per_m3);
+  if (!std::isfinite(o.material_angle_rad)) {
+    throw std::invalid_argument("ModelOptions.material_angle_rad must be finite");
+  }
   if (!o.gravity_m_per_s2.allFinite()) {
     throw std::invalid_argument("ModelOptions.gravity_m_per_s2 must be finite");
   }
@@ -65,7 +68,12 @@ FabricModel BuildFabricModel(const FabricMaterial& material, const GridSpec& gri
   model.mass_kg = Eigen::VectorXd::Zero(n);
   model.area_m2 = Eigen::VectorXd::Zero(n);
 
-  // Triangles: constant weights mapping positions to warp/weft vectors.
+  // Triangles: constant weights mapping positions to warp/weft vectors. The grid weights give
+  // dx/du and dx/dv; the yarn vectors are their combinations along the warp (cos, sin) and the
+  // weft (-sin, cos) in (u, v). Folding the angle into the weights here leaves every force kernel
+  // as it is, and at angle 0 (cos 1, sin 0) the weights are exactly the grid's.
+  const double cos_angle = std::cos(options.material_angle_rad);
+  const double sin_angle = std::sin(options.material_angle_rad);
   for (const auto& t : mesh.triangles()) {
     const Eigen::Vector2d& q0 = mesh.rest_uv_m(t[0]);
     const Eigen::Vector2d& q1 = mesh.rest_uv_m(t[1]);
@@ -75,15 +83,25 @@ FabricModel BuildFabricModel(const FabricMaterial& material, const GridSpec& gri
     const Eigen::Matrix2d inv = d.inverse();
     TriangleElement e;
     e.p = t;
-    e.a = {-inv(0, 0) - inv(1, 0), inv(0, 0), inv(1, 0)};
-    e.b = {-inv(0, 1) - inv(1, 1), inv(0, 1), inv(1, 1)};
+    const std::array<double, 3> grid_u{-inv(0, 0) - inv(1, 0), inv(0, 0), inv(1, 0)};
+    const std::array<double, 3> grid_v{-inv(0, 1) - inv(1, 1), inv(0, 1), inv(1, 1)};
+    for (std::size_t k = 0; k < 3; ++k) {
+      e.a[k] = cos_angle * grid_u[k] + sin_angle * grid_v[k];
+      e.b[k] = cos_angle * grid_v[k] - sin_angle * grid_u[k];
+    }
     e.area_m2 = 0.5 * std::abs(d.determinant());
     for (int k : t) model.area_m2[k] += e.area_m2 / 3.0;
     model.triangles.push_back(e);
   }
   model.mass_kg = model.area_m2 * material.density_kg_per_m2;
 
-  // Bending triplets along warp lines (curvature along u) and weft lines (curvature along v).
+  // Bending triplets along u lines (curvature along u) and v lines (curvature along v), each with
+  // the rigidity of its direction, B_warp cos^2 phi + B_weft sin^2 phi at phi from the warp: u
+  // lies at -angle from the warp, v at pi/2 - angle (cos and sin swap). Written with the angle's
+  // own cos and sin so that 0 and pi/2 give the two rigidities exactly.
+  const double cos2 = cos_angle * cos_angle, sin2 = sin_angle * sin_angle;
+  const double bending_u_Nm = material.bending_warp_Nm * cos2 + material.bending_weft_Nm * sin2;
+  const double bending_v_Nm = material.bending_warp_Nm * sin2 + material.bending_weft_Nm * cos2;
   const int nu = mesh.particles_warp(), nv = mesh.particles_weft();
   const double du = grid.length_warp_m / (nu - 1), dv = grid.width_weft_m / (nv - 1);
   auto add_line = [&](int p0, int p1, int p2, double l0, double l1, double width, double b) {
@@ -96,13 +114,13 @@ FabricModel BuildFabricModel(const FabricMaterial& material, const GridSpec& gri
   for (int j = 0; j < nv; ++j) {
     const double w = (j == 0 || j == nv - 1) ? 0.5 * dv : dv;
     for (int i = 1; i + 1 < nu; ++i) {
-      add_line(mesh.Index(i - 1, j), mesh.Index(i, j), mesh.Index(i + 1, j), du, du, w, material.bending_warp_Nm);
+      add_line(mesh.Index(i - 1, j), mesh.Index(i, j), mesh.Index(i + 1, j), du, du, w, bending_u_Nm);
     }
   }
   for (int i = 0; i < nu; ++i) {
     const double w = (i == 0 || i == nu - 1) ? 0.5 * du : du;
     for (int j = 1; j + 1 < nv; ++j) {
-      add_line(mesh.Index(i, j - 1), mesh.Index(i, j), mesh.Index(i, j + 1), dv, dv, w, material.bending_weft_Nm);
+      add_line(mesh.Index(i, j - 1), mesh.Index(i, j), mesh.Index(i, j + 1), dv, dv, w, bending_v_Nm);
     }
   }
 

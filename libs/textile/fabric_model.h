@@ -34,16 +34,23 @@ struct ModelOptions {
   DampingOptions damping;
   DragOptions drag;
   Eigen::Vector3d gravity_m_per_s2{0.0, 0.0, -9.81};  ///< world frame
+  /// The fabric's orientation on the grid: the warp direction's angle from the grid's u axis
+  /// towards v [rad] (0: warp along u, weft along v; pi/4: a strip cut on the bias). With it,
+  /// GridSpec's "warp"/"weft" extents and particle counts are the grid's u and v, not the yarns'.
+  double material_angle_rad = 0.0;
 };
 
-/// One triangle: U = sum a_k x_k (warp vector), V = sum b_k x_k (weft vector), rest area.
+/// One triangle: U = sum a_k x_k (warp vector), V = sum b_k x_k (weft vector), rest area. The
+/// weights already hold the material angle: U and V are the yarn directions, whatever the grid.
 struct TriangleElement {
   std::array<int, 3> p{};
   std::array<double, 3> a{}, b{};
   double area_m2 = 0.0;
 };
 
-/// One bending triplet along a grid line: R = sum alpha_k x_k, energy lambda |R|^2 / 2.
+/// One bending triplet along a grid line: R = sum alpha_k x_k, energy lambda |R|^2 / 2; lambda
+/// holds the rigidity for curvature along that grid line: at an angle phi from the warp,
+/// B_warp cos^2 phi + B_weft sin^2 phi (docs/fabric-model.md section 4).
 struct BendElement {
   std::array<int, 3> p{};
   std::array<double, 3> alpha{};

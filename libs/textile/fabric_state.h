@@ -40,8 +40,8 @@ struct FabricDiagnostics {
 /// Rest placement in the world: x = origin + u axis_u + v axis_v.
 struct Placement {
   Eigen::Vector3d origin_W{0.0, 0.0, 0.0};
-  Eigen::Vector3d axis_u_W{1.0, 0.0, 0.0};  ///< warp direction, unit
-  Eigen::Vector3d axis_v_W{0.0, 1.0, 0.0};  ///< weft direction, unit
+  Eigen::Vector3d axis_u_W{1.0, 0.0, 0.0};  ///< the grid's u direction (the warp at material angle 0), unit
+  Eigen::Vector3d axis_v_W{0.0, 1.0, 0.0};  ///< the grid's v direction (the weft at material angle 0), unit
 };
 
 struct FabricState {

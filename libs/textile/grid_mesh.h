@@ -1,5 +1,6 @@
 #pragma once
-// Rectangular fabric mesh: particles on a (warp u) x (weft v) grid, triangulated. Its topology is
+// Rectangular fabric mesh: particles on a u x v grid, triangulated. u is the warp and v the weft
+// unless ModelOptions::material_angle_rad turns the fabric on the grid. Its topology is
 // the grid's own (index arithmetic): no half-edge mesh is needed (docs/fabric-model.md section 3).
 
 #include <array>

@@ -1,5 +1,6 @@
 #include "libs/textile/kes_material.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -23,6 +24,19 @@ void RequirePositive(const std::string& fabric, const std::string& field, double
 
 void RequireNonNegative(const std::string& fabric, const std::string& field, double value) {
   if (!std::isfinite(value) || value < 0.0) Fail(fabric, field, "must be finite and >= 0", value);
+}
+
+// The tensile law with its compression branch: slope compression_fraction x the curve's
+// small-strain stiffness (its tangent at zero strain, never below the floor fraction of the
+// secant, so a toe region that starts flat still resists compression). docs/fabric-model.md
+// section 2 gives the reasons: a bent region of the grid-line bending elements pulls its
+// segments shorter with B kappa^2 per width, and a fabric contracts by that over this slope
+// instead of keeping its length; a stiff branch also makes the mesh buckle out of plane at small
+// compression, as fabric does.
+StrainCurve WithCompression(MonotoneSpline loading, double secant_N_per_m, const KesConversionOptions& options) {
+  const double small_strain_N_per_m =
+      std::max(loading.tangents().front(), options.tensile_floor_fraction * secant_N_per_m);
+  return StrainCurve::Tensile(std::move(loading), options.compression_fraction * small_strain_N_per_m);
 }
 
 StrainCurve CurveFromPoints(const kes::KesTensile& t, const std::string& field, const KesConversionOptions& options) {
@@ -50,7 +64,7 @@ StrainCurve CurveFromPoints(const kes::KesTensile& t, const std::string& field, 
     throw std::invalid_argument(field + ".loading_curve: needs a point with positive force");
   }
   const double secant = y.back() / x.back();
-  return StrainCurve::Tensile(MonotoneSpline(std::move(x), std::move(y)), options.compression_fraction * secant);
+  return WithCompression(MonotoneSpline(std::move(x), std::move(y)), secant, options);
 }
 
 }  // namespace
@@ -87,7 +101,7 @@ StrainCurve TensileCurveFromKes(const kes::KesTensile& t, const std::string& fie
     x[static_cast<std::size_t>(k)] = e;
     y[static_cast<std::size_t>(k)] = std::max(fm_N_per_m * std::pow(s, n), floor * e);
   }
-  return StrainCurve::Tensile(MonotoneSpline(std::move(x), std::move(y)), options.compression_fraction * secant);
+  return WithCompression(MonotoneSpline(std::move(x), std::move(y)), secant, options);
 }
 
 FabricMaterial MaterialFromKes(const kes::Fabric& f, const KesConversionOptions& options) {

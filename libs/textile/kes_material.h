@@ -30,8 +30,10 @@ struct FabricMaterial {
 /// Choices made when turning KES summary values into curves. Defaults are documented in
 /// docs/fabric-model.md.
 struct KesConversionOptions {
-  /// Tensile slope under compression, as a fraction of the secant stiffness Fm/EMT.
-  double compression_fraction = 0.02;
+  /// Tensile slope under compression, as a fraction of the curve's small-strain stiffness (its
+  /// tangent at zero strain, at least tensile_floor_fraction of the secant Fm/EMT). 1: the
+  /// tangent is continuous through zero strain (docs/fabric-model.md section 2).
+  double compression_fraction = 1.0;
   /// Minimum tangent of a reconstructed tensile curve, as a fraction of the secant Fm/EMT, so the
   /// curve is never flat at zero strain.
   double tensile_floor_fraction = 0.02;

@@ -1,5 +1,7 @@
 #include "libs/scene/cloth_setup.h"
 
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "tests/scene/scene_test_support.h"
@@ -47,6 +49,15 @@ TEST(ClothSetupTest, ModelDialsComeFromTheScene) {
   EXPECT_TRUE(setup.model_options.gravity_m_per_s2.isZero());
   EXPECT_EQ(setup.material.bending_warp_Nm, 0.0);
   EXPECT_EQ(setup.model_options.drag.quadratic_coefficient, 0.0);
+}
+
+// The scene gives the fabric's cut in degrees; the model takes radians, 0 when not given.
+TEST(ClothSetupTest, MaterialAngleReachesTheModel) {
+  EXPECT_EQ(MakeClothSetup(Scene("")).model_options.material_angle_rad, 0.0);
+  const ClothSetup bias = MakeClothSetup(Scene("cloth { particles_u: 3 particles_v: 3 material_angle_deg: 45 }"));
+  EXPECT_DOUBLE_EQ(bias.model_options.material_angle_rad, std::atan(1.0));
+  const ClothInstance cloth = MakeClothInstance(bias);
+  EXPECT_DOUBLE_EQ(cloth.model.options.material_angle_rad, std::atan(1.0));
 }
 
 TEST(SceneLoadsTest, RampsInHoldsAndRampsOut) {

@@ -83,6 +83,21 @@ TEST_F(SceneLoaderTest, OutOfRangeValueIsLocatedAtItsField) {
   EXPECT_NE(issues[0].message.find("particles_u must be in [2, 401]"), std::string::npos) << issues[0].message;
 }
 
+TEST_F(SceneLoaderTest, MaterialAngleOutsideHalfATurnIsRefused) {
+  const auto issues =
+      Refused("name: \"x\"\nfabric { database_name: \"test_cotton\" }\ncloth {\n  material_angle_deg: 270\n}\n");
+  ASSERT_EQ(issues.size(), 1u);
+  EXPECT_EQ(issues[0].line, 4);
+  EXPECT_NE(issues[0].message.find("material_angle_deg must be in [-180, 180] deg, got 270"), std::string::npos)
+      << issues[0].message;
+  EXPECT_EQ(
+      Refused("name: \"x\"\nfabric { database_name: \"test_cotton\" }\ncloth { material_angle_deg: nan }\n").size(),
+      1u);
+  const LoadedScene ok = ParseScene(
+      "name: \"x\"\nfabric { database_name: \"test_cotton\" }\ncloth { material_angle_deg: -45 }\n", "t", db_);
+  EXPECT_EQ(ok.scene.cloth().material_angle_deg(), -45.0);
+}
+
 TEST_F(SceneLoaderTest, EveryProblemIsReportedAtOnce) {
   const auto issues = Refused(R"(name: "x"
 fabric { database_name: "silk" }

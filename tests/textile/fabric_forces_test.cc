@@ -127,6 +127,17 @@ void ExpectFusedEqualsReference(const FabricModel& model, const FabricState& s, 
 // The kernel takes triangles four at a time: a count that is not a multiple of four (a 4x4 grid
 // has 18), a collapsed quad (both its triangles have coincident corners: no tensile force, no
 // drag) and a patch without quadratic drag must still match the reference.
+// A material angle changes only the triangles' weights: the fused kernel still matches.
+TEST(FabricForcesTest, FusedAssemblyEqualsSumOfForcesOnTheBias) {
+  ModelOptions options;
+  options.material_angle_rad = 0.6;
+  const FabricModel model = BuildFabricModel(MaterialFromKes(testing::CompositeDenim()), {0.05, 0.04, 6, 5}, options);
+  FabricState s = MakeRestState(model);
+  for (int p = 0; p < model.num_particles; ++p) s.x(p) = s.x(p).cwiseProduct(Eigen::Vector3d(1.02, 0.99, 1.0));
+  testing::Perturb(&s, 2e-3, 0.3, 12);
+  ExpectFusedEqualsReference(model, s, "material angle 0.6 rad");
+}
+
 TEST(FabricForcesTest, FusedAssemblyHandlesTailCollapsedElementsAndNoDrag) {
   for (const double drag_coefficient : {1.5, 0.0}) {
     ModelOptions options;

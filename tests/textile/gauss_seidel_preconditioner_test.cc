@@ -356,7 +356,10 @@ TEST(GaussSeidelPreconditionerTest, StepMatchesBlockJacobiWithFewerIterations) {
     EXPECT_FALSE(ra.cg.preconditioner_fallback);
   }
   EXPECT_LT(ia * 2, ib) << ia << " vs " << ib;
-  EXPECT_LT((a.x_W_m - b.x_W_m).cwiseAbs().maxCoeff(), 1e-12);
+  // Both solve to the same relative residual, not to the same bits: positions move by dt times
+  // the velocities, so the velocity bound allows 10 steps x 1 ms x 1e-8 m/s = 1e-10 m (measured
+  // 4.5e-11 m since compression follows the tensile slope: a stiffer, worse-conditioned system).
+  EXPECT_LT((a.x_W_m - b.x_W_m).cwiseAbs().maxCoeff(), 1e-10);
   EXPECT_LT((a.v_W_m_per_s - b.v_W_m_per_s).cwiseAbs().maxCoeff(), 1e-8);
   EXPECT_EQ(a.diagnostics.cg_not_converged, 0);
   for (int p : model.mesh.BorderParticles()) EXPECT_EQ(a.v(p), Eigen::Vector3d::Zero());

@@ -65,6 +65,35 @@ TEST(KesMaterialTest, UsesDigitizedCurveWhenPresent) {
   EXPECT_NEAR(c.Value(0.02), 50.0 * 0.980665, 1e-9);
 }
 
+// Compression continues the curve's small-strain slope (its tangent at zero strain), so a bent
+// region keeps its length; never flatter than the floor, so a curve with a flat toe still resists.
+TEST(KesMaterialTest, CompressionContinuesTheSmallStrainSlope) {
+  kes::KesTensile linear;
+  linear.loading_curve = {{0.0, 0.0}, {0.05, 205.626}};
+  const StrainCurve c = TensileCurveFromKes(linear, "warp_tensile");
+  const double k_N_per_m = 205.626 * 0.980665 / 0.05;
+  EXPECT_NEAR(c.compression_N_per_m(), k_N_per_m, 1e-9 * k_N_per_m);
+  EXPECT_NEAR(c.Value(-1e-3), -1e-3 * k_N_per_m, 1e-9);
+
+  kes::KesTensile toe;  // flat up to 1 %, then 20 gf/cm at 2 %
+  toe.loading_curve = {{0.0, 0.0}, {0.01, 0.0}, {0.02, 20.0}};
+  const double secant_N_per_m = 20.0 * 0.980665 / 0.02;
+  EXPECT_NEAR(TensileCurveFromKes(toe, "warp_tensile").compression_N_per_m(), 0.02 * secant_N_per_m, 1e-9);
+
+  // The power law's slope at zero is its floor: compression as before, 2 % of Fm/EMT.
+  kes::KesTensile power;
+  power.emt_percent = 5.735;
+  power.lt = 0.655;
+  const double power_secant_N_per_m = 500 * 0.980665 / 0.05735;
+  EXPECT_NEAR(TensileCurveFromKes(power, "warp_tensile").compression_N_per_m(), 0.02 * power_secant_N_per_m,
+              1e-9 * power_secant_N_per_m);
+
+  KesConversionOptions half;
+  half.compression_fraction = 0.5;
+  EXPECT_NEAR(TensileCurveFromKes(linear, "warp_tensile", half).compression_N_per_m(), 0.5 * k_N_per_m,
+              1e-9 * k_N_per_m);
+}
+
 TEST(KesMaterialTest, ErrorsNameTheField) {
   auto fabric = testing::CompositeDenim();
   fabric.name = "bad";

@@ -23,6 +23,23 @@ TEST(ShearForceTest, JacobianMatchesFiniteDifferencesNearZeroShear) {
   testing::ExpectJacobianNear(jv, fdv, 1e-6, "df/dv");
 }
 
+// gamma = U.V with the yarn vectors of a fabric cut at an angle to the grid: the same Jacobian
+// check as on the grid's axes.
+TEST(ShearForceTest, JacobianMatchesFiniteDifferencesOnTheBias) {
+  ModelOptions options;
+  options.material_angle_rad = -0.7;
+  const FabricModel model = BuildFabricModel(MaterialFromKes(testing::CompositeDenim()), {0.03, 0.02, 4, 3}, options);
+  FabricState s = MakeRestState(model);
+  testing::Perturb(&s, 1e-6, 0.01, 13);
+  Eigen::VectorXd f;
+  Eigen::MatrixXd jx, jv;
+  testing::DenseForceAndJacobians(model, AddShearForces, s.x_W_m, s.v_W_m_per_s, &f, &jx, &jv);
+  const auto fdx = testing::FiniteDifferenceJacobian(model, AddShearForces, s.x_W_m, s.v_W_m_per_s, false, 1e-8);
+  const auto fdv = testing::FiniteDifferenceJacobian(model, AddShearForces, s.x_W_m, s.v_W_m_per_s, true, 1e-6);
+  testing::ExpectJacobianNear(jx, fdx, 2e-2, "df/dx");
+  testing::ExpectJacobianNear(jv, fdv, 1e-6, "df/dv");
+}
+
 TEST(ShearForceTest, SimpleShearGivesKesStiffness) {
   const FabricMaterial material = MaterialFromKes(testing::CompositeDenim());
   const FabricModel model = BuildFabricModel(material, {0.05, 0.05, 3, 3});
