@@ -1,5 +1,6 @@
 #include "libs/device/mock_script.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -76,43 +77,117 @@ constexpr double kMinimumJerkPeak = 1.875;
 
 using Pose = std::array<Eigen::Vector3d, kManipulatorCount>;
 
-// Walks kDemo's moves in order: visit(phase, from, to, move_s, hold_s) for each, until visit
-// returns true (then so does this). A move takes both fingers from `from` to `to` along straight
-// lines in move_s (one minimum-jerk blend, so each finger peaks at most at speed_m_per_s), then
-// holds `to` for hold_s. No allocation.
+// One move of a phased script (kDemo, kFold): both fingers from `from` to `to` in move_s (one
+// minimum-jerk blend), then `to` held for hold_s. A straight move when angle_rad is 0; otherwise
+// both fingers turn by angle_rad about the line through pivot_D_m along axis_D (unit) while that
+// line moves by lift_D_m, which takes `from` to `to`: a pinch turned this way keeps its fingers'
+// distance throughout.
+struct Move {
+  std::uint8_t phase = 0;
+  Pose from{}, to{};
+  double move_s = 0.0, hold_s = 0.0;
+  Eigen::Vector3d pivot_D_m{Eigen::Vector3d::Zero()}, axis_D{Eigen::Vector3d::UnitX()};
+  double angle_rad = 0.0;
+  Eigen::Vector3d lift_D_m{Eigen::Vector3d::Zero()};
+};
+
+// Where a move is `s` of the way (ds_dt its rate), into `out`.
+void Interpolate(const Move& m, const Blend& b, FingerTargets* out) {
+  for (std::size_t i = 0; i < kManipulatorCount; ++i) {
+    if (m.angle_rad == 0.0) {
+      out->p_D_m[i] = m.from[i] + b.s * (m.to[i] - m.from[i]);
+      out->v_D_m_per_s[i] = b.ds_dt * (m.to[i] - m.from[i]);
+      continue;
+    }
+    const Eigen::Vector3d arm = Eigen::AngleAxisd(b.s * m.angle_rad, m.axis_D) * (m.from[i] - m.pivot_D_m);
+    out->p_D_m[i] = m.pivot_D_m + b.s * m.lift_D_m + arm;
+    out->v_D_m_per_s[i] = b.ds_dt * (m.lift_D_m + m.angle_rad * m.axis_D.cross(arm));
+  }
+}
+
+// Builds the moves of a phased script in order: each finger's path peaks at speed_m_per_s.
+// visit(move) is called for each until it returns true (then so does the walk). No allocation.
+class MoveWalk {
+ public:
+  explicit MoveWalk(const ScriptParams& p) : p_(p) {}
+
+  // finger i's centre when its pad is `depth_m` past the fabric plane (< 0: a gap), shifted
+  Eigen::Vector3d Place(std::size_t i, double depth_m, const Eigen::Vector3d& shift_D_m) const {
+    const Eigen::Vector3d inward = -kSide[i] * p_.fabric_normal_D;
+    return p_.fabric_point_D_m + (depth_m - p_.pad_offset_m[i]) * inward + shift_D_m;
+  }
+  const Pose& pose() const { return pose_; }
+  void Start(const Pose& pose) { pose_ = pose; }
+
+  template <class Visit>
+  bool Straight(std::uint8_t phase, const Pose& to, double hold_s, Visit&& visit) {
+    double distance_m = 0.0;
+    for (std::size_t i = 0; i < kManipulatorCount; ++i) distance_m = std::max(distance_m, (to[i] - pose_[i]).norm());
+    Move m;
+    m.phase = phase;
+    m.from = pose_;
+    m.to = to;
+    m.move_s = kMinimumJerkPeak * distance_m / p_.speed_m_per_s;
+    m.hold_s = hold_s;
+    pose_ = to;
+    return visit(m);
+  }
+
+  template <class Visit>
+  bool Turn(std::uint8_t phase, const Eigen::Vector3d& pivot_D_m, const Eigen::Vector3d& axis_D, double angle_rad,
+            const Eigen::Vector3d& lift_D_m, double hold_s, Visit&& visit) {
+    Move m;
+    m.phase = phase;
+    m.from = pose_;
+    m.pivot_D_m = pivot_D_m;
+    m.axis_D = axis_D;
+    m.angle_rad = angle_rad;
+    m.lift_D_m = lift_D_m;
+    // a finger's speed is at most the lift's plus the turn's, each scaled by the blend's rate
+    double path_m = 0.0;
+    for (std::size_t i = 0; i < kManipulatorCount; ++i) {
+      const Eigen::Vector3d arm = pose_[i] - pivot_D_m;
+      path_m = std::max(path_m, lift_D_m.norm() + (arm - arm.dot(axis_D) * axis_D).norm() * std::abs(angle_rad));
+      m.to[i] = pivot_D_m + lift_D_m + Eigen::AngleAxisd(angle_rad, axis_D) * arm;
+    }
+    m.move_s = kMinimumJerkPeak * path_m / p_.speed_m_per_s;
+    m.hold_s = hold_s;
+    pose_ = m.to;
+    return visit(m);
+  }
+
+ private:
+  const ScriptParams& p_;
+  Pose pose_{};
+};
+
+constexpr std::size_t kT = 0;  // thumb: front of the fabric, pad facing +n
+constexpr std::size_t kI = 1;  // index: back of the fabric, pad facing -n
+
+template <class P>
+std::uint8_t Phase(P phase) {
+  return static_cast<std::uint8_t>(phase);
+}
+
+// kDemo's moves in order.
 template <class Visit>
 bool VisitDemo(const ScriptParams& p, Visit&& visit) {
-  constexpr std::size_t kT = 0;  // thumb: front of the fabric, pad facing +n
-  constexpr std::size_t kI = 1;  // index: back of the fabric, pad facing -n
-  // finger i's centre when its pad is `depth_m` past the fabric plane (< 0: a gap), shifted
-  const auto place = [&p](std::size_t i, double depth_m, const Eigen::Vector3d& shift_D_m) {
-    const Eigen::Vector3d inward = -kSide[i] * p.fabric_normal_D;
-    return Eigen::Vector3d(p.fabric_point_D_m + (depth_m - p.pad_offset_m[i]) * inward + shift_D_m);
-  };
+  MoveWalk w(p);
   const Eigen::Vector3d none = Eigen::Vector3d::Zero();
   const Eigen::Vector3d& stretch = p.stretch_D_m;
-  Pose pose = {place(kT, -p.rest_gap_m, none), place(kI, -p.rest_gap_m, none)};
-  const auto move = [&](DemoPhase phase, const Pose& to, double hold_s) {
-    double distance_m = 0.0;
-    for (std::size_t i = 0; i < kManipulatorCount; ++i) {
-      distance_m = std::max(distance_m, (to[i] - pose[i]).norm());
-    }
-    const Pose from = pose;
-    pose = to;
-    return visit(phase, from, to, kMinimumJerkPeak * distance_m / p.speed_m_per_s, hold_s);
-  };
+  w.Start({w.Place(kT, -p.rest_gap_m, none), w.Place(kI, -p.rest_gap_m, none)});
 
   // settle, then one finger (the thumb) touches the front
-  if (move(DemoPhase::kSettle, pose, p.hold_s)) return true;
-  Pose touch = pose;
-  touch[kT] = place(kT, p.touch_depth_m, none);
-  if (move(DemoPhase::kApproach, touch, 0.0)) return true;
-  if (move(DemoPhase::kTouch, touch, p.hold_s)) return true;
+  if (w.Straight(Phase(DemoPhase::kSettle), w.pose(), p.hold_s, visit)) return true;
+  Pose touch = w.pose();
+  touch[kT] = w.Place(kT, p.touch_depth_m, none);
+  if (w.Straight(Phase(DemoPhase::kApproach), touch, 0.0, visit)) return true;
+  if (w.Straight(Phase(DemoPhase::kTouch), touch, p.hold_s, visit)) return true;
   // the index comes to the back and both squeeze, then both pull along the fabric
-  const Pose pinch = {place(kT, p.press_depth_m, none), place(kI, p.press_depth_m, none)};
-  if (move(DemoPhase::kPinch, pinch, p.hold_s)) return true;
-  const Pose stretched = {place(kT, p.press_depth_m, stretch), place(kI, p.press_depth_m, stretch)};
-  if (move(DemoPhase::kStretch, stretched, p.hold_s)) return true;
+  const Pose pinch = {w.Place(kT, p.press_depth_m, none), w.Place(kI, p.press_depth_m, none)};
+  if (w.Straight(Phase(DemoPhase::kPinch), pinch, p.hold_s, visit)) return true;
+  const Pose stretched = {w.Place(kT, p.press_depth_m, stretch), w.Place(kI, p.press_depth_m, stretch)};
+  if (w.Straight(Phase(DemoPhase::kStretch), stretched, p.hold_s, visit)) return true;
   // rub: the thumb to +A, -A, +A, ... (rub_cycles times each way), then back to the middle
   const int strokes = 2 * p.rub_cycles + 1;
   for (int k = 0; k < strokes; ++k) {
@@ -120,43 +195,79 @@ bool VisitDemo(const ScriptParams& p, Visit&& visit) {
     const double along_m = last ? 0.0 : (k % 2 == 0 ? p.rub_amplitude_m : -p.rub_amplitude_m);
     Pose rub = stretched;
     rub[kT] += along_m * p.rub_direction_D;
-    if (move(DemoPhase::kRub, rub, last ? p.hold_s : 0.0)) return true;
+    if (w.Straight(Phase(DemoPhase::kRub), rub, last ? p.hold_s : 0.0, visit)) return true;
   }
   // open the pinch along the normal, then return to the rest pose
-  const Pose released = {place(kT, -p.rest_gap_m, stretch), place(kI, -p.rest_gap_m, stretch)};
-  if (move(DemoPhase::kRelease, released, p.hold_s)) return true;
-  const Pose rest = {place(kT, -p.rest_gap_m, none), place(kI, -p.rest_gap_m, none)};
-  return move(DemoPhase::kRetract, rest, 0.0);
+  const Pose released = {w.Place(kT, -p.rest_gap_m, stretch), w.Place(kI, -p.rest_gap_m, stretch)};
+  if (w.Straight(Phase(DemoPhase::kRelease), released, p.hold_s, visit)) return true;
+  const Pose rest = {w.Place(kT, -p.rest_gap_m, none), w.Place(kI, -p.rest_gap_m, none)};
+  return w.Straight(Phase(DemoPhase::kRetract), rest, 0.0, visit);
 }
 
-// Where kDemo is at `t_s`: the phase, and the targets if `out` is not null.
-DemoPhase EvaluateDemo(const ScriptParams& p, double t_s, FingerTargets* out) {
+// The axis kFold turns the pinch about: the index's distal axis when the fingers lie across a
+// hanging fabric, oriented so that a positive angle lifts the thumb over the index.
+Eigen::Vector3d FoldAxis(const ScriptParams& p) { return p.up_D.cross(p.fabric_normal_D).normalized(); }
+
+// kFold's moves in order. The turn's pivot is where the index's centre is when its pad just
+// touches the fabric plane: the index's target circles it at press_depth_m while the thumb's
+// squeeze pushes it back there, so a user on a spring grip keeps the index in place and rolls
+// the thumb around it.
+template <class Visit>
+bool VisitFold(const ScriptParams& p, Visit&& visit) {
+  MoveWalk w(p);
+  const Eigen::Vector3d none = Eigen::Vector3d::Zero();
+  w.Start({w.Place(kT, -p.rest_gap_m, none), w.Place(kI, -p.rest_gap_m, none)});
+  if (w.Straight(Phase(FoldPhase::kSettle), w.pose(), p.hold_s, visit)) return true;
+  Pose touch = w.pose();
+  touch[kT] = w.Place(kT, p.touch_depth_m, none);
+  if (w.Straight(Phase(FoldPhase::kApproach), touch, 0.0, visit)) return true;
+  if (w.Straight(Phase(FoldPhase::kTouch), touch, p.hold_s, visit)) return true;
+  const Pose pinch = {w.Place(kT, p.press_depth_m, none), w.Place(kI, p.press_depth_m, none)};
+  if (w.Straight(Phase(FoldPhase::kPinch), pinch, p.hold_s, visit)) return true;
+  // The thumb rises over the index: the fabric below the pinch is carried up and over the index.
+  // The fabric above the pinch then wraps the thumb on its way to the pinch; the pair rises by
+  // that arc (a finger's radius times the angle), so the fabric between the clamp and the pinch
+  // is not stretched by the wrap.
+  const Eigen::Vector3d axis = FoldAxis(p);
+  const Eigen::Vector3d pivot = w.Place(kI, 0.0, none);
+  const Eigen::Vector3d lift = p.pad_offset_m[kT] * std::abs(p.fold_angle_rad) * p.up_D;
+  if (w.Turn(Phase(FoldPhase::kFold), pivot, axis, p.fold_angle_rad, lift, p.hold_s, visit)) return true;
+  // The fabric above the pinch wraps the thumb from the pinch around its far side; the thumb's
+  // free side faces half the fold angle on from where it started, so it leaves along that.
+  const Eigen::Vector3d open = Eigen::AngleAxisd(0.5 * p.fold_angle_rad, axis) * -p.fabric_normal_D;
+  Pose let_go = w.pose();
+  let_go[kT] += (p.press_depth_m + p.rest_gap_m) * open;
+  if (w.Straight(Phase(FoldPhase::kLetGo), let_go, p.hold_s, visit)) return true;
+  // the fabric lies over the index's top and front: the index leaves downwards and back
+  Pose withdrawn = w.pose();
+  withdrawn[kI] += (p.press_depth_m + p.rest_gap_m) * (-p.up_D + p.fabric_normal_D).normalized();
+  return w.Straight(Phase(FoldPhase::kWithdraw), withdrawn, p.hold_s, visit);
+}
+
+// Where a phased script is at `t_s`: its phase (`done` after the last move), and the targets if
+// `out` is not null.
+template <class Walk>
+std::uint8_t EvaluatePhased(const ScriptParams& p, double t_s, std::uint8_t done, FingerTargets* out, Walk&& walk) {
   double remaining_s = std::max(t_s, 0.0);
-  DemoPhase phase = DemoPhase::kDone;
+  std::uint8_t phase = done;
   Pose last{};
-  const bool inside = VisitDemo(p, [&](DemoPhase ph, const Pose& from, const Pose& to, double move_s, double hold_s) {
-    last = to;
-    if (remaining_s < move_s) {
-      phase = ph;
-      if (out != nullptr) {
-        const Blend b = MinimumJerk(remaining_s, move_s);
-        for (std::size_t i = 0; i < kManipulatorCount; ++i) {
-          out->p_D_m[i] = from[i] + b.s * (to[i] - from[i]);
-          out->v_D_m_per_s[i] = b.ds_dt * (to[i] - from[i]);
-        }
-      }
+  const bool inside = walk(p, [&](const Move& m) {
+    last = m.to;
+    if (remaining_s < m.move_s) {
+      phase = m.phase;
+      if (out != nullptr) Interpolate(m, MinimumJerk(remaining_s, m.move_s), out);
       return true;
     }
-    remaining_s -= move_s;
-    if (remaining_s < hold_s) {
-      phase = ph;
+    remaining_s -= m.move_s;
+    if (remaining_s < m.hold_s) {
+      phase = m.phase;
       if (out != nullptr) {
-        out->p_D_m = to;
+        out->p_D_m = m.to;
         out->v_D_m_per_s = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
       }
       return true;
     }
-    remaining_s -= hold_s;
+    remaining_s -= m.hold_s;
     return false;
   });
   if (!inside && out != nullptr) {
@@ -165,6 +276,19 @@ DemoPhase EvaluateDemo(const ScriptParams& p, double t_s, FingerTargets* out) {
   }
   return phase;
 }
+
+template <class Walk>
+double PhasedDuration(const ScriptParams& p, Walk&& walk) {
+  double total_s = 0.0;
+  walk(p, [&total_s](const Move& m) {
+    total_s += m.move_s + m.hold_s;
+    return false;
+  });
+  return total_s;
+}
+
+const auto kDemoWalk = [](const ScriptParams& p, auto&& visit) { return VisitDemo(p, visit); };
+const auto kFoldWalk = [](const ScriptParams& p, auto&& visit) { return VisitFold(p, visit); };
 
 }  // namespace
 
@@ -189,6 +313,11 @@ void ScriptParams::Validate() const {
   Require(hold_s >= 0.0 && hold_s <= 60.0, "hold_s must be in [0, 60] s");
   Require(touch_depth_m >= 0.0 && touch_depth_m < 0.05, "touch_depth_m must be in [0, 0.05) m");
   Require(rub_cycles >= 1 && rub_cycles <= 50, "rub_cycles must be in [1, 50]");
+  Require(std::isfinite(fold_angle_rad) && std::abs(fold_angle_rad) <= std::numbers::pi,
+          "fold_angle_rad must be in [-pi, pi]");
+  if (kind == ScriptKind::kFold) {
+    Require(up_D.cross(fabric_normal_D).norm() > 0.5, "kFold needs up_D at least 30 degrees from fabric_normal_D");
+  }
   for (const double offset_m : pad_offset_m) {
     Require(offset_m >= 0.0 && offset_m < 0.05, "pad_offset_m must be in [0, 0.05) m");
   }
@@ -246,21 +375,47 @@ FingerTargets EvaluateScript(const ScriptParams& p, double t_s) {
       Playback(p.trajectory, t_s, &out);
       break;
     case ScriptKind::kDemo:
-      EvaluateDemo(p, t_s, &out);
+      EvaluatePhased(p, t_s, Phase(DemoPhase::kDone), &out, kDemoWalk);
+      break;
+    case ScriptKind::kFold:
+      EvaluatePhased(p, t_s, Phase(FoldPhase::kDone), &out, kFoldWalk);
       break;
   }
   return out;
 }
 
-DemoPhase DemoPhaseAt(const ScriptParams& params, double t_s) { return EvaluateDemo(params, t_s, nullptr); }
+DemoPhase DemoPhaseAt(const ScriptParams& params, double t_s) {
+  return static_cast<DemoPhase>(EvaluatePhased(params, t_s, Phase(DemoPhase::kDone), nullptr, kDemoWalk));
+}
 
-double DemoDuration(const ScriptParams& params) {
-  double total_s = 0.0;
-  VisitDemo(params, [&total_s](DemoPhase, const Pose&, const Pose&, double move_s, double hold_s) {
-    total_s += move_s + hold_s;
-    return false;
-  });
-  return total_s;
+double DemoDuration(const ScriptParams& params) { return PhasedDuration(params, kDemoWalk); }
+
+FoldPhase FoldPhaseAt(const ScriptParams& params, double t_s) {
+  return static_cast<FoldPhase>(EvaluatePhased(params, t_s, Phase(FoldPhase::kDone), nullptr, kFoldWalk));
+}
+
+double FoldDuration(const ScriptParams& params) { return PhasedDuration(params, kFoldWalk); }
+
+const char* FoldPhaseName(FoldPhase phase) {
+  switch (phase) {
+    case FoldPhase::kSettle:
+      return "settle";
+    case FoldPhase::kApproach:
+      return "approach";
+    case FoldPhase::kTouch:
+      return "touch";
+    case FoldPhase::kPinch:
+      return "pinch";
+    case FoldPhase::kFold:
+      return "fold";
+    case FoldPhase::kLetGo:
+      return "let_go";
+    case FoldPhase::kWithdraw:
+      return "withdraw";
+    case FoldPhase::kDone:
+      return "done";
+  }
+  return "unknown";
 }
 
 const char* DemoPhaseName(DemoPhase phase) {
@@ -296,8 +451,9 @@ ScriptKind ScriptKindFromName(const std::string& name) {
   if (name == "lift") return ScriptKind::kLift;
   if (name == "playback") return ScriptKind::kPlayback;
   if (name == "demo") return ScriptKind::kDemo;
+  if (name == "fold") return ScriptKind::kFold;
   throw std::invalid_argument("unknown script '" + name +
-                              "' (idle, approach, grasp, pinch, rub, lift, playback or demo)");
+                              "' (idle, approach, grasp, pinch, rub, lift, playback, demo or fold)");
 }
 
 }  // namespace haptex::device

@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,7 @@ enum class ScriptKind : std::uint8_t {
   kLift,              ///< grasp, then lift both fingers
   kPlayback,          ///< follow a recorded trajectory (ScriptParams::trajectory)
   kDemo,              ///< touch, pinch, stretch, rub, release in sequence (DemoPhase)
+  kFold,              ///< pinch, fold the fabric over the index while pinched, let go with the thumb (FoldPhase)
 };
 
 /// The phases of kDemo, in the order the script visits them. Each move is a minimum-jerk move
@@ -36,6 +38,21 @@ enum class DemoPhase : std::uint8_t {
   kRub,       ///< still pinched, the thumb strokes rub_cycles times +-rub_amplitude_m; then hold
   kRelease,   ///< both fingers back off to rest_gap_m on their sides; then hold
   kRetract,   ///< both fingers return (undoing the stretch) to their rest pose
+  kDone,      ///< at rest, for good
+};
+
+/// The phases of kFold (paper section 5.4: the fabric folded over one finger while pinched), in
+/// order. Moves and holds as in kDemo.
+enum class FoldPhase : std::uint8_t {
+  kSettle,    ///< both fingers at rest off the fabric, for hold_s
+  kApproach,  ///< the thumb moves to the fabric's front and its pad presses touch_depth_m into it
+  kTouch,     ///< one finger touches: the thumb holds, for hold_s
+  kPinch,     ///< the index comes to the back; both pads aim press_depth_m past the fabric; then hold
+  kFold,      ///< the pinched pair turns by fold_angle_rad about the index's axis, the thumb rising
+              ///< over it, so the fabric below the pinch wraps the index; then hold
+  kLetGo,     ///< the thumb opens away from the index and out of the fabric's wrap; the index
+              ///< alone holds the folded fabric; then hold
+  kWithdraw,  ///< the index moves down and back, out from under the draped fabric; then hold
   kDone,      ///< at rest, for good
 };
 
@@ -65,6 +82,9 @@ struct ScriptParams {
   double hold_s = 0.5;           ///< pause between phases
   double touch_depth_m = 0.002;  ///< how far past the fabric plane the touching pad aims
   int rub_cycles = 2;            ///< back-and-forth strokes of the rub
+  // kFold only: how far the pinched pair turns about the index's axis, which is up_D x
+  // fabric_normal_D (the fingers' distal axis when they lie across a hanging fabric).
+  double fold_angle_rad = 130.0 * std::numbers::pi / 180.0;
   /// Distance from each fingertip's centre (the position the device reports) to its pad, along
   /// the pad normal; kDemo aims the pads, so rest_gap_m, touch_depth_m and press_depth_m are pad
   /// distances. Index by Manipulator. The other kinds aim the centres.
@@ -73,8 +93,8 @@ struct ScriptParams {
   void Validate() const;
 };
 
-/// The kind a name on the command line means: idle, approach, grasp, pinch, rub, lift, playback or
-/// demo. @throws std::invalid_argument naming the choices for anything else.
+/// The kind a name on the command line means: idle, approach, grasp, pinch, rub, lift, playback,
+/// demo or fold. @throws std::invalid_argument naming the choices for anything else.
 ScriptKind ScriptKindFromName(const std::string& name);
 
 /// Target position and velocity of each finger (index by Manipulator), frame D.
@@ -95,5 +115,14 @@ double DemoDuration(const ScriptParams& params);
 
 /// "settle", "approach", "touch", "pinch", "stretch", "rub", "release", "retract", "done".
 const char* DemoPhaseName(DemoPhase phase);
+
+/// The kFold phase at script time `t_s` (whatever params.kind is). @pre params.Validate() passed.
+FoldPhase FoldPhaseAt(const ScriptParams& params, double t_s);
+
+/// When kFold reaches FoldPhase::kDone. @pre params.Validate() passed.
+double FoldDuration(const ScriptParams& params);
+
+/// "settle", "approach", "touch", "pinch", "fold", "let_go", "withdraw", "done".
+const char* FoldPhaseName(FoldPhase phase);
 
 }  // namespace haptex::device

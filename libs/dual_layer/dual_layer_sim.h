@@ -44,6 +44,9 @@ class DualLayerSim {
   /// The global link's round trip as global_sim measures it (global_link_delay.h).
   std::uint32_t link_round_trip_steps() const { return link_delay_.round_trip_steps(); }
   PatchRect rect() const { return rect_; }
+  /// The patch the local layer ticks now (null before the first cut): where the fabric under the
+  /// fingers is between global steps.
+  const LocalPatch* patch() const { return patch_.get(); }
   const textile::FabricState& global_state() const { return global_state_; }
 
  private:

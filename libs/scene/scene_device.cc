@@ -1,6 +1,7 @@
 #include "libs/scene/scene_device.h"
 
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 
@@ -59,6 +60,8 @@ device::ScriptKind ScriptKindFromScene(v1::MockUserScript::Kind kind) {
       return device::ScriptKind::kPlayback;
     case v1::MockUserScript::KIND_DEMO:
       return device::ScriptKind::kDemo;
+    case v1::MockUserScript::KIND_FOLD:
+      return device::ScriptKind::kFold;
     default:
       return device::ScriptKind::kIdle;
   }
@@ -109,6 +112,7 @@ device::ScriptParams MockScriptFromScene(const v1::Scene& scene, const device::M
   script.press_depth_m = squeeze_N / controller.finger.user_stiffness_N_per_m;
   script.stretch_D_m = R_DW * Eigen::Vector3d(stretch_m, 0, 0);
   script.rub_amplitude_m = OrDefault(user.rub_amplitude_m(), script.rub_amplitude_m);
+  if (user.fold_angle_deg() != 0.0) script.fold_angle_rad = user.fold_angle_deg() * std::numbers::pi / 180.0;
   return script;
 }
 

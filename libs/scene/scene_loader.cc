@@ -185,6 +185,7 @@ void CheckDevice(const v1::Scene& scene, const FieldLocator& where, Checker& c) 
     c.Range(user, "stretch_m", user.stretch_m(), 0.0, 0.1, "m", u);
     c.Range(user, "rub_amplitude_m", user.rub_amplitude_m(), 0.0, 0.1, "m", u);
     c.Range(user, "hold_s", user.hold_s(), 0.0, 60.0, "s", u);
+    c.ZeroOrRange(user, "fold_angle_deg", user.fold_angle_deg(), 1.0, 180.0, "deg", u);
     CheckVec(user, "touch_point_w_m", user.touch_point_w_m(), kMaxWorldDistanceM, "m from W's origin", u, c);
     if (user.kind() == v1::MockUserScript::KIND_PLAYBACK && user.playback_csv().empty()) {
       c.Add(u.At(user, "kind", -1, "KIND_PLAYBACK needs playback_csv"));

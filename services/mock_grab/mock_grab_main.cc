@@ -84,7 +84,7 @@ int main(int argc, char** argv) {
                        "the bridge's GRAB socket: StatusFrames go there, commands count only from there")
             ->required();
         app.add_option("--script", options->script,
-                       "idle, approach, grasp, pinch, rub, lift, playback or demo (default: the scene's)");
+                       "idle, approach, grasp, pinch, rub, lift, playback, demo or fold (default: the scene's)");
         app.add_option("--playback-csv", options->playback_csv, "trajectory for the playback script");
         app.add_option("--force-log", options->force_log, "write what the fingers felt to this CSV");
         app.add_option("--rate", options->rate_hz, "controller rate [Hz]")

@@ -44,7 +44,8 @@ TEST_P(EveryScriptTest, VelocityMatchesPositionDerivative) {
 INSTANTIATE_TEST_SUITE_P(Scripts, EveryScriptTest,
                          ::testing::Values(ScriptKind::kIdle, ScriptKind::kApproachAndTouch,
                                            ScriptKind::kGraspAndSqueeze, ScriptKind::kPinchAndStretch, ScriptKind::kRub,
-                                           ScriptKind::kLift, ScriptKind::kPlayback, ScriptKind::kDemo));
+                                           ScriptKind::kLift, ScriptKind::kPlayback, ScriptKind::kDemo,
+                                           ScriptKind::kFold));
 
 TEST(MockScriptTest, FingersStartAtRestOnTheirSides) {
   const FingerTargets t0 = EvaluateScript(Params(ScriptKind::kGraspAndSqueeze), 0.0);

@@ -110,5 +110,15 @@ TEST(SceneDeviceTest, TheDemoTouchesTheSameWorldPointsWhateverTheDevicePose) {
   EXPECT_LT(runs[1].bridge->finger_state(device::Manipulator::kIndex).p_W_m.y(), 0.0);
 }
 
+// KIND_FOLD maps to the fold script, its angle from degrees; unset, the script's own default.
+TEST(SceneDeviceTest, TheFoldUserTakesItsAngleInDegrees) {
+  const device::ScriptParams fold =
+      MockScriptFromScene(Scene("device { mock { user { kind: KIND_FOLD fold_angle_deg: 90 } } }\n"), {});
+  EXPECT_EQ(fold.kind, device::ScriptKind::kFold);
+  EXPECT_NEAR(fold.fold_angle_rad, std::numbers::pi / 2, 1e-12);
+  const device::ScriptParams unset = MockScriptFromScene(Scene("device { mock { user { kind: KIND_FOLD } } }\n"), {});
+  EXPECT_EQ(unset.fold_angle_rad, device::ScriptParams{}.fold_angle_rad);
+}
+
 }  // namespace
 }  // namespace haptex::scene

@@ -1,0 +1,73 @@
+// The shipped fold scene (launch/scenes/fold.textproto, paper section 5.4) through the real
+// processes: haptex launch runs the mock controller with the fold user, the device bridge,
+// local_contact and global_sim over loopback UDP. The run must see the pinch (VIII/IX) held over
+// the fold and then one finger on the fabric (IV/V) after the thumb lets go; the fingers' forces
+// stay bounded, change smoothly, and end at zero.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <regex>
+#include <string>
+
+#include "tests/launch/launch_test_support.h"
+
+namespace haptex::launch {
+namespace {
+
+// The count of ForceModel finger entries in `state` from summary.json's contact_states.
+long StateCount(const std::string& summary, const std::string& state) {
+  std::smatch m;
+  const std::regex pattern("\"contact_states\":\\{(?:[^}]*,)?\"" + state + "\":([0-9]+)");
+  return std::regex_search(summary, m, pattern) ? std::stol(m[1].str()) : -1;
+}
+
+TEST(FoldSceneTest, PinchHeldThroughTheFoldThenOneFingerAndEndsAtZeroForce) {
+  const std::string run = testing::FreshDir("fold_scene");
+  haptex::testing::Subprocess launcher(
+      {haptex::testing::BuildDir() + "/cli/haptex", "launch", testing::ShippedScenePath("fold"), "--out", run});
+  const std::optional<int> code = launcher.WaitFor(std::chrono::seconds(120));
+  ASSERT_TRUE(code.has_value()) << "launcher still running\n" << launcher.Stdout();
+  ASSERT_EQ(*code, 0) << launcher.Stdout() << launcher.Stderr();
+  const std::string summary = testing::ReadText(run + "/summary.json");
+
+  // Entries are per finger and local tick (1 kHz): the fold and its hold take about 1.9 s, so
+  // 2 fingers x 1.5 s of pinch at least; the index alone holds the folded fabric for the
+  // let-go's hold (0.5 s) and more.
+  const long pinched = StateCount(summary, "VIII") + StateCount(summary, "IX");
+  const long one_finger = StateCount(summary, "IV") + StateCount(summary, "V");
+  std::printf("[fold-process] contact states: I %ld IV %ld V %ld VI %ld VII %ld VIII %ld IX %ld\n",
+              StateCount(summary, "I"), StateCount(summary, "IV"), StateCount(summary, "V"), StateCount(summary, "VI"),
+              StateCount(summary, "VII"), StateCount(summary, "VIII"), StateCount(summary, "IX"));
+  EXPECT_GT(pinched, 3000) << summary;
+  EXPECT_GT(one_finger, 500) << summary;
+  EXPECT_THAT(summary, ::testing::HasSubstr(R"("end_reason":"duration")"));
+  EXPECT_THAT(summary, ::testing::HasSubstr(R"("errors":[])"));
+
+  // What the mock's fingers were commanded, at 5 kHz: bounded, no step, zero at the end.
+  double peak_N = 0.0, largest_step_N = 0.0, last_thumb = -1.0, last_index = -1.0;
+  int rows = 0;
+  for (const haptex::testing::ForceRow& r : haptex::testing::MockForceRows(run + "/mock_grab_forces.csv")) {
+    if (rows > 0) {
+      largest_step_N = std::max({largest_step_N, std::abs(r.thumb_N - last_thumb), std::abs(r.index_N - last_index)});
+    }
+    last_thumb = r.thumb_N;
+    last_index = r.index_N;
+    peak_N = std::max({peak_N, last_thumb, last_index});
+    ++rows;
+  }
+  std::printf("[fold-process] peak commanded force %.2f N, largest change between controller ticks %.3f N, %d ticks\n",
+              peak_N, largest_step_N, rows);
+  ASSERT_GT(rows, 10000);
+  EXPECT_GT(peak_N, 0.5);
+  EXPECT_LT(peak_N, 10.0);
+  EXPECT_EQ(last_thumb, 0.0);
+  EXPECT_EQ(last_index, 0.0);
+}
+
+}  // namespace
+}  // namespace haptex::launch
