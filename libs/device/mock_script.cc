@@ -366,9 +366,9 @@ FingerTargets EvaluateScript(const ScriptParams& p, double t_s) {
       if (t_s <= t0) break;
       const double tau_s = t_s - t0;
       const double w = 2.0 * std::numbers::pi * p.rub_frequency_Hz;
-      const std::size_t thumb = Slot(Manipulator::kThumb);
-      out.p_D_m[thumb] += p.rub_amplitude_m * std::sin(w * tau_s) * p.rub_direction_D;
-      out.v_D_m_per_s[thumb] += p.rub_amplitude_m * w * std::cos(w * tau_s) * p.rub_direction_D;
+      const std::size_t rubbing = Slot(p.touch_finger);
+      out.p_D_m[rubbing] += p.rub_amplitude_m * std::sin(w * tau_s) * p.rub_direction_D;
+      out.v_D_m_per_s[rubbing] += p.rub_amplitude_m * w * std::cos(w * tau_s) * p.rub_direction_D;
       break;
     }
     case ScriptKind::kPlayback:

@@ -19,7 +19,7 @@ enum class ScriptKind : std::uint8_t {
   kApproachAndTouch,  ///< one finger moves to the fabric and presses lightly
   kGraspAndSqueeze,   ///< both fingers close on the fabric and squeeze it
   kPinchAndStretch,   ///< grasp, then move both fingers along stretch_D_m
-  kRub,               ///< grasp, then the thumb slides back and forth while squeezing
+  kRub,               ///< grasp, then touch_finger slides back and forth while squeezing
   kLift,              ///< grasp, then lift both fingers
   kPlayback,          ///< follow a recorded trajectory (ScriptParams::trajectory)
   kDemo,              ///< touch, pinch, stretch, rub, release in sequence (DemoPhase)
@@ -63,12 +63,14 @@ struct ScriptParams {
   Eigen::Vector3d fabric_point_D_m{Eigen::Vector3d::Zero()};  ///< where the fingers meet the fabric
   /// Unit normal of the fabric, from the thumb's (front) side to the index's (back) side.
   Eigen::Vector3d fabric_normal_D{0.0, 1.0, 0.0};
-  double rest_gap_m = 0.030;                       ///< each finger's distance from the fabric at rest
-  double approach_duration_s = 1.0;                ///< rest -> touching the fabric
-  double press_duration_s = 0.3;                   ///< touching -> pressed by press_depth_m
-  double press_depth_m = 0.004;                    ///< target beyond the fabric plane (how hard the user presses)
-  Manipulator touch_finger = Manipulator::kThumb;  ///< which finger kApproachAndTouch uses
-  Eigen::Vector3d stretch_D_m{0.010, 0.0, 0.0};    ///< kPinchAndStretch displacement
+  double rest_gap_m = 0.030;         ///< each finger's distance from the fabric at rest
+  double approach_duration_s = 1.0;  ///< rest -> touching the fabric
+  double press_duration_s = 0.3;     ///< touching -> pressed by press_depth_m
+  double press_depth_m = 0.004;      ///< target beyond the fabric plane (how hard the user presses)
+  /// Which finger kApproachAndTouch presses and kRub strokes (a scene with the index alone rubs
+  /// with it: stroking a finger the scene does not simulate would leave the fabric untouched).
+  Manipulator touch_finger = Manipulator::kThumb;
+  Eigen::Vector3d stretch_D_m{0.010, 0.0, 0.0};  ///< kPinchAndStretch displacement
   double stretch_duration_s = 1.0;
   Eigen::Vector3d rub_direction_D{1.0, 0.0, 0.0};  ///< kRub slide direction (unit, in the fabric)
   double rub_amplitude_m = 0.010;

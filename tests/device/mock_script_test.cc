@@ -88,6 +88,17 @@ TEST(MockScriptTest, StretchLiftAndRubMoveAfterTheGrasp) {
   EXPECT_NEAR(t.p_D_m[kIndex].x(), 0.0, 1e-12);
 }
 
+// A scene with the index alone (touch_finger) rubs with it: the thumb it does not simulate stays put.
+TEST(MockScriptTest, RubStrokesTheTouchFinger) {
+  const double grasped_s = 1.3;
+  ScriptParams p = Params(ScriptKind::kRub);
+  p.touch_finger = Manipulator::kIndex;
+  const FingerTargets t = EvaluateScript(p, grasped_s + 0.125);
+  EXPECT_NEAR(t.p_D_m[kIndex].x(), p.rub_amplitude_m, 1e-9);
+  EXPECT_NEAR(t.p_D_m[kThumb].x(), 0.0, 1e-12);
+  EXPECT_NEAR(t.p_D_m[kIndex].y(), -p.press_depth_m, 1e-12) << "still pressing";
+}
+
 TEST(MockScriptTest, PlaybackInterpolatesAndHoldsTheEnds) {
   const ScriptParams p = Params(ScriptKind::kPlayback);
   FingerTargets t = EvaluateScript(p, 0.5);

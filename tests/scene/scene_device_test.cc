@@ -67,6 +67,21 @@ TEST(SceneDeviceTest, TheMockUserIsMappedIntoDThroughTheInverse) {
   EXPECT_TRUE((X_WD.linear() * b.up_D).isApprox(Eigen::Vector3d::UnitZ(), 1e-12));
 }
 
+// The rub strokes at the scene's speed (its peak speed), with the index when the scene has only it.
+TEST(SceneDeviceTest, TheRubStrokesAtTheScenesSpeedWithTheFingerItHas) {
+  v1::Scene index_alone =
+      Scene("device { mock { user { kind: KIND_RUB speed_m_per_s: 0.02 rub_amplitude_m: 0.01 } } }\n");
+  index_alone.clear_fingers();
+  index_alone.add_fingers()->set_finger(v1::FINGER_INDEX);
+  const device::ScriptParams rub = MockScriptFromScene(index_alone, {});
+  EXPECT_EQ(rub.kind, device::ScriptKind::kRub);
+  EXPECT_EQ(rub.touch_finger, device::Manipulator::kIndex);
+  EXPECT_NEAR(2.0 * std::numbers::pi * rub.rub_frequency_Hz * rub.rub_amplitude_m, 0.02, 1e-12);
+  // without a speed the core's stroke stays
+  const device::ScriptParams core_rub = MockScriptFromScene(Scene("device { mock { user { kind: KIND_RUB } } }\n"), {});
+  EXPECT_EQ(core_rub.rub_frequency_Hz, device::ScriptParams{}.rub_frequency_Hz);
+}
+
 // The demo user on the mock controller, read by the bridge: the fingertips it reports in W are
 // the same with the device turned and moved as with D = W, at every phase of the demo.
 TEST(SceneDeviceTest, TheDemoTouchesTheSameWorldPointsWhateverTheDevicePose) {

@@ -108,10 +108,20 @@ INSTANTIATE_TEST_SUITE_P(Links, DelayedPinchTest,
                                            LinkCase{"global_100ms_5pct", 100.0, 0.05, false}),
                          [](const ::testing::TestParamInfo<LinkCase>& param) { return std::string(param.param.name); });
 
+// The index finger presses the hanging cloth and strokes it (rub_friction before it got its frame).
 const scene::LoadedScene& RubScene() {
   static const scene::LoadedScene scene =
-      scene::LoadScene(haptex::testing::SourceDir() + "/launch/scenes/rub_friction.textproto",
-                       scene::FabricDatabase(haptex::testing::SourceDir() + "/data/fabrics"));
+      scene::ParseScene(R"(name: "rub_hanging"
+fabric { database_name: "wang2011_black_denim_11oz" }
+cloth { width_m: 0.20 height_m: 0.20 particles_u: 41 particles_v: 41 mounting: MOUNTING_TOP_EDGE }
+fingers { finger: FINGER_INDEX shape: SHAPE_CAPSULE }
+friction { finger_fabric_mu_static: 0.4 finger_fabric_mu_dynamic: 0.2 }
+device {
+  mock { user { kind: KIND_RUB speed_m_per_s: 0.02 squeeze_force_n: 1 rub_amplitude_m: 0.015 hold_s: 0.5 } }
+}
+rates { global_hz: 100 local_hz: 1000 }
+)",
+                        "rub_hanging", scene::FabricDatabase(haptex::testing::SourceDir() + "/data/fabrics"));
   return scene;
 }
 
