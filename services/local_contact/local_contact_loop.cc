@@ -101,9 +101,15 @@ void LocalContactLoop::Write(services::Outbox& out) {
   }
   const bool to_viewer = peers_.viewer && --ticks_to_viewer_ <= 0;
   if (to_viewer) ticks_to_viewer_ = viewer_every_ticks_;
-  if (contact_ != nullptr && (peers_.tactile || to_viewer)) {
+  if (contact_ != nullptr) {
     FillTouchTrace(*contact_, patch_->sim->state().time_s, &touch_);
-    if (peers_.tactile) out.Send(*peers_.tactile, touch_);
+    // without a tactile display the run still keeps each tick's normal force: the run folder's
+    // F_T/F_N figure (paper Fig. 9) is drawn from it
+    if (peers_.tactile) {
+      out.Send(*peers_.tactile, touch_);
+    } else {
+      out.Record(touch_);
+    }
     if (to_viewer) out.Send(*peers_.viewer, touch_);
   }
   if (to_viewer && fingers_known_) out.Send(*peers_.viewer, force_model_);

@@ -2,7 +2,8 @@
 // local_contact's work per haptic tick, apart from sockets and threads. Read: the newest
 // FingerStates (newest wins) and LocalPatches (handed to the patch builder). Update: swap in a
 // built patch (hand-off by particle id), run the contact models and one step of the patch's
-// dynamics. Write: the ForceModel to the bridge, a TouchTrace to tactile, and once per global step
+// dynamics. Write: the ForceModel to the bridge, a TouchTrace to tactile (recorded, not sent, when
+// there is no tactile service), and once per global step
 // the PatchResult to global_sim. Allocates nothing once warmed up; never waits for a patch: with
 // none yet it sends zero force, and with global_sim late it renders from the patch it has.
 

@@ -168,6 +168,27 @@ TEST_F(LocalContactLoopTest, ZeroForceUntilAPatchArrivesThenItPushesTheThumbBack
   }
 }
 
+// Without a tactile service each tick's TouchTrace is recorded and sent to nobody: the run's
+// F_T/F_N figure needs its normal force.
+TEST_F(LocalContactLoopTest, WithoutTactileTheTouchTraceIsRecordedNotSent) {
+  runtime::HealthReporter health("local_contact");
+  LocalContactLoop alone(LocalContactConfig{1000.0, {true, true}, 0.010},
+                         {kBridge, kGlobal, std::nullopt, std::nullopt}, &builder_, &health);
+  haptex::testing::CapturedOutbox out;
+  alone.Read(haptex::testing::WrapEnvelope(Patch(1, 7), 1000), 0.0);
+  EXPECT_TRUE(builder_.RunOnce());
+  for (int k = 1; k <= 5; ++k) {
+    alone.Read(
+        haptex::testing::WrapEnvelope(Thumb(0.002, static_cast<std::uint64_t>(k)), static_cast<std::uint64_t>(k)),
+        k * 0.001);
+    alone.Update(k * 0.001, 0.001);
+    alone.Write(out);
+  }
+  EXPECT_EQ(out.Recorded<v1::TouchTrace>(), 5u);
+  EXPECT_EQ(out.Count<v1::TouchTrace>(), 0u);
+  EXPECT_EQ(out.Count<v1::ForceModel>(), 5u);
+}
+
 TEST_F(LocalContactLoopTest, OlderFingerStatesAndBadPatchesAreRefusedAndCounted) {
   haptex::testing::CapturedOutbox out;
   loop_.Read(haptex::testing::WrapEnvelope(Thumb(0.002, 50), 50), 0.0);
