@@ -386,7 +386,15 @@ int Launch(const LaunchOptions& o) {
   const auto analysis = AnalyseRecordings(recordings);
   const auto force_log = ReadForceLog(ForceLogPath(run_dir));
   std::vector<PlotResult> plots;
-  if (!o.no_plots) plots = MakePlots(run_dir, scene, recordings, force_log);
+  if (!o.no_plots) {
+    FigureReference reference;
+    try {
+      reference = FigureReferenceFromScene(loaded);
+    } catch (const std::exception& e) {
+      record.errors.push_back(std::string("figure references: ") + e.what());
+    }
+    plots = MakePlots(run_dir, scene, recordings, force_log, reference);
+  }
   std::ofstream(run_dir + "/summary.json") << SummaryJson(record, files, analysis, force_log, plots, mcap);
 
   PrintRelayResults(record.relays);
@@ -397,6 +405,7 @@ int Launch(const LaunchOptions& o) {
   }
   for (const auto& p : plots) {
     std::cout << "plot " << p.name << ": " << (p.file.empty() ? "skipped, " + p.skipped : p.file) << "\n";
+    if (!p.note.empty()) std::cout << "  " << p.note << "\n";
   }
   std::cout << "run " << record.end_reason << " after " << record.duration_s << " s; summary " << run_dir
             << "/summary.json" << std::endl;

@@ -3,13 +3,20 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "launch/figure_curves.h"
 #include "launch/force_log_reader.h"
 #include "launch/gnuplot.h"
 #include "launch/trace_export.h"
+#include "libs/codec/message_conversion.h"
+#include "libs/device/mock_grab_controller.h"
+#include "libs/scene/cloth_setup.h"
+#include "libs/scene/scene_contact.h"
+#include "libs/scene/scene_device.h"
 
 namespace haptex::launch {
 namespace {
@@ -55,7 +62,88 @@ struct Sample {
   double value;
 };
 
+struct Touch {
+  double t_s;
+  double normal_N;
+  int state;
+};
+
+// A number as a plot's legend or the run's note shows it.
+std::string Fixed(double value, int decimals) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.*f", decimals, value);
+  return text;
+}
+
+// The newest sample at or before t_s in a time-ordered series, from index *k on (moves *k).
+template <class Series>
+const auto* AtOrBefore(const Series& series, double t_s, std::size_t* k) {
+  while (*k + 1 < series.size() && series[*k + 1].first <= t_s) ++*k;
+  return *k < series.size() && series[*k].first <= t_s ? &series[*k].second : nullptr;
+}
+
 }  // namespace
+
+FigureReference FigureReferenceFromScene(const scene::LoadedScene& loaded) {
+  FigureReference r;
+  const contact::ContactOptions contact = scene::ContactOptionsFromScene(loaded);
+  r.has_friction = true;
+  r.mu_static = contact.finger_fabric.mu_static;
+  r.mu_dynamic = contact.finger_fabric.mu_dynamic;
+  const v1::Scene& s = loaded.scene;
+  const device::ScriptParams user = scene::MockScriptFromScene(s, device::MockControllerConfig{});
+  const Eigen::Isometry3d X_WD = scene::DeviceFrameInWorld(s.device(), Eigen::Isometry3d::Identity());
+  const Eigen::Vector3d stretch_W = X_WD.linear() * user.stretch_D_m;
+  if (stretch_W.norm() > 0.0) r.stretch_W = stretch_W.normalized();
+
+  // Fig. 10 is the paper's tensile test: a strip held by a clamp across the pull. Its force is
+  // the fabric's tensile curve only when the clamp is a line across the stretch and the fingers
+  // grip the strip's whole width; a cloth hung from its top edge and pulled sideways is sheared.
+  const scene::ClothSetup setup = scene::MakeClothSetup(loaded);
+  const int nu = setup.grid.particles_warp, nv = setup.grid.particles_weft;
+  const double du = setup.grid.length_warp_m / (nu - 1), dv = setup.grid.width_weft_m / (nv - 1);
+  const Eigen::Vector3d u_W = setup.placement.axis_u_W, v_W = setup.placement.axis_v_W;
+  if (setup.fixed_particles.empty()) {
+    r.no_strip = "nothing holds the cloth";
+    return r;
+  }
+  double clamp_min = 1e300, clamp_max = -1e300;
+  for (const int k : setup.fixed_particles) {
+    const Eigen::Vector3d x_W = setup.placement.origin_W + (k % nu) * du * u_W + (k / nu) * dv * v_W;
+    clamp_min = std::min(clamp_min, x_W.dot(r.stretch_W));
+    clamp_max = std::max(clamp_max, x_W.dot(r.stretch_W));
+  }
+  if (clamp_max - clamp_min > 1e-9) {
+    r.no_strip = "the cloth is held along the stretch (its fixed particles span " +
+                 Fixed(1e3 * (clamp_max - clamp_min), 1) + " mm along it), not clamped across it: no tensile strip";
+    return r;
+  }
+  const textile::StrainCurve* curve = nullptr;
+  if (std::abs(r.stretch_W.dot(u_W)) > 1.0 - 1e-9) {
+    r.strip = ClampedStrip{clamp_min, setup.grid.width_weft_m, "warp", {}};
+    curve = &setup.material.tensile_warp;
+  } else if (std::abs(r.stretch_W.dot(v_W)) > 1.0 - 1e-9) {
+    r.strip = ClampedStrip{clamp_min, setup.grid.length_warp_m, "weft", {}};
+    curve = &setup.material.tensile_weft;
+  } else {
+    r.no_strip = "the stretch runs along neither material axis of the cloth";
+    return r;
+  }
+  const double grip_m = 2.0 * std::min(contact.thumb.radius_m, contact.index.radius_m);
+  const double pinch_along_m = (X_WD * user.fabric_point_D_m).dot(r.stretch_W);
+  if (r.strip->width_m > grip_m + 1e-9) {
+    r.no_strip = "the strip (" + Fixed(1e3 * r.strip->width_m, 1) + " mm across) is wider than the fingers grip (" +
+                 Fixed(1e3 * grip_m, 1) + " mm): its tension is not even across it";
+  } else if (pinch_along_m <= clamp_min) {
+    r.no_strip = "the fingers pull towards the clamp, not away from it";
+  }
+  if (!r.no_strip.empty()) {
+    r.strip.reset();
+    return r;
+  }
+  r.strip->force_per_width_N_per_m = [law = *curve](double strain) { return law.Value(strain); };
+  return r;
+}
 
 std::string RomanState(int state) {
   static const char* names[] = {"unspecified", "I", "II", "III", "IV", "V", "VI", "VII", "VIII", "IX"};
@@ -110,41 +198,56 @@ RecordingAnalysis AnalyseRecordings(const std::vector<Recording>& recordings) {
 }
 
 std::vector<PlotResult> MakePlots(const std::string& run_dir, const v1::Scene& scene,
-                                  const std::vector<Recording>& recordings, const std::optional<ForceLog>& force_log) {
+                                  const std::vector<Recording>& recordings, const std::optional<ForceLog>& force_log,
+                                  const FigureReference& reference) {
   const std::string dir = run_dir + "/plots";
   std::filesystem::create_directories(dir + "/data");
   std::vector<PlotResult> plots;
   const std::int64_t t0 = EarliestSendTimeNs(recordings);
   const auto seconds = [t0](const v1::Envelope& e) { return static_cast<double>(e.send_time_ns() - t0) * 1e-9; };
 
-  // per finger: |F0| of the ForceModels, F_N of the TouchTraces, positions of the FingerStates
-  std::map<int, std::vector<Sample>> model_force, normal_force;
-  std::map<int, std::vector<std::pair<double, v1::Vec3>>> positions;
-  std::map<int, std::vector<std::pair<double, int>>> states;
+  // per finger: |F0| of the ForceModels, F_N and state of the TouchTraces; per ForceModel the
+  // fingers' summed F0 and the pinch state, per FingerStates the fingers' midpoint
+  std::map<int, std::vector<Sample>> model_force;
+  std::map<int, std::vector<Touch>> touches;
+  std::vector<std::pair<double, std::pair<Eigen::Vector3d, int>>> pulls;  // t, (sum of F0, state)
+  std::vector<std::pair<double, Eigen::Vector3d>> midpoints;
   // the last Health of each sender
   std::map<std::string, v1::Health> last_health;
   for (const Recording& r : recordings) {
     for (const v1::Envelope& e : r.envelopes) {
       const double t = seconds(e);
       if (e.has_force_model()) {
+        Eigen::Vector3d sum_N = Eigen::Vector3d::Zero();
+        int state = 0;
         for (const auto& m : e.force_model().fingers()) {
           model_force[m.finger()].push_back({t, Norm(m.f0_w_n())});
-          states[m.finger()].push_back({t, static_cast<int>(m.contact_state())});
+          sum_N += codec::ToEigen(m.f0_w_n());
+          state = std::max(state, static_cast<int>(m.contact_state()));
         }
+        pulls.push_back({t, {sum_N, state}});
       } else if (e.has_touch_trace()) {
-        for (const auto& f : e.touch_trace().fingers()) normal_force[f.finger()].push_back({t, f.normal_force_n()});
-      } else if (e.has_finger_states()) {
-        for (const auto& f : e.finger_states().fingers()) positions[f.finger()].push_back({t, f.position_w_m()});
+        for (const auto& f : e.touch_trace().fingers()) {
+          touches[f.finger()].push_back({t, f.normal_force_n(), static_cast<int>(f.contact_state())});
+        }
+      } else if (e.has_finger_states() && e.finger_states().fingers_size() > 0) {
+        Eigen::Vector3d sum_m = Eigen::Vector3d::Zero();
+        for (const auto& f : e.finger_states().fingers()) sum_m += codec::ToEigen(f.position_w_m());
+        midpoints.push_back({t, sum_m / e.finger_states().fingers_size()});
       } else if (e.has_health()) {
         last_health[e.sender()] = e.health();
       }
     }
   }
-  for (auto* series : {&model_force, &normal_force}) {
-    for (auto& [finger, samples] : *series) {
-      std::sort(samples.begin(), samples.end(), [](const Sample& a, const Sample& b) { return a.t_s < b.t_s; });
-    }
+  const auto by_time = [](const auto& a, const auto& b) { return a.first < b.first; };
+  for (auto& [finger, samples] : model_force) {
+    std::sort(samples.begin(), samples.end(), [](const Sample& a, const Sample& b) { return a.t_s < b.t_s; });
   }
+  for (auto& [finger, samples] : touches) {
+    std::sort(samples.begin(), samples.end(), [](const Touch& a, const Touch& b) { return a.t_s < b.t_s; });
+  }
+  std::sort(pulls.begin(), pulls.end(), by_time);
+  std::sort(midpoints.begin(), midpoints.end(), by_time);
 
   // 1. forces per finger vs time: the ForceModels' F0, else what the mock's fingers felt
   if (!model_force.empty()) {
@@ -173,71 +276,147 @@ std::vector<PlotResult> MakePlots(const std::string& run_dir, const v1::Scene& s
   }
 
   // 2. F_T/F_N vs time (Fig. 9): F_N from the TouchTrace, F_T from the ForceModel of the same finger
-  //    at that time (|F0|^2 = F_N^2 + F_T^2)
+  //    at that time (|F0|^2 = F_N^2 + F_T^2); the stick peak and the slide measured on the finger
+  //    with the most one-finger contact, against the scene's mu_s and mu_d
   std::string ratio_plot;
-  for (const auto& [finger, normals] : normal_force) {
+  std::vector<FrictionSample> rubbing;  // the finger the figure measures
+  std::string rubbing_finger;
+  for (const auto& [finger, finger_touches] : touches) {
     const auto& forces = model_force[finger];
     if (forces.empty()) continue;
     const std::string file = "friction_ratio_" + FingerName(finger) + ".dat";
     std::ofstream out(dir + "/data/" + file);
-    std::size_t k = 0, rows = 0;
-    for (const Sample& n : normals) {
+    std::vector<FrictionSample> series;
+    std::size_t k = 0, rows = 0, one_finger = 0;
+    for (const Touch& n : finger_touches) {
       while (k + 1 < forces.size() && forces[k + 1].t_s <= n.t_s) ++k;
-      if (n.value < 0.05) continue;  // no meaningful ratio without a normal force
+      if (n.normal_N < StickSlipOptions{}.min_normal_N) continue;  // no meaningful ratio without a normal force
       const double total = forces[k].value;
-      const double tangential = std::sqrt(std::max(0.0, total * total - n.value * n.value));
-      out << n.t_s << ' ' << tangential / n.value << '\n';
+      const double tangential = std::sqrt(std::max(0.0, total * total - n.normal_N * n.normal_N));
+      out << n.t_s << ' ' << tangential / n.normal_N << '\n';
+      series.push_back({n.t_s, n.normal_N, tangential, n.state});
+      one_finger += n.state == v1::CONTACT_STATE_IV || n.state == v1::CONTACT_STATE_V;
       ++rows;
     }
     if (rows > 0) ratio_plot += DataFile(file) + " using 1:2 with lines title '" + FingerName(finger) + "', ";
+    if (one_finger > 0 && series.size() > rubbing.size()) {
+      rubbing = std::move(series);
+      rubbing_finger = FingerName(finger);
+    }
   }
   if (!ratio_plot.empty()) {
-    plots.push_back(Draw("friction_ratio", dir,
-                         "set title 'F_T / F_N (paper Fig. 9)'\nset xlabel 't [s]'\nset ylabel 'F_T/F_N'\nplot " +
-                             ratio_plot.substr(0, ratio_plot.size() - 2) + "\n"));
+    std::string references;
+    if (reference.has_friction) {
+      references = ", " + Fixed(reference.mu_static, 4) +
+                   " with lines dt 2 lw 2 lc 'red' title 'mu_s = " + Fixed(reference.mu_static, 2) + "', " +
+                   Fixed(reference.mu_dynamic, 4) +
+                   " with lines dt 3 lw 2 lc 'blue' title 'mu_d = " + Fixed(reference.mu_dynamic, 2) + "'";
+    }
+    PlotResult plot = Draw("friction_ratio", dir,
+                           "set title 'F_T / F_N of each finger (paper Fig. 9: sticks up to mu_s, slides at mu_d)'\n"
+                           "set xlabel 't [s]'\nset ylabel 'F_T/F_N'\nset yrange [0:*]\nplot " +
+                               ratio_plot.substr(0, ratio_plot.size() - 2) + references + "\n");
+    if (!rubbing.empty()) {
+      const StickSlipFigure f = MeasureStickSlip(rubbing);
+      if (reference.has_friction) plot.measured = {{"mu_s", reference.mu_static}, {"mu_d", reference.mu_dynamic}};
+      plot.measured.insert(plot.measured.end(), {{"breakaways", static_cast<double>(f.breakaways)},
+                                                 {"stick_peak_first", f.first_peak},
+                                                 {"stick_peak_first_t_s", f.first_peak_t_s},
+                                                 {"stick_peak_min", f.peak_min},
+                                                 {"stick_peak_max", f.peak_max},
+                                                 {"slide_samples", static_cast<double>(f.slide_samples)},
+                                                 {"slide_median", f.slide_median},
+                                                 {"slide_p10", f.slide_p10},
+                                                 {"slide_p90", f.slide_p90}});
+      plot.note = rubbing_finger + ": " + std::to_string(f.breakaways) + " break-aways, stick peak " +
+                  Fixed(f.first_peak, 3) + " (all " + Fixed(f.peak_min, 3) + ".." + Fixed(f.peak_max, 3) + ")" +
+                  (reference.has_friction ? " against mu_s " + Fixed(reference.mu_static, 3) : "") + ", sliding " +
+                  Fixed(f.slide_median, 3) + " (p10 " + Fixed(f.slide_p10, 3) + ", p90 " + Fixed(f.slide_p90, 3) + ")" +
+                  (reference.has_friction ? " against mu_d " + Fixed(reference.mu_dynamic, 3) : "");
+    }
+    plots.push_back(plot);
   } else {
     plots.push_back(
         {"friction_ratio", "", "needs TouchTrace and ForceModel recordings with a normal force (local_contact)"});
   }
 
-  // 3. tangential force vs elongation (Fig. 10), stretch scenes: from the pinch onset (state VIII
-  //    or IX) the thumb's distance from where the pinch began against its |F0|
+  // 3. force vs elongation (Fig. 10), stretch scenes: from the pinch onset (state VIII or IX) the
+  //    fingers' pull along the stretch (the force holding them back, summed over both) against how
+  //    far their midpoint moved along it; beside the fabric's tensile curve when the cloth is a
+  //    strip clamped across the stretch (FigureReference)
   const auto kind = scene.device().mock().user().kind();
   const bool stretches = kind == v1::MockUserScript::KIND_PINCH_AND_STRETCH || kind == v1::MockUserScript::KIND_DEMO;
+  const auto pinched = [](int state) { return state == v1::CONTACT_STATE_VIII || state == v1::CONTACT_STATE_IX; };
+  const auto onset = std::find_if(pulls.begin(), pulls.end(), [&](const auto& p) { return pinched(p.second.second); });
+  std::size_t m = 0;
+  const Eigen::Vector3d* start = onset == pulls.end() ? nullptr : AtOrBefore(midpoints, onset->first, &m);
   if (!stretches) {
     plots.push_back({"force_vs_elongation", "", "not a stretch scene"});
+  } else if (start == nullptr) {
+    plots.push_back({"force_vs_elongation", "",
+                     "needs a pinch (contact state VIII/IX) in the ForceModel recording and FingerStates"});
   } else {
-    std::string plot;
-    for (const auto& [finger, finger_states] : states) {
-      const auto onset = std::find_if(finger_states.begin(), finger_states.end(), [](const auto& s) {
-        return s.second == v1::CONTACT_STATE_VIII || s.second == v1::CONTACT_STATE_IX;
-      });
-      const auto& pos = positions[finger];
-      if (onset == finger_states.end() || pos.empty()) continue;
-      const std::string file = "force_vs_elongation_" + FingerName(finger) + ".dat";
-      std::ofstream out(dir + "/data/" + file);
-      std::size_t p = 0;
-      while (p + 1 < pos.size() && pos[p + 1].first <= onset->first) ++p;
-      const v1::Vec3 start = pos[p].second;
-      std::size_t rows = 0;
-      for (const Sample& f : model_force[finger]) {
-        if (f.t_s < onset->first) continue;
-        while (p + 1 < pos.size() && pos[p + 1].first <= f.t_s) ++p;
-        const v1::Vec3& x = pos[p].second;
-        out << Norm3(x.x() - start.x(), x.y() - start.y(), x.z() - start.z()) * 1e3 << ' ' << f.value << '\n';
-        ++rows;
+    const Eigen::Vector3d& s_W = reference.stretch_W;
+    const Eigen::Vector3d start_W = *start;
+    std::vector<StretchSample> samples;
+    {
+      std::ofstream out(dir + "/data/force_vs_elongation.dat");
+      for (auto p = onset; p != pulls.end(); ++p) {
+        if (!pinched(p->second.second)) continue;
+        const Eigen::Vector3d* mid = AtOrBefore(midpoints, p->first, &m);
+        if (mid == nullptr) continue;
+        const StretchSample sample{(*mid - start_W).dot(s_W), -p->second.first.dot(s_W)};
+        out << sample.elongation_m * 1e3 << ' ' << sample.force_N << '\n';
+        samples.push_back(sample);
       }
-      if (rows > 0) plot += DataFile(file) + " using 1:2 with points pt 7 ps 0.3 title '" + FingerName(finger) + "', ";
     }
-    if (plot.empty()) {
-      plots.push_back({"force_vs_elongation", "",
-                       "needs a pinch (contact state VIII/IX) in the ForceModel recording and FingerStates"});
+    std::string commands;
+    PlotResult plot;
+    if (reference.strip) {
+      // the pinched point was at the strip's rest length from the clamp (the strip hangs slack
+      // until the fingers pull)
+      const TensileStrip strip{start_W.dot(s_W) - reference.strip->clamp_along_stretch_m, reference.strip->width_m,
+                               reference.strip->force_per_width_N_per_m};
+      const ForceElongationFigure f = CompareWithTensileCurve(samples, strip);
+      {
+        std::ofstream out(dir + "/data/tensile_curve.dat");
+        for (int i = 0; i <= 100; ++i) {
+          const double e_m = f.max_elongation_m * i / 100.0;
+          out << e_m * 1e3 << ' ' << StripForceN(strip, e_m) << '\n';
+        }
+      }
+      commands =
+          "set title 'Force along the pull vs elongation of the clamped strip, and the fabric tensile curve "
+          "(paper Fig. 10)'\nset xlabel 'elongation of the strip [mm] (strain = elongation / " +
+          Fixed(1e3 * strip.rest_length_m, 1) + " mm)'\nset ylabel 'F_T along the pull [N]'\nplot " +
+          DataFile("force_vs_elongation.dat") + " using 1:2 with points pt 7 ps 0.3 title 'fingers (sum)', " +
+          DataFile("tensile_curve.dat") + " using 1:2 with lines lw 2 title '" + reference.strip->direction +
+          " tensile curve x " + Fixed(1e3 * strip.width_m, 1) + " mm'\n";
+      plot = Draw("force_vs_elongation", dir, commands);
+      plot.measured = {{"rest_length_m", strip.rest_length_m},
+                       {"width_m", strip.width_m},
+                       {"samples", static_cast<double>(f.samples)},
+                       {"max_elongation_m", f.max_elongation_m},
+                       {"max_strain", f.max_elongation_m / strip.rest_length_m},
+                       {"curve_peak_N", f.curve_peak_N},
+                       {"rms_difference_N", f.rms_difference_N},
+                       {"max_difference_N", f.max_difference_N},
+                       {"rms_percent_of_peak", f.rms_percent_of_peak}};
+      plot.note = "strip " + Fixed(1e3 * strip.rest_length_m, 1) + " x " + Fixed(1e3 * strip.width_m, 1) + " mm (" +
+                  reference.strip->direction + "), pulled " + Fixed(1e3 * f.max_elongation_m, 2) + " mm (" +
+                  Fixed(100.0 * f.max_elongation_m / strip.rest_length_m, 2) + " %): fabric " +
+                  Fixed(f.curve_peak_N, 3) + " N there, RMS difference " + Fixed(f.rms_difference_N, 4) +
+                  " N = " + Fixed(f.rms_percent_of_peak, 1) + " % of it over " + std::to_string(f.samples) + " samples";
     } else {
-      plots.push_back(Draw("force_vs_elongation", dir,
-                           "set title 'Tangential force vs elongation (paper Fig. 10)'\nset xlabel 'elongation [mm]'\n"
-                           "set ylabel 'force [N]'\nplot " +
-                               plot.substr(0, plot.size() - 2) + "\n"));
+      commands =
+          "set title 'Pinch: force along the stretch vs the fingers displacement since the pinch (not a "
+          "tensile test)'\nset xlabel 'displacement along the stretch [mm]'\n"
+          "set ylabel 'force along the stretch, both fingers [N]'\nplot " +
+          DataFile("force_vs_elongation.dat") + " using 1:2 with points pt 7 ps 0.3 title 'fingers (sum)'\n";
+      plot = Draw("force_vs_elongation", dir, commands);
+      plot.note = "no tensile reference: " + (reference.no_strip.empty() ? "not given" : reference.no_strip);
     }
+    plots.push_back(plot);
   }
 
   // 4. loop periods: p50/p99/max of each loop from the last Health of each service

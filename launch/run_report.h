@@ -1,17 +1,22 @@
 #pragma once
 // What a run's recordings and the mock controller's force log say: contact-state histogram,
-// forces per finger, and the plots (gnuplot, PNG). A plot whose data is absent is skipped with
-// the reason, which the summary lists.
+// forces per finger, and the plots (gnuplot, PNG), among them the paper's Fig. 9 and Fig. 10
+// measured against their references. A plot whose data is absent is skipped with the reason,
+// which the summary lists.
 
+#include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "haptex/v1/scene.pb.h"
 #include "launch/recording.h"
+#include "libs/scene/scene_loader.h"
 
 namespace haptex::launch {
 
@@ -49,14 +54,45 @@ RecordingAnalysis AnalyseRecordings(const std::vector<Recording>& recordings);
 std::string RomanState(int state);
 
 struct PlotResult {
+  PlotResult() = default;
+  PlotResult(std::string name_, std::string file_, std::string skipped_)
+      : name(std::move(name_)), file(std::move(file_)), skipped(std::move(skipped_)) {}
+
   std::string name;     // "forces", "friction_ratio", "force_vs_elongation", "loop_periods"
   std::string file;     // the PNG, when drawn
   std::string skipped;  // why not, when not drawn
+  /// What the figure measures (the paper's figures against their references), in summary.json
+  /// under the plot, and `note` says it in a line (printed at the end of the run).
+  std::vector<std::pair<std::string, double>> measured;
+  std::string note;
 };
+
+/// Fig. 10's strip: the fabric clamped along a line across the stretch, the fingers pinching it.
+struct ClampedStrip {
+  double clamp_along_stretch_m = 0.0;  ///< the clamp line's coordinate along the stretch direction (W)
+  double width_m = 0.0;                ///< the fabric's extent across the stretch
+  std::string direction;               ///< "warp" or "weft": which tensile curve the stretch loads
+  std::function<double(double strain)> force_per_width_N_per_m;
+};
+
+/// What the paper's figures are measured against, from the scene and its fabric.
+struct FigureReference {
+  bool has_friction = false;  ///< the finger-fabric coefficients below are the scene's (Fig. 9)
+  double mu_static = 0.0, mu_dynamic = 0.0;
+  Eigen::Vector3d stretch_W{Eigen::Vector3d::UnitX()};  ///< unit: where the mock user pulls a pinch
+  std::optional<ClampedStrip> strip;                    ///< Fig. 10's tensile strip, when the scene is one
+  std::string no_strip;                                 ///< why not, otherwise
+};
+
+/// The friction, the stretch direction and, when the cloth is a strip clamped across the stretch
+/// and narrow enough for the fingers to grip across, that strip. @throws std::invalid_argument
+/// when the scene's fabric or device cannot be converted (the services would refuse it too).
+FigureReference FigureReferenceFromScene(const scene::LoadedScene& scene);
 
 /// Writes the plots into run_dir/plots (data files beside them). Never throws for missing data;
 /// a gnuplot failure is a skipped plot with the reason.
 std::vector<PlotResult> MakePlots(const std::string& run_dir, const v1::Scene& scene,
-                                  const std::vector<Recording>& recordings, const std::optional<ForceLog>& force_log);
+                                  const std::vector<Recording>& recordings, const std::optional<ForceLog>& force_log,
+                                  const FigureReference& reference = {});
 
 }  // namespace haptex::launch

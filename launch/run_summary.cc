@@ -311,6 +311,12 @@ std::string SummaryJson(const RunRecord& run, const std::vector<RecordingFiles>&
     } else {
       j.Field("file", p.file);
     }
+    if (!p.measured.empty()) {
+      j.BeginObject("measured");
+      for (const auto& [key, value] : p.measured) j.Field(key, value);
+      j.EndObject();
+    }
+    if (!p.note.empty()) j.Field("note", p.note);
     j.EndObject();
   }
   j.EndObject();

@@ -1,0 +1,103 @@
+#include "launch/figure_curves.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace haptex::launch {
+namespace {
+
+constexpr int kStick = 4;  // contact state IV
+constexpr int kSlide = 5;  // contact state V
+
+// Nearest-rank percentile of `values` (sorted in place); 0 for none.
+double Percentile(std::vector<double>* values, double fraction) {
+  if (values->empty()) return 0.0;
+  std::sort(values->begin(), values->end());
+  const auto rank = static_cast<std::size_t>(std::lround(fraction * static_cast<double>(values->size() - 1)));
+  return (*values)[std::min(rank, values->size() - 1)];
+}
+
+}  // namespace
+
+StickSlipFigure MeasureStickSlip(const std::vector<FrictionSample>& samples, const StickSlipOptions& options) {
+  struct Peak {
+    double ratio, t_s;
+  };
+  StickSlipFigure figure;
+  std::vector<Peak> peaks;
+  std::vector<double> slide;
+  bool sticking = false;       // in a stick run of a pressed finger
+  Peak run_max{0.0, 0.0};      // the largest ratio since that run began
+  bool sliding = false;        // in a slide run
+  double slide_start_s = 0.0;  // its first sample
+  bool seeking_peak = false;   // within peak_after_slide_s of a break-away
+  const auto close_peak = [&] {
+    if (seeking_peak) peaks.push_back(run_max);
+    seeking_peak = false;
+  };
+  for (const FrictionSample& s : samples) {
+    const bool pressed = s.normal_N >= options.min_normal_N && (s.contact_state == kStick || s.contact_state == kSlide);
+    if (!pressed) {  // lifted, or another state: whatever comes next starts afresh
+      close_peak();
+      sticking = sliding = false;
+      continue;
+    }
+    const double ratio = s.tangential_N / s.normal_N;
+    if (s.contact_state == kStick) {
+      close_peak();
+      if (!sticking || ratio > run_max.ratio) run_max = {ratio, s.t_s};
+      sticking = true;
+      sliding = false;
+      continue;
+    }
+    if (!sliding) {
+      sliding = true;
+      slide_start_s = s.t_s;
+      seeking_peak = sticking;  // a break-away only from a stick of the same press
+      sticking = false;
+    }
+    if (seeking_peak && s.t_s > slide_start_s + options.peak_after_slide_s) close_peak();
+    if (seeking_peak && ratio > run_max.ratio) run_max = {ratio, s.t_s};
+    if (s.t_s >= slide_start_s + options.settle_s) slide.push_back(ratio);
+  }
+  close_peak();
+  figure.breakaways = static_cast<int>(peaks.size());
+  if (!peaks.empty()) {
+    figure.first_peak = peaks.front().ratio;
+    figure.first_peak_t_s = peaks.front().t_s;
+    figure.peak_min = figure.peak_max = peaks.front().ratio;
+    for (const Peak& p : peaks) {
+      figure.peak_min = std::min(figure.peak_min, p.ratio);
+      figure.peak_max = std::max(figure.peak_max, p.ratio);
+    }
+  }
+  figure.slide_samples = slide.size();
+  figure.slide_p10 = Percentile(&slide, 0.1);
+  figure.slide_median = Percentile(&slide, 0.5);
+  figure.slide_p90 = Percentile(&slide, 0.9);
+  return figure;
+}
+
+double StripForceN(const TensileStrip& strip, double elongation_m) {
+  return strip.width_m * strip.force_per_width_N_per_m(elongation_m / strip.rest_length_m);
+}
+
+ForceElongationFigure CompareWithTensileCurve(const std::vector<StretchSample>& samples, const TensileStrip& strip) {
+  ForceElongationFigure figure;
+  double sum_squares = 0.0;
+  for (const StretchSample& s : samples) {
+    if (s.elongation_m < 0.0) continue;
+    const double difference = s.force_N - StripForceN(strip, s.elongation_m);
+    ++figure.samples;
+    sum_squares += difference * difference;
+    figure.max_difference_N = std::max(figure.max_difference_N, std::abs(difference));
+    figure.max_elongation_m = std::max(figure.max_elongation_m, s.elongation_m);
+  }
+  if (figure.samples == 0) return figure;
+  figure.rms_difference_N = std::sqrt(sum_squares / static_cast<double>(figure.samples));
+  figure.curve_peak_N = StripForceN(strip, figure.max_elongation_m);
+  if (figure.curve_peak_N > 0.0) figure.rms_percent_of_peak = 100.0 * figure.rms_difference_N / figure.curve_peak_N;
+  return figure;
+}
+
+}  // namespace haptex::launch
