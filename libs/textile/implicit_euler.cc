@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include <Eigen/Dense>
 
@@ -529,15 +530,30 @@ ImplicitStepReport ImplicitEulerStep(const FabricModel& model, const StepOptions
 
   // Newton's further iterations on g(v1) = h f(x0 + h v1, v1) - M (v1 - v0) = 0, each from the
   // residual at the latest iterate; the warm start keeps the whole step's velocity change.
-  for (int k = 1; newton && ws->stepped_state_finite; ++k) {
+  // A correction that raised the residual is halved (backtracking, up to kMaxBacktracks times):
+  // the Jacobian omits terms (docs/fabric-model.md) and the laws' slopes change at zero strain,
+  // so a full correction can overshoot.
+  constexpr int kMaxBacktracks = 3;
+  double previous_residual = std::numeric_limits<double>::infinity();
+  int backtracks = 0;
+  for (int k = 1; newton && ws->stepped_state_finite;) {
     Assemble(model, h, *state, options.newton_update_jacobian, ws);
     const double residual = NewtonResidual(model, *state, h, ws);
     report.newton_relative_residual = target > 0.0 ? residual / (target / options.newton_tolerance) : 0.0;
     if (residual <= target) break;
+    if (!(residual < previous_residual) && backtracks < kMaxBacktracks) {
+      ws->dv *= -0.5;  // back to half the last correction
+      Update(h, false, ws->dv, state, ws);
+      ws->dv *= -1.0;
+      ++backtracks;
+      continue;
+    }
     if (!std::isfinite(residual) || k == options.newton_max_iterations) {
       report.newton_converged = false;
       break;
     }
+    previous_residual = residual;
+    backtracks = 0;
     if (options.newton_update_jacobian) gauss_seidel_ok = UpdatePreconditioner(model, options, *state, ws);
     ws->dv.setZero();
     solve_options.cg_tolerance = CgToleranceFor(options, target, residual);
@@ -548,6 +564,7 @@ ImplicitStepReport ImplicitEulerStep(const FabricModel& model, const StepOptions
     report.cg.preconditioner_fallback = report.cg.preconditioner_fallback || correction.preconditioner_fallback;
     report.cg.finite = correction.finite;
     ++report.newton_iterations;
+    ++k;
     if (!correction.finite) return report;
     Update(h, false, ws->dv, state, ws);
   }
