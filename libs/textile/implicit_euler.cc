@@ -446,13 +446,15 @@ double RhsNorm(const FabricState& state, double h, const FabricWorkspace& ws) {
   return std::sqrt(sum2);
 }
 
-// |h M g| over the free particles: the force level of a cloth at rest.
+// |h M g| over the free particles: the force level of a cloth at rest; without gravity, that of
+// 1e-6 m/s^2, so a cloth at rest without loads meets the tolerance (round-off, not a zero target).
 double WeightImpulseNorm(const FabricModel& model, const FabricState& state, double h) {
+  constexpr double kLeastAcceleration_m_per_s2 = 1e-6;
   double sum2 = 0.0;
   for (int p = 0; p < model.num_particles; ++p) {
     if (IsFree(state, p)) sum2 += model.mass_kg[p] * model.mass_kg[p];
   }
-  return h * model.options.gravity_m_per_s2.norm() * std::sqrt(sum2);
+  return h * std::max(model.options.gravity_m_per_s2.norm(), kLeastAcceleration_m_per_s2) * std::sqrt(sum2);
 }
 
 // The Newton residual g = h f(x, v) - M (v - v0) on the free particles, written so the

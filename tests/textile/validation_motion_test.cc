@@ -1,0 +1,74 @@
+// Accuracy in motion (libs/textile/motion_accuracy.h) on a small mesh: the converged implicit
+// step approaches the reference as the step shrinks, and never creates energy after the push
+// ends; the counts the solver reports are those of the run. The full table is the benchmark's
+// (bench/textile/dynamic_accuracy, docs/fabric-model.md "Accuracy in motion").
+#include "libs/textile/motion_accuracy.h"
+
+#include <iostream>
+
+#include <gtest/gtest.h>
+
+#include "libs/textile/kes_material.h"
+#include "tests/textile/textile_test_util.h"
+
+namespace haptex::textile::validation {
+namespace {
+
+class MotionAccuracyTest : public ::testing::TestWithParam<MotionKind> {
+ protected:
+  MotionAccuracyTest()
+      : model_(BuildFabricModel(MaterialFromKes(testing::CompositeDenim()), {0.2, 0.2, 11, 11})),
+        motion_(MakeMotion(GetParam(), model_, SettledHanging(model_))),
+        reference_(RunMotion(motion_, model_, ConvergedOptions(5e-4))) {}
+
+  MotionErrors Errors(double dt_s) {
+    StepOptions o = ConvergedOptions(dt_s);
+    o.newton_tolerance = 1e-6;
+    o.cg_tolerance = 1e-6;
+    const MotionTrace run = RunMotion(motion_, model_, o);
+    EXPECT_EQ(run.nan_events, 0);
+    const MotionErrors e = CompareMotion(motion_, run, reference_);
+    std::cout << "[measured] " << MotionKindName(GetParam()) << " dt " << dt_s * 1e3 << " ms: peak strain "
+              << e.peak_strain_pct << " %, strain in time " << e.strain_in_time_pct << " %, positions "
+              << e.position_rms_mm << " mm RMS, energy " << e.energy_pct << " %, growth " << e.energy_growth_pct
+              << " %, Newton " << run.newton_iterations_per_step << " per step, not converged "
+              << run.newton_not_converged << "\n";
+    return e;
+  }
+
+  FabricModel model_;
+  Motion motion_;
+  MotionTrace reference_;
+};
+
+TEST_P(MotionAccuracyTest, ConvergedStepsApproachTheReferenceAsTheStepShrinks) {
+  const MotionErrors coarse = Errors(0.01);
+  const MotionErrors fine = Errors(0.002);
+  EXPECT_LT(fine.position_rms_mm, 0.5 * coarse.position_rms_mm);
+  EXPECT_LT(fine.strain_in_time_pct, coarse.strain_in_time_pct);
+  EXPECT_LT(fine.energy_pct, coarse.energy_pct);
+}
+
+// Implicit Euler dissipates: once nothing does work on the cloth (after the push; the swing from
+// the start), its energy only falls. The reference's own run is checked, and a coarse one.
+TEST_P(MotionAccuracyTest, NoEnergyIsCreatedAfterTheRelease) {
+  if (GetParam() == MotionKind::kPinch) GTEST_SKIP() << "the grip does work throughout";
+  EXPECT_LT(CompareMotion(motion_, reference_, reference_).energy_growth_pct, 0.01);
+  EXPECT_LT(Errors(0.01).energy_growth_pct, 0.01);
+}
+
+INSTANTIATE_TEST_SUITE_P(Motions, MotionAccuracyTest,
+                         ::testing::Values(MotionKind::kSwing, MotionKind::kPush, MotionKind::kPinch),
+                         [](const ::testing::TestParamInfo<MotionKind>& param) {
+                           return std::string(MotionKindName(param.param));
+                         });
+
+TEST(MotionKindTest, NamesRoundTripAndUnknownNamesAreRefused) {
+  for (const MotionKind kind : {MotionKind::kSwing, MotionKind::kPush, MotionKind::kPinch}) {
+    EXPECT_EQ(MotionKindNamed(MotionKindName(kind)), kind);
+  }
+  EXPECT_THROW(MotionKindNamed("wave"), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace haptex::textile::validation
