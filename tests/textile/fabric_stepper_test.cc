@@ -103,16 +103,22 @@ TEST_F(FabricStepperTest, CgIterationLimitIsReported) {
   EXPECT_EQ(r.cg.iterations, 1);
 }
 
-// A cloth thrown about, stepped 50 ms at a time.
+// The hanging cloth, shaken (start_) or pulled at its bottom edge.
 class StepSplittingTest : public ::testing::Test {
  protected:
   StepSplittingTest() : model_(BuildFabricModel(MaterialFromKes(testing::CompositeDenim()), {0.2, 0.2, 11, 11})) {
+    start_ = PulledAtRest(Eigen::Vector3d::Zero());
+    validation::Perturb(&start_, 0.001, 0.2, 3);
+  }
+  // The hanging cloth at rest with `load_W_N` on each particle of its bottom edge.
+  FabricState PulledAtRest(const Eigen::Vector3d& load_W_N) const {
     Placement hanging;
     hanging.axis_u_W = Eigen::Vector3d(0, 0, -1);
     hanging.axis_v_W = Eigen::Vector3d(1, 0, 0);
-    start_ = MakeRestState(model_, hanging);
-    for (int p : testing::WarpRow(model_, 0)) start_.Fix(p);
-    validation::Perturb(&start_, 0.001, 0.2, 3);
+    FabricState s = MakeRestState(model_, hanging);
+    for (int p : testing::WarpRow(model_, 0)) s.Fix(p);
+    for (int p : testing::WarpRow(model_, 10)) SetPointLoad(p, load_W_N, &s);
+    return s;
   }
   FabricModel model_;
   FabricState start_;
@@ -144,12 +150,7 @@ TEST_F(StepSplittingTest, AStepThatDoesNotConvergeIsHalvedToTheLimitAndCounted) 
 // iterations cannot bring it back; halved down to 0.8 ms the residual is small. (Newton's rate is
 // linear, about 3x per iteration, even there: docs/fabric-model.md "Accuracy in motion".)
 TEST_F(StepSplittingTest, HalvingTakesTheResidualDownWhereTheWholeStepCannot) {
-  Placement hanging;
-  hanging.axis_u_W = Eigen::Vector3d(0, 0, -1);
-  hanging.axis_v_W = Eigen::Vector3d(1, 0, 0);
-  FabricState start = MakeRestState(model_, hanging);
-  for (int p : testing::WarpRow(model_, 0)) start.Fix(p);
-  for (int p : testing::WarpRow(model_, 10)) SetPointLoad(p, Eigen::Vector3d(0.5, 0.3, -2.0), &start);
+  const FabricState start = PulledAtRest(Eigen::Vector3d(0.5, 0.3, -2.0));
   StepOptions o;
   o.dt_s = 0.05;
   o.newton_max_iterations = 8;
@@ -176,12 +177,7 @@ TEST_F(StepSplittingTest, HalvingTakesTheResidualDownWhereTheWholeStepCannot) {
 // The strain bound: a step whose largest strain rises by more than the bound is split; without
 // the bound the same step is not. The hanging cloth at rest is pulled down at its bottom edge.
 TEST_F(StepSplittingTest, AStrainRiseBeyondTheBoundSplitsTheStep) {
-  Placement hanging;
-  hanging.axis_u_W = Eigen::Vector3d(0, 0, -1);
-  hanging.axis_v_W = Eigen::Vector3d(1, 0, 0);
-  FabricState pulled = MakeRestState(model_, hanging);
-  for (int p : testing::WarpRow(model_, 0)) pulled.Fix(p);
-  for (int p : testing::WarpRow(model_, 10)) SetPointLoad(p, Eigen::Vector3d(0, 0, -2.0), &pulled);
+  const FabricState pulled = PulledAtRest(Eigen::Vector3d(0, 0, -2.0));
   StepOptions o;
   o.dt_s = 0.02;
   o.newton_max_iterations = 10;
