@@ -2,6 +2,8 @@
 
 #include <array>
 
+#include "libs/textile/fabric_strain.h"
+
 namespace haptex::textile {
 namespace {
 
@@ -42,11 +44,8 @@ double PotentialEnergy(const FabricModel& model, const FabricState& state) {
   const Eigen::VectorXd& x = state.x_W_m;
   double energy_J = 0.0;
   for (const TriangleElement& e : model.triangles) {
-    Eigen::Vector3d u = Eigen::Vector3d::Zero(), v = Eigen::Vector3d::Zero();
-    for (std::size_t k = 0; k < 3; ++k) {
-      u += e.a[k] * x.segment<3>(3 * e.p[k]);
-      v += e.b[k] * x.segment<3>(3 * e.p[k]);
-    }
+    Eigen::Vector3d u, v;
+    YarnVectors(e, x, &u, &v);
     energy_J += e.area_m2 * (CurveEnergyPerArea(model.material.tensile_warp, u.norm() - 1.0) +
                              CurveEnergyPerArea(model.material.tensile_weft, v.norm() - 1.0) +
                              CurveEnergyPerArea(model.material.shear, u.dot(v)));
@@ -58,7 +57,7 @@ double PotentialEnergy(const FabricModel& model, const FabricState& state) {
   }
   for (int p = 0; p < model.num_particles; ++p) {
     energy_J -= model.mass_kg[p] * model.options.gravity_m_per_s2.dot(x.segment<3>(3 * p));
-    const double k = state.anchor_stiffness_N_per_m.size() > p ? state.anchor_stiffness_N_per_m[p] : 0.0;
+    const double k = state.anchor_stiffness_N_per_m[p];
     if (k > 0.0) energy_J += 0.5 * k * (state.anchor_W_m.segment<3>(3 * p) - x.segment<3>(3 * p)).squaredNorm();
   }
   return energy_J;
