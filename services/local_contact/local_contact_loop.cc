@@ -3,9 +3,25 @@
 #include <algorithm>
 #include <cmath>
 
+#include "libs/codec/message_conversion.h"
 #include "services/local_contact/local_contact_codec.h"
 
 namespace haptex::local_contact {
+namespace {
+
+// Field by field: CopyFrom would clear `to` first, which frees its Vec3s (off an arena) only to
+// allocate them again.
+void CopyInPlace(const v1::FingerForceModel& from, v1::FingerForceModel* to) {
+  to->set_finger(from.finger());
+  *to->mutable_f0_w_n() = from.f0_w_n();
+  *to->mutable_x0_w_m() = from.x0_w_m();
+  *to->mutable_stiffness_w_n_per_m() = from.stiffness_w_n_per_m();
+  *to->mutable_cross_stiffness_w_n_per_m() = from.cross_stiffness_w_n_per_m();
+  to->set_ttl_s(from.ttl_s());
+  to->set_contact_state(from.contact_state());
+}
+
+}  // namespace
 
 LocalContactLoop::LocalContactLoop(const LocalContactConfig& config, const LocalContactPeers& peers,
                                    PatchBuilder* builder, runtime::HealthReporter* health)
@@ -27,6 +43,7 @@ LocalContactLoop::LocalContactLoop(const LocalContactConfig& config, const Local
   for (std::size_t i = 0; i < kStateNames.size(); ++i) ids_.states[i] = health_->AddCounter(kStateNames[i]);
   // the messages' repeated fields sized once, before the loop
   FillForceModel(nullptr, fingers_, 0, config_.force_model_ttl_s, &force_model_);
+  viewer_force_model_ = force_model_;
   touch_.add_fingers();
   touch_.add_fingers();
 }
@@ -98,6 +115,7 @@ void LocalContactLoop::Write(services::Outbox& out) {
   if (fingers_known_) {
     FillForceModel(contact_, fingers_, controller_sequence_, config_.force_model_ttl_s, &force_model_);
     if (out.Send(peers_.bridge, force_model_)) ++counters_.force_models_sent;
+    if (peers_.viewer) HoldPeakForViewer();
   }
   const bool to_viewer = peers_.viewer && --ticks_to_viewer_ <= 0;
   if (to_viewer) ticks_to_viewer_ = viewer_every_ticks_;
@@ -112,13 +130,29 @@ void LocalContactLoop::Write(services::Outbox& out) {
     }
     if (to_viewer) out.Send(*peers_.viewer, touch_);
   }
-  if (to_viewer && fingers_known_) out.Send(*peers_.viewer, force_model_);
+  if (to_viewer && viewer_force_held_) {
+    out.Send(*peers_.viewer, viewer_force_model_);
+    viewer_force_held_ = false;
+  }
   if (result_due_) {
     dual_layer::FillPatchResult(global_step_, patch_.get(), &result_);
     ToMessage(result_, &result_message_);
     if (out.Send(*peers_.global_sim, result_message_)) ++counters_.patch_results_sent;
   }
   PublishCounters();
+}
+
+void LocalContactLoop::HoldPeakForViewer() {
+  for (int f = 0; f < force_model_.fingers_size(); ++f) {
+    const v1::FingerForceModel& now = force_model_.fingers(f);
+    const double magnitude = codec::ToEigen(now.f0_w_n()).norm();
+    double& held_n = viewer_peak_n_[static_cast<std::size_t>(f)];
+    if (viewer_force_held_ && magnitude <= held_n) continue;
+    CopyInPlace(now, viewer_force_model_.mutable_fingers(f));
+    held_n = magnitude;
+  }
+  viewer_force_model_.set_based_on_controller_sequence(force_model_.based_on_controller_sequence());
+  viewer_force_held_ = true;
 }
 
 void LocalContactLoop::WriteZeroForce(services::Outbox& out) {

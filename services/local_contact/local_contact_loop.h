@@ -34,6 +34,8 @@ struct LocalContactConfig {
   /// old poses would be wrong, and arriving old it would be reported as a slow link.
   double finger_states_stale_s = 0.050;
   /// The viewer's copies of the ForceModel and TouchTrace: a person watches at most this often.
+  /// Each finger's copy is the strongest force of the ticks since the last one (a peak hold), so a
+  /// spike shorter than the viewer's period still shows.
   double viewer_hz = 30.0;
 };
 
@@ -68,6 +70,7 @@ class LocalContactLoop final {
 
  private:
   void PublishCounters();
+  void HoldPeakForViewer();
 
   LocalContactConfig config_;
   LocalContactPeers peers_;
@@ -87,6 +90,9 @@ class LocalContactLoop final {
   bool result_due_ = false;
   std::int64_t viewer_every_ticks_ = 1, ticks_to_viewer_ = 0;
   v1::ForceModel force_model_;
+  v1::ForceModel viewer_force_model_;      ///< by finger: the strongest of the ticks since the last copy sent
+  std::array<double, 2> viewer_peak_n_{};  ///< by slot: its force's magnitude
+  bool viewer_force_held_ = false;         ///< a tick has been held since the last copy sent
   v1::TouchTrace touch_;
   dual_layer::PatchResultData result_;
   v1::PatchResult result_message_;

@@ -189,6 +189,46 @@ TEST_F(LocalContactLoopTest, WithoutTactileTheTouchTraceIsRecordedNotSent) {
   EXPECT_EQ(out.Count<v1::ForceModel>(), 5u);
 }
 
+// The viewer gets a copy every 1/30 s holding each finger's strongest force since the last copy:
+// a press shorter than that period (here 3 ms of 60) still shows, at its full size.
+TEST_F(LocalContactLoopTest, TheViewersCopyHoldsEachFingersPeakSinceTheLast) {
+  constexpr services::PeerId kViewer = 3;
+  runtime::HealthReporter health("local_contact");
+  LocalContactConfig config{1000.0, {true, true}, 0.010};
+  config.viewer_hz = 50.0;  // every 20 ticks
+  LocalContactLoop watched(config, {kBridge, kGlobal, kTactile, kViewer}, &builder_, &health);
+  haptex::testing::CapturedOutbox out;
+  watched.Read(haptex::testing::WrapEnvelope(Patch(1, 7), 1000), 0.0);
+  EXPECT_TRUE(builder_.RunOnce());
+  std::vector<double> bridge_n;
+  std::vector<v1::FingerForceModel> bridge_thumb;
+  for (int k = 1; k <= 60; ++k) {
+    const double depth_m = (k >= 35 && k < 38) ? 0.004 : 0.001;  // a short hard press in the second period
+    watched.Read(
+        haptex::testing::WrapEnvelope(Thumb(depth_m, static_cast<std::uint64_t>(k)), static_cast<std::uint64_t>(k)),
+        k * 0.001);
+    watched.Update(k * 0.001, 0.001);
+    watched.Write(out);
+    bridge_thumb.push_back(out.Of<v1::ForceModel>(kBridge).back().fingers(0));
+    bridge_n.push_back(codec::ToEigen(bridge_thumb.back().f0_w_n()).norm());
+  }
+  const auto copies = out.Of<v1::ForceModel>(kViewer);
+  ASSERT_EQ(copies.size(), 3u) << "at ticks 1, 21 and 41";
+  // each copy: the largest of the ticks since the one before (the first: tick 1 alone)
+  const std::array<std::pair<int, int>, 3> windows{{{1, 1}, {2, 21}, {22, 41}}};
+  for (std::size_t c = 0; c < copies.size(); ++c) {
+    std::size_t strongest = static_cast<std::size_t>(windows[c].first - 1);
+    for (int k = windows[c].first; k <= windows[c].second; ++k)
+      if (bridge_n[static_cast<std::size_t>(k - 1)] > bridge_n[strongest]) strongest = static_cast<std::size_t>(k - 1);
+    // the whole entry of that tick: its force, stiffness, pose and state together
+    EXPECT_EQ(copies[c].fingers(0).SerializeAsString(), bridge_thumb[strongest].SerializeAsString()) << "copy " << c;
+    EXPECT_EQ(copies[c].fingers(1).finger(), v1::FINGER_INDEX);
+  }
+  const double held_n = codec::ToEigen(copies[2].fingers(0).f0_w_n()).norm();
+  EXPECT_GT(held_n, 1.5 * bridge_n[40]) << "the press (ticks 35-37) shows, though it was over by tick 41";
+  EXPECT_EQ(copies[2].based_on_controller_sequence(), 41u) << "the newest tick's sequence";
+}
+
 TEST_F(LocalContactLoopTest, OlderFingerStatesAndBadPatchesAreRefusedAndCounted) {
   haptex::testing::CapturedOutbox out;
   loop_.Read(haptex::testing::WrapEnvelope(Thumb(0.002, 50), 50), 0.0);
@@ -225,23 +265,33 @@ TEST_F(LocalContactLoopTest, OlderFingerStatesAndBadPatchesAreRefusedAndCounted)
 
 TEST_F(LocalContactLoopTest, WarmedUpTickDoesNotAllocate) {
   if (!haptex::testing::AllocationCountingSupported()) GTEST_SKIP() << "allocation counting is off in this build";
+  runtime::HealthReporter health("local_contact");
+  // watched by a viewer: its peak-holding copy too must not allocate
+  LocalContactLoop watched(LocalContactConfig{1000.0, {true, true}, 0.010}, {kBridge, kGlobal, kTactile, 3}, &builder_,
+                           &health);
   haptex::testing::CapturedOutbox out;
   out.capture = false;
-  loop_.Read(haptex::testing::WrapEnvelope(Patch(1, 1), 1), 0.0);
+  watched.Read(haptex::testing::WrapEnvelope(Patch(1, 1), 1), 0.0);
   builder_.RunOnce();
-  for (int k = 1; k <= 200; ++k) Tick(k, 0.002, out);  // warm-up: the patch swapped in, the pinch of contact formed
+  for (int k = 1; k <= 200; ++k) {  // warm-up: the patch swapped in, the pinch of contact formed
+    watched.Read(
+        haptex::testing::WrapEnvelope(Thumb(0.002, static_cast<std::uint64_t>(k)), static_cast<std::uint64_t>(k)),
+        k * 0.001);
+    watched.Update(k * 0.001, 0.001);
+    watched.Write(out);
+  }
   // the envelopes are made before counting: a received envelope lives on the messenger's arena
   std::vector<v1::Envelope> states;
   for (int k = 201; k <= 300; ++k)
     states.push_back(haptex::testing::WrapEnvelope(Thumb(0.002, k), static_cast<std::uint64_t>(k)));
   haptex::testing::AllocationCounter counter;
   for (int k = 201; k <= 300; ++k) {
-    loop_.Read(states[static_cast<std::size_t>(k - 201)], k * 0.001);
-    loop_.Update(k * 0.001, 0.001);
-    loop_.Write(out);
+    watched.Read(states[static_cast<std::size_t>(k - 201)], k * 0.001);
+    watched.Update(k * 0.001, 0.001);
+    watched.Write(out);
   }
   EXPECT_EQ(counter.count(), 0);
-  EXPECT_EQ(out.Count<v1::ForceModel>(), 300u);
+  EXPECT_EQ(out.Count<v1::ForceModel>(), 300u + 10u) << "to the bridge every tick, to the viewer every 33rd";
   EXPECT_GE(out.Count<v1::PatchResult>(), 29u);
 }
 
