@@ -1,11 +1,15 @@
 // The haptic link under delay and loss, in one process (services/in_process): a scene's mock user
 // through the real loop objects with simulated links. Prints, per setting, the commanded force's
-// peak and its spread while the pinch holds, and the energy the device put into the fingers.
+// peak and its spread in the window (pinch_stretch's hold by default), the force error there against
+// the first setting (normally 0 ms, no loss) in % of that setting's peak, and the energy the device
+// put into the fingers. Deterministic: the error is the link's alone, where between real processes
+// two runs of one setting already differ by the host's scheduling.
 //
 //   build/bench/remote/haptic_link_in_process SCENE [--seconds S] [--rtt-ms R ...] [--loss L ...]
-//       [--placement haptic|global] [--csv FILE]
+//       [--placement haptic|global] [--window-from S --window-to S] [--csv FILE]
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -25,10 +29,15 @@ using haptex::in_process::LinkImpairments;
 struct Result {
   double peak_N = 0, hold_mean_N = 0, hold_sd_N = 0, energy_J = 0, max_step_N = 0;
   std::uint64_t damped_ticks = 0, too_old = 0;
+  std::vector<double> window_N;  ///< each finger's commanded force, every tick of the window
+};
+
+struct Window {
+  double from_s = 4.0, to_s = 5.0;
 };
 
 Result Run(const haptex::scene::LoadedScene& scene, double seconds, double rtt_ms, double loss, bool haptic,
-           std::ofstream* csv) {
+           const Window& window, std::ofstream* csv) {
   haptex::netsim::ImpairmentConfig each_way;
   each_way.delay_ms = rtt_ms / 2;
   each_way.jitter_ms = rtt_ms > 0 ? 1.0 : 0.0;
@@ -44,11 +53,12 @@ Result Run(const haptex::scene::LoadedScene& scene, double seconds, double rtt_m
     r.peak_N = std::max(r.peak_N, f);
     r.max_step_N = std::max(r.max_step_N, std::abs(f - previous));
     previous = f;
-    // the hold of pinch_stretch: squeezed, before the stretch
-    if (system.t_s() > 4.0 && system.t_s() < 5.0) {
+    if (system.t_s() > window.from_s && system.t_s() < window.to_s) {
       sum += f;
       sum2 += f * f;
       ++n;
+      r.window_N.push_back(system.finger(0).commanded_N.norm());
+      r.window_N.push_back(system.finger(1).commanded_N.norm());
     }
     if (csv != nullptr && k % 5 == 0) {
       const auto& m = system.bridge().bridge().force_model(haptex::device::Manipulator::kIndex);
@@ -75,6 +85,7 @@ Result Run(const haptex::scene::LoadedScene& scene, double seconds, double rtt_m
 int main(int argc, char** argv) {
   std::string scene_path, csv_path, placement = "haptic";
   double seconds = 8;
+  Window window;
   std::vector<double> rtts{0, 10, 20, 50, 100, 200}, losses{0};
   CLI::App app{"The haptic link under delay and loss, every service loop in one process"};
   app.add_option("scene", scene_path, "the scene")->required()->check(CLI::ExistingFile);
@@ -83,6 +94,8 @@ int main(int argc, char** argv) {
   app.add_option("--loss", losses, "loss each way (repeat the flag)")->check(CLI::Range(0.0, 1.0));
   app.add_option("--placement", placement, "haptic: bridge | simulation; global: global_sim far")
       ->check(CLI::IsMember({"haptic", "global"}));
+  app.add_option("--window-from", window.from_s, "the window's start [s] (pinch_stretch's hold: 4)");
+  app.add_option("--window-to", window.to_s, "the window's end [s] (5)");
   app.add_option("--csv", csv_path, "also write a trace here");
   haptex::flags::RefuseNonFiniteNumbers(app);
   CLI11_PARSE(app, argc, argv);
@@ -97,12 +110,26 @@ int main(int argc, char** argv) {
   }
   std::ofstream csv;
   if (!csv_path.empty()) csv.open(csv_path);
-  std::printf("rtt_ms loss peak_N hold_mean_N hold_sd_N max_step_N energy_J damped_ticks slow_link_ticks\n");
+  if (!(window.to_s > window.from_s)) {
+    std::fprintf(stderr, "--window-to must be after --window-from\n");
+    return 2;
+  }
+  std::printf("rtt_ms loss peak_N win_mean_N win_sd_N error_pct max_step_N energy_J damped_ticks slow_link_ticks\n");
+  Result reference;
+  bool first = true;
   for (double loss : losses) {
     for (double rtt : rtts) {
-      const Result r = Run(scene, seconds, rtt, loss, haptic, csv.is_open() ? &csv : nullptr);
-      std::printf("%6.0f %4.2f %6.2f %6.3f %6.3f %6.3f %8.4f %8llu %8llu\n", rtt, loss, r.peak_N, r.hold_mean_N,
-                  r.hold_sd_N, r.max_step_N, r.energy_J, static_cast<unsigned long long>(r.damped_ticks),
+      const Result r = Run(scene, seconds, rtt, loss, haptic, window, csv.is_open() ? &csv : nullptr);
+      if (first) reference = r;
+      first = false;
+      // RMS over the window's ticks and both fingers, in % of the first setting's peak
+      const std::size_t n = std::min(r.window_N.size(), reference.window_N.size());
+      double e2 = 0;
+      for (std::size_t i = 0; i < n; ++i) e2 += std::pow(r.window_N[i] - reference.window_N[i], 2);
+      const double error_pct =
+          n > 0 && reference.peak_N > 0 ? 100.0 * std::sqrt(e2 / static_cast<double>(n)) / reference.peak_N : 0.0;
+      std::printf("%6.0f %4.2f %6.2f %6.3f %6.3f %6.1f %6.3f %8.4f %8llu %8llu\n", rtt, loss, r.peak_N, r.hold_mean_N,
+                  r.hold_sd_N, error_pct, r.max_step_N, r.energy_J, static_cast<unsigned long long>(r.damped_ticks),
                   static_cast<unsigned long long>(r.too_old));
       std::fflush(stdout);
     }

@@ -221,6 +221,11 @@ const ContactOutput& ContactSolver::Resolve(const textile::FabricState& state) {
     const double fn = -force.dot(out.contact_normal_W);
     out.normal_force_N = std::max(0.0, fn);
     out.tangential_force_N = (force + fn * out.contact_normal_W).norm();
+    if (out.normal_force_N > 0.0) {
+      double mu = pinch.active || r.particles > 0 ? options_.finger_fabric.mu_static : 0.0;
+      if (ff.touching) mu = std::max(mu, options_.finger_finger.mu_static);
+      out.friction_cone_mu = std::max(mu, out.tangential_force_N / out.normal_force_N);
+    }
 
     if (pinch.active) {
       out.friction_normal_N = pinch.grip_N;

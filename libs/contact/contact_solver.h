@@ -56,6 +56,12 @@ struct FingerContactOutput {
   double friction_normal_N = 0.0;
   double friction_tangential_N = 0.0;
   Eigen::Vector3d contact_normal_W{Eigen::Vector3d::UnitZ()};  ///< outward from the finger
+  /// The largest tangential_force_N / normal_force_N the finger's contacts hold now: mu_s of each
+  /// kind of contact it has (fabric, the other finger), and at least the present ratio (a finger
+  /// ploughing through a dent feels the fabric's flanks too). 0 without normal force: no cone. The
+  /// bridge keeps the force it extrapolates between two models inside this cone around
+  /// -contact_normal_W (libs/device/force_model.h).
+  double friction_cone_mu = 0.0;
   /// Touch point in fabric coordinates (u warp, v weft) [m], slip of the finger over the fabric
   /// in fabric coordinates [m/s], and the finger's distal axis angle in the fabric plane [rad].
   bool touching = false;

@@ -37,6 +37,8 @@ device::ForceModel ToForceModel(const v1::FingerForceModel& in) {
   model.x0_W_m = codec::ToEigen(in.x0_w_m());
   model.stiffness_W_N_per_m = Matrix3FromRowMajor(in.stiffness_w_n_per_m());
   model.cross_stiffness_W_N_per_m = Matrix3FromRowMajor(in.cross_stiffness_w_n_per_m());
+  model.friction_cone_axis_W = codec::ToEigen(in.friction_cone_axis_w());
+  model.friction_cone_mu = in.friction_cone_mu();
   model.ttl_s = in.ttl_s();
   return model;
 }

@@ -42,11 +42,15 @@ void FillForceModel(const contact::ContactOutput* contact, const std::array<cont
     const contact::FingerInput& in = fingers[static_cast<std::size_t>(f)];
     Eigen::Vector3d force = Eigen::Vector3d::Zero();
     Eigen::Matrix3d k = Eigen::Matrix3d::Zero(), k_cross = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d cone_axis = Eigen::Vector3d::Zero();
+    double cone_mu = 0.0;
     // no contact force, no stiffness: the bridge must not extrapolate a contact that is not there
     if (contact != nullptr && in.present && !contact->finger[static_cast<std::size_t>(f)].force_W_N.isZero(0.0)) {
       force = contact->finger[static_cast<std::size_t>(f)].force_W_N;
       k = contact->finger[static_cast<std::size_t>(f)].stiffness_W_N_per_m;
       k_cross = contact->finger[static_cast<std::size_t>(f)].cross_stiffness_W_N_per_m;
+      cone_axis = -contact->finger[static_cast<std::size_t>(f)].contact_normal_W;
+      cone_mu = contact->finger[static_cast<std::size_t>(f)].friction_cone_mu;
     }
     codec::ToMessage(force, m->mutable_f0_w_n());
     codec::ToMessage(in.pose.p_W_m, m->mutable_x0_w_m());
@@ -58,6 +62,8 @@ void FillForceModel(const contact::ContactOutput* contact, const std::array<cont
         m->set_cross_stiffness_w_n_per_m(3 * r + c, k_cross(r, c));
       }
     }
+    codec::ToMessage(cone_axis, m->mutable_friction_cone_axis_w());
+    m->set_friction_cone_mu(cone_mu);
     m->set_ttl_s(ttl_s);
     m->set_contact_state(contact != nullptr ? ToMessage(contact->state) : v1::CONTACT_STATE_I);
   }
@@ -68,6 +74,7 @@ void ZeroForceModel(v1::ForceModel* model) {
     codec::ToMessage(Eigen::Vector3d::Zero(), m.mutable_f0_w_n());
     for (double& k : *m.mutable_stiffness_w_n_per_m()) k = 0.0;
     for (double& k : *m.mutable_cross_stiffness_w_n_per_m()) k = 0.0;
+    m.set_friction_cone_mu(0.0);
   }
 }
 

@@ -17,6 +17,8 @@ void CopyInPlace(const v1::FingerForceModel& from, v1::FingerForceModel* to) {
   *to->mutable_x0_w_m() = from.x0_w_m();
   *to->mutable_stiffness_w_n_per_m() = from.stiffness_w_n_per_m();
   *to->mutable_cross_stiffness_w_n_per_m() = from.cross_stiffness_w_n_per_m();
+  *to->mutable_friction_cone_axis_w() = from.friction_cone_axis_w();
+  to->set_friction_cone_mu(from.friction_cone_mu());
   to->set_ttl_s(from.ttl_s());
   to->set_contact_state(from.contact_state());
 }

@@ -28,7 +28,7 @@ struct RubCase {
 };
 
 struct RubTrace {
-  std::vector<double> t, ratio, friction_ratio, normal, slip;
+  std::vector<double> t, ratio, friction_ratio, normal, slip, cone_mu;
   std::vector<ContactState> state;
 };
 
@@ -54,6 +54,7 @@ RubTrace RunRub(const RubCase& c, bool verbose) {
     trace.t.push_back(t);
     trace.ratio.push_back(f.normal_force_N > 0 ? f.tangential_force_N / f.normal_force_N : 0.0);
     trace.normal.push_back(f.normal_force_N);
+    trace.cone_mu.push_back(f.friction_cone_mu);
     trace.state.push_back(out.state);
     trace.slip.push_back(out.evidence.slip_fraction);
     trace.friction_ratio.push_back(f.friction_normal_N > 0 ? f.friction_tangential_N / f.friction_normal_N : 0.0);
@@ -121,6 +122,15 @@ TEST_P(RubFrictionTest, StickSlideStick) {
   EXPECT_NEAR(slide_max, c.mu_d, 0.02);
   EXPECT_NEAR(slide_friction_min, c.mu_d, 0.05 * c.mu_d);
   EXPECT_NEAR(slide_friction_max, c.mu_d, 0.05 * c.mu_d);
+  // The cone handed to the bridge: mu_s wide, wider only where the finger's own ratio is (it holds
+  // every force the contact gives), none before the finger touches.
+  for (std::size_t i = 0; i < tr.t.size(); ++i) {
+    if (tr.normal[i] <= 0.0) {
+      EXPECT_EQ(tr.cone_mu[i], 0.0) << "t " << tr.t[i];
+      continue;
+    }
+    EXPECT_DOUBLE_EQ(tr.cone_mu[i], std::max(c.mu_s, tr.ratio[i])) << "t " << tr.t[i];
+  }
   // The finger stops: the contact sticks again and holds what it had.
   for (std::size_t i = 0; i < tr.t.size(); ++i) {
     if (tr.t[i] < kRubEnd + 0.05) continue;

@@ -38,6 +38,53 @@ TEST(ForceModelTest, PropagatesNonFiniteForTheSafetyStage) {
   EXPECT_FALSE(EvaluateForceModel(model, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()).allFinite());
 }
 
+TEST(ForceModelTest, FrictionConeHoldsTheExtrapolationAcrossTheNormal) {
+  // a finger stuck on cloth (normal +y on the finger, mu 0.4), F0 at the cone's edge; the stuck
+  // contact's tangential stiffness extrapolated 2 mm along x would hold it with 3 N
+  ForceModel model;
+  model.force0_W_N = {0.6, 1.5, 0.0};
+  model.stiffness_W_N_per_m = -1500.0 * Eigen::Matrix3d::Identity();
+  model.friction_cone_axis_W = Eigen::Vector3d::UnitY();
+  model.friction_cone_mu = 0.4;
+  EXPECT_TRUE(EvaluateForceModel(model, model.x0_W_m, model.other_x0_W_m).isApprox(model.force0_W_N, 1e-12))
+      << "F0 itself is inside the cone";
+  const Eigen::Vector3d slid = EvaluateForceModel(model, {-0.002, 0.0, 0.0}, model.other_x0_W_m);
+  EXPECT_NEAR(slid.y(), 1.5, 1e-12) << "the normal part stays";
+  EXPECT_NEAR(std::hypot(slid.x(), slid.z()), 0.4 * 1.5, 1e-12) << "the tangential part at mu times it";
+  EXPECT_GT(slid.x(), 0.0);
+  // pressed deeper as it slides: the cone grows with the normal force
+  const Eigen::Vector3d deeper = EvaluateForceModel(model, {-0.0008, -0.0002, 0.0}, model.other_x0_W_m);
+  EXPECT_NEAR(deeper.y(), 1.5 + 0.3, 1e-12);
+  EXPECT_NEAR(deeper.x(), 0.4 * 1.8, 1e-12);
+  // without a cone the same model holds it far harder
+  model.friction_cone_mu = 0.0;
+  EXPECT_GT(EvaluateForceModel(model, {-0.002, 0.0, 0.0}, model.other_x0_W_m).x(), 2.0);
+}
+
+TEST(ForceModelTest, ABadFrictionConeNeverAddsForce) {
+  ForceModel model;
+  model.force0_W_N = {0.6, 1.5, 0.0};
+  model.stiffness_W_N_per_m = -1500.0 * Eigen::Matrix3d::Identity();
+  const Eigen::Vector3d p(-0.002, 0.001, 0.0005);
+  const Eigen::Vector3d without = EvaluateForceModel(model, p, model.other_x0_W_m);
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector3d& axis : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0, 1e6, 0), Eigen::Vector3d(nan, 1, 0),
+                                      Eigen::Vector3d(0, -1, 0), Eigen::Vector3d(1, 0, 0)}) {
+    for (double mu : {0.0, -1.0, 0.4, inf, nan}) {
+      model.friction_cone_axis_W = axis;
+      model.friction_cone_mu = mu;
+      const Eigen::Vector3d f = EvaluateForceModel(model, p, model.other_x0_W_m);
+      ASSERT_TRUE(f.allFinite()) << axis.transpose() << " mu " << mu;
+      EXPECT_LE(f.norm(), without.norm() + 1e-12) << axis.transpose() << " mu " << mu;
+    }
+  }
+  // an axis the force points away from (the finger pulled off): no tangential force at all
+  model.friction_cone_axis_W = {0.0, -1.0, 0.0};
+  model.friction_cone_mu = 0.4;
+  const Eigen::Vector3d f = EvaluateForceModel(model, p, model.other_x0_W_m);
+  EXPECT_NEAR(std::hypot(f.x(), f.z()), 0.0, 1e-12);
+}
+
 }  // namespace
 TEST(ForceModelTest, CrossTermFollowsTheOtherFinger) {
   // a pinch: the thumb's force grows as the index finger presses the cloth towards it

@@ -23,7 +23,11 @@ TEST(DeviceBridgeCodecTest, ForceModelKeepsEveryValueRowMajor) {
   in.mutable_x0_w_m()->set_y(0.01);
   for (int i = 0; i < 9; ++i) in.add_stiffness_w_n_per_m(i);
   in.set_ttl_s(0.004);
+  in.mutable_friction_cone_axis_w()->set_y(-1.0);
+  in.set_friction_cone_mu(0.4);
   const device::ForceModel out = ToForceModel(in);
+  EXPECT_EQ(out.friction_cone_axis_W, Eigen::Vector3d(0.0, -1.0, 0.0));
+  EXPECT_EQ(out.friction_cone_mu, 0.4);
   EXPECT_EQ(out.force0_W_N.z(), 1.5);
   EXPECT_EQ(out.x0_W_m.y(), 0.01);
   EXPECT_EQ(out.stiffness_W_N_per_m(1, 2), 5.0);

@@ -156,6 +156,42 @@ TEST(InProcessSystemTest, ARubWithGlobalSimFarHasNoForceSpikes) {
   }
 }
 
+// Paper Fig. 9's stroke (the shipped rub_friction scene) with the simulation a slow link away:
+// the bridge extrapolates each model over the finger's motion since, and a sticking contact's
+// tangential stiffness, extrapolated over 2 mm of stroke, would hold the finger at 2.6 times the
+// normal force where friction holds 0.4 times (peaks 1.7 times the local stroke's). The bridge keeps
+// the extrapolation inside the model's friction cone (libs/device/force_model.h).
+TEST(InProcessSystemTest, AStrokeOverASlowHapticLinkStaysInsideTheFrictionCone) {
+  static const scene::LoadedScene scene =
+      scene::LoadScene(haptex::testing::SourceDir() + "/launch/scenes/rub_friction.textproto",
+                       scene::FabricDatabase(haptex::testing::SourceDir() + "/data/fabrics"));
+  const auto run = [&](const LinkImpairments& links, double* worst_ratio_over_mu) {
+    InProcessSystem system(scene, links);
+    const device::Manipulator index = device::Manipulator::kIndex;
+    double peak_N = 0.0;
+    while (system.t_s() < 4.0) {
+      system.Step();
+      const Eigen::Vector3d f = system.finger(1).commanded_N;
+      peak_N = std::max(peak_N, f.norm());
+      const device::ForceModel& model = system.bridge().bridge().force_model(index);
+      const double normal_N = f.dot(model.friction_cone_axis_W);
+      if (model.friction_cone_mu > 0.0 && normal_N > 0.5) {
+        const double ratio = (f - normal_N * model.friction_cone_axis_W).norm() / normal_N;
+        *worst_ratio_over_mu = std::max(*worst_ratio_over_mu, ratio / model.friction_cone_mu);
+      }
+    }
+    return peak_N;
+  };
+  double local_ratio = 0.0, far_ratio = 0.0;
+  const double local_N = run(LinkImpairments{}, &local_ratio);
+  ASSERT_GT(local_N, 1.0) << "the local stroke did not press: the test would prove nothing";
+  const double far_N = run(LinkImpairments::HapticLink(EachWay(100.0, 0.05)), &far_ratio);
+  std::cout << "[measured] stroke, haptic link 100 ms / 5 %: peak " << far_N << " N (local " << local_N
+            << "), largest F_T/F_N about the cone " << far_ratio << " x its mu (local " << local_ratio << ")\n";
+  EXPECT_LT(far_ratio, 1.05) << "held harder than friction can hold";
+  EXPECT_LT(far_N, 1.3 * local_N);
+}
+
 TEST(InProcessSystemTest, ALinkSlowerThanTheLimitGivesNoForceAndSaysWhy) {
   InProcessSystem system(PinchScene(), LinkImpairments::HapticLink(EachWay(300.0, 0.0)));
   double peak_N = 0.0;

@@ -132,6 +132,10 @@ TEST_F(LocalContactLoopTest, ZeroForceUntilAPatchArrivesThenItPushesTheThumbBack
   ASSERT_EQ(models.size(), 30u);
   const v1::FingerForceModel& thumb = models.back().fingers(0);
   EXPECT_GT(thumb.f0_w_n().y(), 0.005) << "the cloth pushes the thumb back out (+y)";
+  // the friction cone the bridge keeps its extrapolation in: about the push, at least mu_s wide
+  EXPECT_NEAR(thumb.friction_cone_axis_w().y(), 1.0, 0.05);
+  EXPECT_GE(thumb.friction_cone_mu(), scene::ContactOptionsFromScene(scene_).finger_fabric.mu_static);
+  EXPECT_EQ(models.back().fingers(1).friction_cone_mu(), 0.0) << "no contact, no cone";
   EXPECT_EQ(codec::ToEigen(models.back().fingers(1).f0_w_n()), V::Zero()) << "the index finger touches nothing";
   EXPECT_TRUE(thumb.contact_state() == v1::CONTACT_STATE_IV || thumb.contact_state() == v1::CONTACT_STATE_V)
       << v1::ContactState_Name(thumb.contact_state());
