@@ -1,11 +1,11 @@
-// Accuracy in motion against cost (libs/textile/motion_accuracy.h): the three motions for four
+// Accuracy in motion against cost (libs/textile/motion_accuracy.h): the four motions for four
 // fabrics, meshes and steps of 1-50 ms under several solver settings, each against a converged
 // reference of 0.1 ms steps on the same mesh. One row per run: the peak strain's error, the
 // strain's largest error in time, the positions' RMS distance, the energy's largest distance
 // and its growth after the release, and the median time per step with the solver's counts.
 //
 //   dynamic_accuracy [--meshes 21,41] [--steps-ms 1,2,5,10,20,50] [--fabrics light,heavy,stiff,denim]
-//                    [--motions swing,push,pinch] [--settings bw,default] [--csv FILE]
+//                    [--motions swing,push,push_whole,pinch] [--settings bw,default] [--csv FILE]
 //
 // Accuracy does not depend on the machine; the time per step does (a quiet machine for it).
 
@@ -91,7 +91,8 @@ int Main(int argc, char** argv) {
     const std::string flag = argv[i];
     if (!flags.count(flag) || i + 1 >= argc) {
       std::cerr << "usage: dynamic_accuracy [--meshes 21,41] [--steps-ms 1,2,5,10,20,50] [--fabrics "
-                   "light,heavy,stiff,denim] [--motions swing,push,pinch] [--settings bw,default,...] [--csv FILE]\n";
+                   "light,heavy,stiff,denim] [--motions swing,push,push_whole,pinch] [--settings bw,default,...] "
+                   "[--csv FILE]\n";
       return 2;
     }
     flags[flag] = argv[++i];

@@ -24,11 +24,11 @@ double Blend(double t_s, double T_s) {
 
 // The loads and anchors of the step that ends at t_end.
 void Drive(const Motion& m, double t_end_s, FabricState* s) {
-  if (m.kind == MotionKind::kPush) {
+  if (m.kind == MotionKind::kPush || m.kind == MotionKind::kPushWhole) {
     const bool pushing = t_end_s <= m.release_s + 1e-12;
-    const Eigen::Vector3d each =
-        pushing ? Eigen::Vector3d(m.push_W_N / static_cast<double>(m.gripped.size())) : Eigen::Vector3d::Zero();
-    for (int p : m.gripped) SetPointLoad(p, each, s);
+    for (std::size_t i = 0; i < m.gripped.size(); ++i) {
+      SetPointLoad(m.gripped[i], pushing ? Eigen::Vector3d(m.push_share[i] * m.push_W_N) : Eigen::Vector3d::Zero(), s);
+    }
   } else if (m.kind == MotionKind::kPinch) {
     // both pads together, about local contact's anchors, spread over the gripped disc
     constexpr double kGrip_N_per_m = 1000.0;
@@ -45,8 +45,9 @@ void Drive(const Motion& m, double t_end_s, FabricState* s) {
 MotionKind MotionKindNamed(const std::string& name) {
   if (name == "swing") return MotionKind::kSwing;
   if (name == "push") return MotionKind::kPush;
+  if (name == "push_whole") return MotionKind::kPushWhole;
   if (name == "pinch") return MotionKind::kPinch;
-  throw std::invalid_argument("unknown motion '" + name + "' (swing, push, pinch)");
+  throw std::invalid_argument("unknown motion '" + name + "' (swing, push, push_whole, pinch)");
 }
 
 const char* MotionKindName(MotionKind kind) {
@@ -55,6 +56,8 @@ const char* MotionKindName(MotionKind kind) {
       return "swing";
     case MotionKind::kPush:
       return "push";
+    case MotionKind::kPushWhole:
+      return "push_whole";
     case MotionKind::kPinch:
       return "pinch";
   }
@@ -107,9 +110,21 @@ Motion MakeMotion(MotionKind kind, const FabricModel& model, const FabricState& 
   for (int p = 0; p < model.num_particles; ++p) {
     if ((settled.x(p) - centre).norm() <= 0.02 + 1e-9) m.gripped.push_back(p);
   }
-  if (kind == MotionKind::kPush) {
+  if (kind == MotionKind::kPushWhole) {
+    m.gripped.clear();
+    for (int p = 0; p < model.num_particles; ++p) {
+      if (settled.mode[p] == ParticleMode::kFree) m.gripped.push_back(p);
+    }
+  }
+  if (kind == MotionKind::kPush || kind == MotionKind::kPushWhole) {
     const double weight_N = model.mass_kg.sum() * model.options.gravity_m_per_s2.norm();
     m.push_W_N = Eigen::Vector3d(0, 2.0 * weight_N, 0);  // normal to the hanging cloth
+    double gripped_kg = 0.0;
+    for (int p : m.gripped) gripped_kg += model.mass_kg[p];
+    for (int p : m.gripped) {  // the disc: evenly; the whole cloth: by mass, as its weight
+      m.push_share.push_back(kind == MotionKind::kPush ? 1.0 / static_cast<double>(m.gripped.size())
+                                                       : model.mass_kg[p] / gripped_kg);
+    }
     m.duration_s = 1.25;
     m.release_s = 0.25;
   } else {

@@ -21,11 +21,14 @@ namespace haptex::textile::validation {
 
 enum class MotionKind {
   kSwing,  ///< held along one edge, horizontal, let go: it falls and swings under the stand
-  kPush,   ///< hanging, pushed normal to itself with twice its weight for 0.25 s, released
+  kPush,   ///< hanging, pushed normal to itself with twice its weight on a 2 cm disc for 0.25 s, released
+  /// hanging, pushed normal to itself with twice its weight spread over every free particle (by
+  /// mass) for 0.25 s, released: a whole-cloth load, without the disc's local spike of strain
+  kPushWhole,
   kPinch,  ///< hanging, gripped on a 2 cm disc by stiff springs and stretched 1 cm sideways in 0.5 s
 };
 
-/// "swing", "push", "pinch". @throws std::invalid_argument naming the choices.
+/// "swing", "push", "push_whole", "pinch". @throws std::invalid_argument naming the choices.
 MotionKind MotionKindNamed(const std::string& name);
 const char* MotionKindName(MotionKind kind);
 
@@ -34,7 +37,8 @@ struct Motion {
   double duration_s = 1.0;
   double release_s = 0.0;  ///< no work is done on the cloth after this (but by gravity and drag)
   FabricState start;
-  std::vector<int> gripped;  ///< push: the loaded particles; pinch: the gripped ones
+  std::vector<int> gripped;        ///< push: the loaded particles; pinch: the gripped ones
+  std::vector<double> push_share;  ///< push: each loaded particle's part of push_W_N (they sum to 1)
   Eigen::Vector3d push_W_N = Eigen::Vector3d::Zero();
   Eigen::Vector3d stretch_W_m = Eigen::Vector3d::Zero();
   double stretch_s = 0.0;

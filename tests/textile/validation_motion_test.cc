@@ -49,6 +49,28 @@ TEST_P(MotionAccuracyTest, ConvergedStepsApproachTheReferenceAsTheStepShrinks) {
   EXPECT_LT(fine.energy_pct, coarse.energy_pct);
 }
 
+// The whole-cloth push loads every free particle by its mass: together, twice the cloth's weight.
+TEST(PushWholeTest, LoadsEveryFreeParticleByItsMassWithTwiceTheWeight) {
+  const FabricModel model = BuildFabricModel(MaterialFromKes(testing::CompositeDenim()), {0.2, 0.2, 11, 11});
+  const FabricState settled = SettledHanging(model);
+  const Motion m = MakeMotion(MotionKind::kPushWhole, model, settled);
+  int free = 0;
+  double loaded_kg = 0.0, share = 0.0;
+  for (int p = 0; p < model.num_particles; ++p) free += settled.mode[p] == ParticleMode::kFree;
+  ASSERT_EQ(static_cast<int>(m.gripped.size()), free);
+  ASSERT_EQ(m.push_share.size(), m.gripped.size());
+  for (std::size_t i = 0; i < m.gripped.size(); ++i) {
+    loaded_kg += model.mass_kg[m.gripped[i]];
+    share += m.push_share[i];
+    EXPECT_GT(m.push_share[i], 0.0);
+  }
+  for (std::size_t i = 0; i < m.gripped.size(); ++i)
+    EXPECT_NEAR(m.push_share[i], model.mass_kg[m.gripped[i]] / loaded_kg, 1e-15);
+  EXPECT_NEAR(share, 1.0, 1e-12);
+  EXPECT_NEAR(m.push_W_N.norm(), 2.0 * model.mass_kg.sum() * model.options.gravity_m_per_s2.norm(), 1e-12);
+  EXPECT_NEAR(m.push_W_N.normalized().dot(Eigen::Vector3d::UnitY()), 1.0, 1e-12) << "normal to the hanging cloth";
+}
+
 // Implicit Euler dissipates: once nothing does work on the cloth (after the push; the swing from
 // the start), its energy only falls. The reference's own run is checked, and a coarse one.
 using ReleasedMotionTest = MotionAccuracyTest;
@@ -59,12 +81,15 @@ TEST_P(ReleasedMotionTest, NoEnergyIsCreatedAfterTheRelease) {
 
 std::string NameOf(const ::testing::TestParamInfo<MotionKind>& param) { return MotionKindName(param.param); }
 INSTANTIATE_TEST_SUITE_P(Motions, MotionAccuracyTest,
-                         ::testing::Values(MotionKind::kSwing, MotionKind::kPush, MotionKind::kPinch), NameOf);
+                         ::testing::Values(MotionKind::kSwing, MotionKind::kPush, MotionKind::kPushWhole,
+                                           MotionKind::kPinch),
+                         NameOf);
 // the pinch's grip does work throughout: no release
-INSTANTIATE_TEST_SUITE_P(Motions, ReleasedMotionTest, ::testing::Values(MotionKind::kSwing, MotionKind::kPush), NameOf);
+INSTANTIATE_TEST_SUITE_P(Motions, ReleasedMotionTest,
+                         ::testing::Values(MotionKind::kSwing, MotionKind::kPush, MotionKind::kPushWhole), NameOf);
 
 TEST(MotionKindTest, NamesRoundTripAndUnknownNamesAreRefused) {
-  for (const MotionKind kind : {MotionKind::kSwing, MotionKind::kPush, MotionKind::kPinch}) {
+  for (const MotionKind kind : {MotionKind::kSwing, MotionKind::kPush, MotionKind::kPushWhole, MotionKind::kPinch}) {
     EXPECT_EQ(MotionKindNamed(MotionKindName(kind)), kind);
   }
   EXPECT_THROW(MotionKindNamed("wave"), std::invalid_argument);
