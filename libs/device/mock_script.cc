@@ -238,9 +238,12 @@ bool VisitFold(const ScriptParams& p, Visit&& visit) {
   Pose let_go = w.pose();
   let_go[kT] += (p.press_depth_m + p.rest_gap_m) * open;
   if (w.Straight(Phase(FoldPhase::kLetGo), let_go, p.hold_s, visit)) return true;
-  // the fabric lies over the index's top and front: the index leaves downwards and back
+  // the fabric lies over the index's top and front: the index leaves downwards and back; the thumb
+  // goes back to its own side at the same time, out of the way of the flap that swings back off
+  // the index (left where it let go, it was hit by it)
   Pose withdrawn = w.pose();
   withdrawn[kI] += (p.press_depth_m + p.rest_gap_m) * (-p.up_D + p.fabric_normal_D).normalized();
+  withdrawn[kT] -= (p.press_depth_m + p.rest_gap_m) * p.fabric_normal_D;
   return w.Straight(Phase(FoldPhase::kWithdraw), withdrawn, p.hold_s, visit);
 }
 

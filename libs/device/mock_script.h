@@ -52,7 +52,8 @@ enum class FoldPhase : std::uint8_t {
               ///< over it, so the fabric below the pinch wraps the index; then hold
   kLetGo,     ///< the thumb opens away from the index and out of the fabric's wrap; the index
               ///< alone holds the folded fabric; then hold
-  kWithdraw,  ///< the index moves down and back, out from under the draped fabric; then hold
+  kWithdraw,  ///< the index moves down and back, out from under the draped fabric, and the thumb
+              ///< back to its own side; then hold
   kDone,      ///< at rest, for good
 };
 

@@ -121,7 +121,8 @@ TEST(FoldScriptTest, TheFoldTurnsThePinchAboutTheIndexWithTheThumbRising) {
 }
 
 // The thumb opens along the middle of its side the fabric leaves free: away from the index and
-// out of the pinch; the index holds still meanwhile, then leaves downwards and back.
+// out of the pinch; the index holds still meanwhile, then leaves downwards and back while the
+// thumb goes back to its own side of the fabric.
 TEST(FoldScriptTest, TheThumbLetsGoThenTheIndexWithdraws) {
   const ScriptParams p = FoldScene();
   const Span let_go = PhaseSpan(p, FoldPhase::kLetGo);
@@ -142,7 +143,9 @@ TEST(FoldScriptTest, TheThumbLetsGoThenTheIndexWithdraws) {
   const Eigen::Vector3d withdrawn = end.p_D_m[kIndex] - open.p_D_m[kIndex];
   EXPECT_LT(withdrawn.z(), -0.01);
   EXPECT_GT(withdrawn.dot(p.fabric_normal_D), 0.01);
-  EXPECT_TRUE(end.p_D_m[kThumb].isApprox(open.p_D_m[kThumb], 1e-12));
+  const Eigen::Vector3d thumb_back = end.p_D_m[kThumb] - open.p_D_m[kThumb];
+  EXPECT_TRUE(thumb_back.isApprox(-(p.press_depth_m + p.rest_gap_m) * p.fabric_normal_D, 1e-12))
+      << thumb_back.transpose();
 }
 
 TEST(FoldScriptTest, ValidateRefusesWhatCannotFold) {
