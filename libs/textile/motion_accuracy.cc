@@ -108,13 +108,9 @@ Motion MakeMotion(MotionKind kind, const FabricModel& model, const FabricState& 
   const int nu = model.mesh.particles_warp(), nv = model.mesh.particles_weft();
   const Eigen::Vector3d centre = settled.x(model.mesh.Index(nu / 2, nv / 2));
   for (int p = 0; p < model.num_particles; ++p) {
-    if ((settled.x(p) - centre).norm() <= 0.02 + 1e-9) m.gripped.push_back(p);
-  }
-  if (kind == MotionKind::kPushWhole) {
-    m.gripped.clear();
-    for (int p = 0; p < model.num_particles; ++p) {
-      if (settled.mode[p] == ParticleMode::kFree) m.gripped.push_back(p);
-    }
+    const bool loaded = kind == MotionKind::kPushWhole ? settled.mode[p] == ParticleMode::kFree
+                                                       : (settled.x(p) - centre).norm() <= 0.02 + 1e-9;
+    if (loaded) m.gripped.push_back(p);
   }
   if (kind == MotionKind::kPush || kind == MotionKind::kPushWhole) {
     const double weight_N = model.mass_kg.sum() * model.options.gravity_m_per_s2.norm();

@@ -45,12 +45,14 @@ void FillForceModel(const contact::ContactOutput* contact, const std::array<cont
     Eigen::Vector3d cone_axis = Eigen::Vector3d::Zero();
     double cone_mu = 0.0;
     // no contact force, no stiffness: the bridge must not extrapolate a contact that is not there
-    if (contact != nullptr && in.present && !contact->finger[static_cast<std::size_t>(f)].force_W_N.isZero(0.0)) {
-      force = contact->finger[static_cast<std::size_t>(f)].force_W_N;
-      k = contact->finger[static_cast<std::size_t>(f)].stiffness_W_N_per_m;
-      k_cross = contact->finger[static_cast<std::size_t>(f)].cross_stiffness_W_N_per_m;
-      cone_axis = -contact->finger[static_cast<std::size_t>(f)].contact_normal_W;
-      cone_mu = contact->finger[static_cast<std::size_t>(f)].friction_cone_mu;
+    const contact::FingerContactOutput* o =
+        contact != nullptr ? &contact->finger[static_cast<std::size_t>(f)] : nullptr;
+    if (o != nullptr && in.present && !o->force_W_N.isZero(0.0)) {
+      force = o->force_W_N;
+      k = o->stiffness_W_N_per_m;
+      k_cross = o->cross_stiffness_W_N_per_m;
+      cone_axis = -o->contact_normal_W;
+      cone_mu = o->friction_cone_mu;
     }
     codec::ToMessage(force, m->mutable_f0_w_n());
     codec::ToMessage(in.pose.p_W_m, m->mutable_x0_w_m());
