@@ -25,9 +25,9 @@ StickSlipFigure MeasureStickSlip(const std::vector<FrictionSample>& samples, con
   };
   StickSlipFigure figure;
   std::vector<Peak> peaks;
+  std::vector<Peak> stick;  // the samples of the present stick run of a pressed finger
   std::vector<double> slide;
-  bool sticking = false;       // in a stick run of a pressed finger
-  Peak run_max{0.0, 0.0};      // the largest ratio since that run began
+  Peak run_max{0.0, 0.0};      // the break-away's largest ratio so far
   bool sliding = false;        // in a slide run
   double slide_start_s = 0.0;  // its first sample
   bool seeking_peak = false;   // within peak_after_slide_s of a break-away
@@ -39,22 +39,26 @@ StickSlipFigure MeasureStickSlip(const std::vector<FrictionSample>& samples, con
     const bool pressed = s.normal_N >= options.min_normal_N && (s.contact_state == kStick || s.contact_state == kSlide);
     if (!pressed) {  // lifted, or another state: whatever comes next starts afresh
       close_peak();
-      sticking = sliding = false;
+      stick.clear();
+      sliding = false;
       continue;
     }
     const double ratio = s.tangential_N / s.normal_N;
     if (s.contact_state == kStick) {
       close_peak();
-      if (!sticking || ratio > run_max.ratio) run_max = {ratio, s.t_s};
-      sticking = true;
+      stick.push_back({ratio, s.t_s});
       sliding = false;
       continue;
     }
     if (!sliding) {
       sliding = true;
       slide_start_s = s.t_s;
-      seeking_peak = sticking;  // a break-away only from a stick of the same press
-      sticking = false;
+      seeking_peak = !stick.empty();  // a break-away only from a stick of the same press
+      run_max = {0.0, 0.0};
+      for (const Peak& p : stick) {
+        if (p.t_s >= slide_start_s - options.peak_before_slide_s && p.ratio > run_max.ratio) run_max = p;
+      }
+      stick.clear();
     }
     if (seeking_peak && s.t_s > slide_start_s + options.peak_after_slide_s) close_peak();
     if (seeking_peak && ratio > run_max.ratio) run_max = {ratio, s.t_s};
@@ -65,11 +69,11 @@ StickSlipFigure MeasureStickSlip(const std::vector<FrictionSample>& samples, con
   if (!peaks.empty()) {
     figure.first_peak = peaks.front().ratio;
     figure.first_peak_t_s = peaks.front().t_s;
-    figure.peak_min = figure.peak_max = peaks.front().ratio;
-    for (const Peak& p : peaks) {
-      figure.peak_min = std::min(figure.peak_min, p.ratio);
-      figure.peak_max = std::max(figure.peak_max, p.ratio);
-    }
+    std::vector<double> ratios;
+    for (const Peak& p : peaks) ratios.push_back(p.ratio);
+    figure.peak_median = Percentile(&ratios, 0.5);
+    figure.peak_min = ratios.front();
+    figure.peak_max = ratios.back();
   }
   figure.slide_samples = slide.size();
   figure.slide_p10 = Percentile(&slide, 0.1);

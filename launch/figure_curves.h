@@ -24,6 +24,10 @@ struct StickSlipOptions {
   /// The classifier names a slide up to about 15 ms after the contact broke away (its state
   /// filter), so the break-away peak is looked for until this long after the state says V.
   double peak_after_slide_s = 0.02;
+  /// ... and from this long before it: the stick's end, where it broke. Earlier in the stick the
+  /// ratio says how the finger met the fabric (a finger pressed on at a slant starts high), not
+  /// where it broke away.
+  double peak_before_slide_s = 0.03;
   /// The start of each slide is the break-away transient, not the plateau: left out of it. A
   /// finger pulled by the user's spring slides only some 60 ms before it sticks again (stick-slip),
   /// and its ratio settles within about 20 ms of the break-away.
@@ -34,7 +38,7 @@ struct StickSlipFigure {
   int breakaways = 0;     ///< sticking (IV) turned to sliding (V) with the finger pressed throughout
   double first_peak = 0;  ///< largest F_T/F_N of the first stick, up to peak_after_slide_s into its slide
   double first_peak_t_s = 0;
-  double peak_min = 0, peak_max = 0;                      ///< of every break-away's peak
+  double peak_min = 0, peak_median = 0, peak_max = 0;     ///< of every break-away's peak
   std::size_t slide_samples = 0;                          ///< sliding samples past settle_s
   double slide_median = 0, slide_p10 = 0, slide_p90 = 0;  ///< their F_T/F_N
 };

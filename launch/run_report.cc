@@ -64,7 +64,8 @@ struct Sample {
 
 struct Touch {
   double t_s;
-  double normal_N;
+  double normal_N, tangential_N;                    // of the force the device gets
+  double friction_normal_N, friction_tangential_N;  // what the friction law holds
   int state;
 };
 
@@ -228,7 +229,8 @@ std::vector<PlotResult> MakePlots(const std::string& run_dir, const v1::Scene& s
         pulls.push_back({t, {sum_N, state}});
       } else if (e.has_touch_trace()) {
         for (const auto& f : e.touch_trace().fingers()) {
-          touches[f.finger()].push_back({t, f.normal_force_n(), static_cast<int>(f.contact_state())});
+          touches[f.finger()].push_back({t, f.normal_force_n(), f.tangential_force_n(), f.friction_normal_force_n(),
+                                         f.friction_tangential_force_n(), static_cast<int>(f.contact_state())});
         }
       } else if (e.has_finger_states() && e.finger_states().fingers_size() > 0) {
         Eigen::Vector3d sum_m = Eigen::Vector3d::Zero();
@@ -275,32 +277,34 @@ std::vector<PlotResult> MakePlots(const std::string& run_dir, const v1::Scene& s
     plots.push_back({"forces", "", "no ForceModel recorded and no mock controller force log"});
   }
 
-  // 2. F_T/F_N vs time (Fig. 9): F_N from the TouchTrace, F_T from the ForceModel of the same finger
-  //    at that time (|F0|^2 = F_N^2 + F_T^2); the stick peak and the slide measured on the finger
-  //    with the most one-finger contact, against the scene's mu_s and mu_d
+  // 2. F_T/F_N vs time (Fig. 9), from each tick's TouchTrace: the friction law's ratio (the
+  //    paper's F^T/F^N, what sticks up to mu_s and slides at mu_d) and the device's (its force
+  //    includes the fabric's tension on the finger); measured on the finger with the most
+  //    one-finger contact, against the scene's mu_s and mu_d
   std::string ratio_plot;
-  std::vector<FrictionSample> rubbing;  // the finger the figure measures
+  std::vector<FrictionSample> rubbing, rubbing_device;  // the finger the figure measures
   std::string rubbing_finger;
   for (const auto& [finger, finger_touches] : touches) {
-    const auto& forces = model_force[finger];
-    if (forces.empty()) continue;
     const std::string file = "friction_ratio_" + FingerName(finger) + ".dat";
     std::ofstream out(dir + "/data/" + file);
-    std::vector<FrictionSample> series;
-    std::size_t k = 0, rows = 0, one_finger = 0;
+    std::vector<FrictionSample> series, device;
+    std::size_t one_finger = 0;
     for (const Touch& n : finger_touches) {
-      while (k + 1 < forces.size() && forces[k + 1].t_s <= n.t_s) ++k;
-      if (n.normal_N < StickSlipOptions{}.min_normal_N) continue;  // no meaningful ratio without a normal force
-      const double total = forces[k].value;
-      const double tangential = std::sqrt(std::max(0.0, total * total - n.normal_N * n.normal_N));
-      out << n.t_s << ' ' << tangential / n.normal_N << '\n';
-      series.push_back({n.t_s, n.normal_N, tangential, n.state});
+      // no meaningful ratio without a normal force
+      if (n.friction_normal_N < StickSlipOptions{}.min_normal_N) continue;
+      series.push_back({n.t_s, n.friction_normal_N, n.friction_tangential_N, n.state});
+      if (n.normal_N >= StickSlipOptions{}.min_normal_N) device.push_back({n.t_s, n.normal_N, n.tangential_N, n.state});
+      out << n.t_s << ' ' << n.friction_tangential_N / n.friction_normal_N << ' '
+          << (n.normal_N > 0.0 ? n.tangential_N / n.normal_N : 0.0) << ' ' << n.state << '\n';
       one_finger += n.state == v1::CONTACT_STATE_IV || n.state == v1::CONTACT_STATE_V;
-      ++rows;
     }
-    if (rows > 0) ratio_plot += DataFile(file) + " using 1:2 with lines title '" + FingerName(finger) + "', ";
+    if (!series.empty()) {
+      ratio_plot += DataFile(file) + " using 1:2 with lines lw 2 title '" + FingerName(finger) + " (friction)', " +
+                    DataFile(file) + " using 1:3 with lines title '" + FingerName(finger) + " (device force)', ";
+    }
     if (one_finger > 0 && series.size() > rubbing.size()) {
       rubbing = std::move(series);
+      rubbing_device = std::move(device);
       rubbing_finger = FingerName(finger);
     }
   }
@@ -318,26 +322,34 @@ std::vector<PlotResult> MakePlots(const std::string& run_dir, const v1::Scene& s
                                ratio_plot.substr(0, ratio_plot.size() - 2) + references + "\n");
     if (!rubbing.empty()) {
       const StickSlipFigure f = MeasureStickSlip(rubbing);
+      const StickSlipFigure device = MeasureStickSlip(rubbing_device);
       if (reference.has_friction) plot.measured = {{"mu_s", reference.mu_static}, {"mu_d", reference.mu_dynamic}};
       plot.measured.insert(plot.measured.end(), {{"breakaways", static_cast<double>(f.breakaways)},
                                                  {"stick_peak_first", f.first_peak},
                                                  {"stick_peak_first_t_s", f.first_peak_t_s},
                                                  {"stick_peak_min", f.peak_min},
+                                                 {"stick_peak_median", f.peak_median},
                                                  {"stick_peak_max", f.peak_max},
                                                  {"slide_samples", static_cast<double>(f.slide_samples)},
                                                  {"slide_median", f.slide_median},
                                                  {"slide_p10", f.slide_p10},
-                                                 {"slide_p90", f.slide_p90}});
-      plot.note = rubbing_finger + ": " + std::to_string(f.breakaways) + " break-aways, stick peak " +
+                                                 {"slide_p90", f.slide_p90},
+                                                 {"device_breakaways", static_cast<double>(device.breakaways)},
+                                                 {"device_stick_peak_first", device.first_peak},
+                                                 {"device_stick_peak_median", device.peak_median},
+                                                 {"device_stick_peak_max", device.peak_max},
+                                                 {"device_slide_median", device.slide_median}});
+      plot.note = rubbing_finger + ": " + std::to_string(f.breakaways) + " break-aways, friction's stick peak " +
                   Fixed(f.first_peak, 3) + " (all " + Fixed(f.peak_min, 3) + ".." + Fixed(f.peak_max, 3) + ")" +
                   (reference.has_friction ? " against mu_s " + Fixed(reference.mu_static, 3) : "") + ", sliding " +
                   Fixed(f.slide_median, 3) + " (p10 " + Fixed(f.slide_p10, 3) + ", p90 " + Fixed(f.slide_p90, 3) + ")" +
-                  (reference.has_friction ? " against mu_d " + Fixed(reference.mu_dynamic, 3) : "");
+                  (reference.has_friction ? " against mu_d " + Fixed(reference.mu_dynamic, 3) : "") +
+                  "; the device's force: peak " + Fixed(device.first_peak, 3) + " (median " +
+                  Fixed(device.peak_median, 3) + "), sliding " + Fixed(device.slide_median, 3);
     }
     plots.push_back(plot);
   } else {
-    plots.push_back(
-        {"friction_ratio", "", "needs TouchTrace and ForceModel recordings with a normal force (local_contact)"});
+    plots.push_back({"friction_ratio", "", "needs TouchTrace recordings with a normal force (local_contact)"});
   }
 
   // 3. force vs elongation (Fig. 10), stretch scenes: from the pinch onset (state VIII or IX) the

@@ -231,8 +231,8 @@ const ContactOutput& ContactSolver::Resolve(const textile::FabricState& state) {
       out.friction_normal_N = pinch.grip_N;
       out.friction_tangential_N = 0.5 * pinch.friction_W_N.norm();
     } else if (r.particles > 0) {
-      out.friction_normal_N = r.normal_sum_N;
-      out.friction_tangential_N = r.friction_W_N.norm();
+      out.friction_normal_N = r.law_load.normal_N;
+      out.friction_tangential_N = r.law_load.tangential_N;
     } else if (ff.touching) {
       out.friction_normal_N = ff.normal_N;
       out.friction_tangential_N = ff.tangential_N;

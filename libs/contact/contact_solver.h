@@ -50,9 +50,10 @@ struct FingerContactOutput {
   int contact_particles = 0;        ///< inverted proxies on this finger
   double normal_force_N = 0.0;      ///< along the contact normal, >= 0
   double tangential_force_N = 0.0;  ///< in the contact plane, >= 0
-  /// Contact-level friction (paper Fig. 9): the sum of the per-contact normal forces and the
-  /// magnitude of the sum of the per-contact friction forces. Unlike normal/tangential_force_N
-  /// these leave out the fabric's push on the finger's flanks when it ploughs through a dent.
+  /// What the friction law holds the finger's contacts to (paper Fig. 9's F^T/F^N sticks up to
+  /// mu_s and slides at mu_d in these): on the fabric, the load Coulomb's law decided on before the
+  /// step (FingerFabricResult::law_load); pinched, the grip and half the pinch's friction; on the
+  /// other finger, that contact's. normal/tangential_force_N differ by the fabric's response.
   double friction_normal_N = 0.0;
   double friction_tangential_N = 0.0;
   Eigen::Vector3d contact_normal_W{Eigen::Vector3d::UnitZ()};  ///< outward from the finger

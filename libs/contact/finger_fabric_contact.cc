@@ -18,6 +18,7 @@ FingerFabricContact::FingerFabricContact(const Eigen::VectorXd& particle_area_m2
       slot_ratio_(particle_area_m2.size()) {}
 
 void FingerFabricContact::Reset() {
+  law_load_ = FingerConeLoad{};
   if (!dirty_) return;  // an absent finger is reset every tick
   for (auto& c : particles_) c = ParticleContact{};
   dirty_ = false;
@@ -134,10 +135,12 @@ void FingerFabricContact::Prepare(const FingerPose& pose, const textile::FabricS
                                            : SharedSlipCoefficient(normal_resultant_W_N, slot_spring_W_N_.leftCols(m),
                                                                    slot_ratio_.head(m), mu_target);
 
+  Eigen::Vector3d held_friction_W_N = Eigen::Vector3d::Zero();  // what the law let the springs keep
   for (int j = 0; j < m; ++j) {
     const int p = slot_particle_[static_cast<std::size_t>(j)];
     ParticleContact& c = particles_[static_cast<std::size_t>(p)];
     const double ratio = slot_ratio_[j];
+    held_friction_W_N += (mu_target >= 0.0 && ratio > shared_mu ? shared_mu / ratio : 1.0) * slot_spring_W_N_.col(j);
     if (mu_target >= 0.0 && ratio > shared_mu) {
       // Slide between the old and the desired point, and stay on the curved surface.
       const double keep = shared_mu / ratio;
@@ -148,6 +151,7 @@ void FingerFabricContact::Prepare(const FingerPose& pose, const textile::FabricS
     c.sliding = sliding;
     springs->Add(p, k_N_per_m_[p], c.anchor_W);
   }
+  law_load_ = FingerCone(normal_resultant_W_N, held_friction_W_N);
   num_slots_ = m;
   slots_sliding_ = sliding;
   slots_current_ = true;
@@ -192,6 +196,7 @@ void FingerFabricContact::Resolve(const FingerPose& pose, const textile::FabricS
     if (norm > 0.0) result->normal_W = normal_acc / norm;
     result->touch_uv_m = uv_acc / result->normal_sum_N;
     result->touch_velocity_W = vel_acc / result->normal_sum_N;
+    result->law_load = law_load_;
   }
 }
 

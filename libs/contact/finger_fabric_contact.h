@@ -24,6 +24,7 @@
 
 #include "libs/contact/anchor_accumulator.h"
 #include "libs/contact/contact_options.h"
+#include "libs/contact/coulomb_friction.h"
 #include "libs/contact/finger_geometry.h"
 #include "libs/textile/fabric_state.h"
 
@@ -37,6 +38,11 @@ struct FingerFabricResult {
   double sliding_normal_N = 0.0;                       ///< part of normal_sum_N whose particles slide
   /// Sum of the per-particle friction springs on the finger (their tangential part).
   Eigen::Vector3d friction_W_N{Eigen::Vector3d::Zero()};
+  /// The load Coulomb's law held the finger to before the step (FingerCone of the normal forces
+  /// and the friction springs as the law left them): on the cone of mu_s where it broke away, of
+  /// mu_d while it slides. The step's response (the fabric under the finger gives) makes the force
+  /// the device gets differ from it.
+  FingerConeLoad law_load;
   int particles = 0;                                          ///< particles in contact after the step
   int strongest_particle = -1;                                ///< particle with the largest normal force
   Eigen::Vector2d touch_uv_m{Eigen::Vector2d::Zero()};        ///< normal-force weighted, patch rest uv
@@ -95,6 +101,7 @@ class FingerFabricContact {
   Eigen::Matrix3Xd slot_free_W_;      ///< where the particle meets the surface
   Eigen::Matrix3Xd slot_spring_W_N_;  ///< k_i s_i: friction spring, held point carried along
   Eigen::VectorXd slot_ratio_;        ///< k_i |s_i| / F_i^N
+  FingerConeLoad law_load_;           ///< of the last Prepare
   /// Whether the active particles are still exactly slot_particle_[0, num_slots_) (in order)
   /// and all slide iff slots_sliding_, as the last Prepare left them: then Resolve and the next
   /// Prepare visit those instead of scanning every particle.

@@ -93,6 +93,9 @@ void FillTouchTrace(const contact::ContactOutput& contact, double sim_time_s, v1
     t->set_slip_u_m_per_s(o.slip_uv_m_per_s.x());
     t->set_slip_v_m_per_s(o.slip_uv_m_per_s.y());
     t->set_normal_force_n(o.normal_force_N);
+    t->set_tangential_force_n(o.tangential_force_N);
+    t->set_friction_normal_force_n(o.friction_normal_N);
+    t->set_friction_tangential_force_n(o.friction_tangential_N);
     t->set_finger_angle_rad(o.finger_angle_rad);
     t->set_contact_state(ToMessage(contact.state));
   }

@@ -33,6 +33,7 @@ TEST(LaunchFigureCurvesTest, StickPeakAndSlidePlateauOfEachBreakaway) {
   EXPECT_NEAR(f.first_peak_t_s, 0.299, 1e-9);
   EXPECT_NEAR(f.peak_min, 0.39, 1e-12);
   EXPECT_NEAR(f.peak_max, 0.41, 1e-12);
+  EXPECT_NEAR(f.peak_median, 0.41, 1e-12) << "nearest rank of two: the upper";
   // past the 20 ms transient of each slide: 380 samples at 0.2, 380 at 0.21
   EXPECT_NEAR(static_cast<double>(f.slide_samples), 760.0, 2.0);
   EXPECT_NEAR(f.slide_p10, 0.2, 1e-12);
@@ -53,6 +54,21 @@ TEST(LaunchFigureCurvesTest, PeakFoundWhenTheSlideIsNamedLate) {
   EXPECT_EQ(f.breakaways, 1);
   EXPECT_NEAR(f.first_peak, 0.42, 1e-12);
   EXPECT_NEAR(f.slide_median, 0.2, 1e-12);
+}
+
+// A finger pressed on at a slant starts its stick with a high ratio; that is how it met the
+// fabric, not where it broke away (30 ms before the slide and after it are the break-away's).
+TEST(LaunchFigureCurvesTest, TheStartOfAStickIsNotItsBreakaway) {
+  std::vector<FrictionSample> samples;
+  double t = 0.0;
+  samples.push_back({t, 1.0, 0.46, kIV});
+  t += 0.001;
+  for (int k = 0; k < 200; ++k, t += 0.001) samples.push_back({t, 1.0, 0.37 * k / 199.0, kIV});
+  for (int k = 0; k < 100; ++k, t += 0.001) samples.push_back({t, 1.0, 0.2, kV});
+  const StickSlipFigure f = MeasureStickSlip(samples);
+  EXPECT_EQ(f.breakaways, 1);
+  EXPECT_NEAR(f.first_peak, 0.37, 1e-12);
+  EXPECT_NEAR(f.first_peak_t_s, 0.2, 1e-9);
 }
 
 // Sliding without a stick before it (it started sliding), a light touch, or another state

@@ -31,9 +31,9 @@ pb::Struct RunScene(const std::string& scene, const std::string& duration_s, std
   return ParseJson(testing::ReadText(*run_dir + "/summary.json"));
 }
 
-// Fig. 9: the stroke sticks, breaks away near mu_s and slides within 15 % of mu_d; pulled by the
-// user's spring the finger sticks and slips in turn (some 60 ms slides) and the turn of the stroke
-// sticks again. 5 s: approach and press (1.8 s), then a stroke out to 1 cm and back.
+// Fig. 9: the stroke sticks, breaks away at mu_s and slides at mu_d; pulled by the user's spring
+// the finger sticks and slips in turn (some 25 ms sticks) and the turn of the stroke sticks again.
+// 5 s: approach and press (1.8 s), then a stroke out to 1 cm and back.
 TEST(LaunchFiguresTest, RubFrictionSticksUpToMuStaticAndSlidesAtMuDynamic) {
   std::string run;
   const pb::Struct summary = RunScene("rub_friction", "5", &run);
@@ -43,15 +43,20 @@ TEST(LaunchFiguresTest, RubFrictionSticksUpToMuStaticAndSlidesAtMuDynamic) {
   const double mu_s = Number(m, "mu_s"), mu_d = Number(m, "mu_d");
   EXPECT_EQ(mu_s, 0.4);
   EXPECT_EQ(mu_d, 0.2);
-  EXPECT_GE(Number(m, "breakaways"), 1.0);
-  // through the whole system the peaks stop short of mu_s (0.35-0.38, the first 0.36-0.37, on a
-  // loaded host too; the contact alone reaches it, rub_friction_test.cc): every one within 15 % below
-  // mu_s and never above it by more than 5 %
-  EXPECT_NEAR(Number(m, "stick_peak_first"), mu_s, 0.15 * mu_s);
-  EXPECT_GE(Number(m, "stick_peak_min"), 0.85 * mu_s);
-  EXPECT_LE(Number(m, "stick_peak_max"), 1.05 * mu_s);
+  EXPECT_GE(Number(m, "breakaways"), 3.0) << "stick-slip: the finger sticks again while pulled";
+  // The friction law's F^T/F^N (the paper's): every break-away at mu_s, sliding at mu_d.
+  EXPECT_NEAR(Number(m, "stick_peak_min"), mu_s, 0.01 * mu_s);
+  EXPECT_NEAR(Number(m, "stick_peak_max"), mu_s, 0.01 * mu_s);
   EXPECT_GT(Number(m, "slide_samples"), 300.0);
-  EXPECT_NEAR(Number(m, "slide_median"), mu_d, 0.15 * mu_d);
+  EXPECT_NEAR(Number(m, "slide_median"), mu_d, 0.02 * mu_d);
+  // The device's force: the law decides on the load before the haptic step and the fabric under
+  // the finger gives during it, so its break-aways peak lower (0.37, on a loaded host too; the
+  // slow stroke of rub_friction_test.cc reaches 0.39) and it slides a little higher.
+  EXPECT_GE(Number(m, "device_breakaways"), 3.0);
+  EXPECT_NEAR(Number(m, "device_stick_peak_first"), mu_s, 0.15 * mu_s);
+  EXPECT_NEAR(Number(m, "device_stick_peak_median"), mu_s, 0.15 * mu_s);
+  EXPECT_LE(Number(m, "device_stick_peak_max"), 1.05 * mu_s);
+  EXPECT_NEAR(Number(m, "device_slide_median"), mu_d, 0.1 * mu_d);
 }
 
 // Fig. 10: the clamped strip pinched and pulled 3 mm (6 % of its 46 mm): the pinch holds through the

@@ -113,6 +113,9 @@ Recording EveryPlotsData() {
     auto* f = touch.mutable_touch_trace()->add_fingers();
     f->set_finger(v1::FINGER_THUMB);
     f->set_normal_force_n(1.0);
+    f->set_tangential_force_n(0.3);
+    f->set_friction_normal_force_n(1.0);
+    f->set_friction_tangential_force_n(0.3);
     r.envelopes.push_back(touch);
     v1::Envelope states;
     states.set_send_time_ns(t_ns);

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "libs/codec/message_conversion.h"
 #include "libs/dual_layer/patch_cut.h"
 #include "libs/dual_layer/refined_grid.h"
@@ -142,7 +144,15 @@ TEST_F(LocalContactLoopTest, ZeroForceUntilAPatchArrivesThenItPushesTheThumbBack
   const auto traces = out.Of<v1::TouchTrace>(kTactile);
   ASSERT_EQ(traces.size(), 30u);
   EXPECT_TRUE(traces.back().fingers(0).in_contact());
-  EXPECT_GT(traces.back().fingers(0).normal_force_n(), 0.005);
+  const v1::FingerTouch& touch = traces.back().fingers(0);
+  EXPECT_GT(touch.normal_force_n(), 0.005);
+  // the device's force split about the contact normal, and the load the friction law held
+  const double f0_N = codec::ToEigen(thumb.f0_w_n()).norm();
+  EXPECT_NEAR(std::hypot(touch.normal_force_n(), touch.tangential_force_n()), f0_N, 1e-9 * f0_N);
+  EXPECT_GT(touch.friction_normal_force_n(), 0.0);
+  EXPECT_LE(touch.friction_tangential_force_n(), scene::ContactOptionsFromScene(scene_).finger_fabric.mu_static *
+                                                     touch.friction_normal_force_n() * (1 + 1e-9));
+  EXPECT_EQ(traces.back().fingers(1).friction_normal_force_n(), 0.0) << "the index finger touches nothing";
   // one PatchResult per global step (10 ticks at 1 kHz), for the newest patch's step
   const auto results = out.Of<v1::PatchResult>(kGlobal);
   ASSERT_EQ(results.size(), 3u);
