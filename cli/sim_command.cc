@@ -82,10 +82,7 @@ int Sim(const SimOptions& options) {
   if (!options.quiet) {
     std::cerr << "sim " << loaded.scene.name() << ": fabric " << loaded.fabric.name() << ", "
               << setup.grid.particles_warp << "x" << setup.grid.particles_weft << " particles, " << steps
-              << " steps of " << dt * 1e3 << " ms ("
-              << (setup.step_options.method == textile::Integrator::kImplicitEuler ? "implicit Euler"
-                                                                                   : "symplectic Euler")
-              << ")\n";
+              << " steps of " << dt * 1e3 << " ms (" << textile::IntegratorName(setup.step_options.method) << ")\n";
   }
 
   runtime::LatencyHistogram step_time;
@@ -113,8 +110,7 @@ int Sim(const SimOptions& options) {
   json.BeginObject()
       .Field("scene", loaded.scene.name())
       .Field("fabric", loaded.fabric.name())
-      .Field("integrator",
-             setup.step_options.method == textile::Integrator::kImplicitEuler ? "implicit_euler" : "symplectic_euler")
+      .Field("integrator", textile::IntegratorName(setup.step_options.method))
       .Field("particles", cloth.model.num_particles)
       .Field("triangles", static_cast<std::int64_t>(cloth.model.triangles.size()))
       .Field("steps", steps)

@@ -68,9 +68,7 @@ ClothSetup MakeClothSetup(const LoadedScene& loaded) {
   }
 
   textile::StepOptions& step = setup.step_options;
-  step.method = m.global_integrator() == v1::ModelOptions::INTEGRATOR_SEMI_IMPLICIT
-                    ? textile::Integrator::kSymplecticEuler
-                    : textile::Integrator::kImplicitEuler;
+  step.method = IntegratorOr(m.global_integrator(), step.method);
   step.dt_s = OrDefault(m.global_dt_s(), 1.0 / GlobalRateHz(scene));
   if (m.cg_tolerance() > 0) step.cg_tolerance = m.cg_tolerance();
   if (m.cg_max_iterations() > 0) step.cg_max_iterations = static_cast<int>(m.cg_max_iterations());

@@ -43,10 +43,8 @@ textile::StepOptions LocalStepOptions(const v1::Scene& scene, double local_hz) {
   const v1::ModelOptions& m = scene.model();
   if (m.local_cg_tolerance() > 0) step.cg_tolerance = m.local_cg_tolerance();
   if (m.local_cg_max_iterations() > 0) step.cg_max_iterations = static_cast<int>(m.local_cg_max_iterations());
-  if (m.local_integrator() == v1::ModelOptions::INTEGRATOR_SEMI_IMPLICIT) {
-    step.method = textile::Integrator::kSymplecticEuler;
-    step.max_substeps = 2000;
-  }
+  step.method = IntegratorOr(m.local_integrator(), step.method);
+  if (step.method == textile::Integrator::kSymplecticEuler) step.max_substeps = 2000;
   return step;
 }
 

@@ -13,10 +13,25 @@
 #include "libs/contact/finger_geometry.h"
 #include "libs/textile/fabric_model.h"
 #include "libs/textile/grid_mesh.h"
+#include "libs/textile/step_options.h"
 
 namespace haptex::scene {
 
 inline double OrDefault(double value, double fallback) { return value > 0 ? value : fallback; }
+
+/// The scene's integrator, else `fallback` (the step options' own default).
+inline textile::Integrator IntegratorOr(v1::ModelOptions::Integrator integrator, textile::Integrator fallback) {
+  switch (integrator) {
+    case v1::ModelOptions::INTEGRATOR_IMPLICIT_EULER:
+      return textile::Integrator::kImplicitEuler;
+    case v1::ModelOptions::INTEGRATOR_SEMI_IMPLICIT:
+      return textile::Integrator::kSymplecticEuler;
+    case v1::ModelOptions::INTEGRATOR_BDF2:
+      return textile::Integrator::kBdf2;
+    default:
+      return fallback;
+  }
+}
 
 /// Cloth size along warp and weft [m] and particles per row and column: textile::GridSpec's
 /// unless given.

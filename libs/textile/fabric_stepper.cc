@@ -38,8 +38,19 @@ FabricStepper::FabricStepper(const FabricModel& model, const StepOptions& option
 // from its start at half the size while halvings remain; the rest of the step keeps the size
 // that worked (a cloth in trouble now stays in trouble for the step). Anchors keep their
 // end-of-step positions in every sub-step.
+//
+// BDF2 takes the whole step as implicit Euler's of 2/3 dt from the extrapolated state; its
+// sub-steps after a split are implicit Euler's (first order for that step only: the history
+// is the step's start, whatever its sub-steps).
 void FabricStepper::StepImplicit(FabricState* state, StepResult* result) {
   const bool strain_bound = options_.max_strain_rise_per_step > 0.0;
+  const bool bdf2 = options_.method == Integrator::kBdf2;
+  // BDF2's first step (or after a restart) is implicit Euler's, with this state as its history
+  const bool has_past = bdf2 && ws_.has_history;
+  if (bdf2 && !has_past) {
+    ws_.x_previous = state->x_W_m;
+    ws_.v_previous = state->v_W_m_per_s;
+  }
   StepOptions sub = options_;
   int level = 0;
   std::int64_t sub_steps = 1, done = 0;
@@ -47,14 +58,20 @@ void FabricStepper::StepImplicit(FabricState* state, StepResult* result) {
   result->newton_converged = true;
   while (done < sub_steps) {
     sub.dt_s = options_.dt_s / static_cast<double>(sub_steps);
+    const bool second_order = has_past && level == 0;
     const bool may_split = level < options_.max_step_halvings;
-    if (may_split) {
+    if (may_split || second_order) {
       ws_.x_substep_start = state->x_W_m;
       ws_.v_substep_start = state->v_W_m_per_s;
     }
     const double strain_before = strain_bound ? LargestTensileStrain(model_, state->x_W_m) : 0.0;
     const double t_start = state->time_s;
+    if (second_order) {
+      ExtrapolateBdf2(state);
+      sub.dt_s = 2.0 / 3.0 * options_.dt_s;
+    }
     const ImplicitStepReport report = ImplicitEulerStep(model_, sub, state, &ws_);
+    if (second_order) state->time_s = t_start + options_.dt_s;
     newton_iterations += report.newton_iterations;
     cg_iterations += report.cg.iterations;
     const bool finite = report.cg.finite && ws_.stepped_state_finite;
@@ -94,12 +111,32 @@ void FabricStepper::StepImplicit(FabricState* state, StepResult* result) {
   }
 }
 
+void FabricStepper::ExtrapolateBdf2(FabricState* state) {
+  const double h = options_.dt_s;
+  for (int p = 0; p < model_.num_particles; ++p) {
+    auto x = state->x_W_m.segment<3>(3 * p);
+    auto v = state->v_W_m_per_s.segment<3>(3 * p);
+    auto x_previous = ws_.x_previous.segment<3>(3 * p);
+    auto v_previous = ws_.v_previous.segment<3>(3 * p);
+    const Eigen::Vector3d x_now = x, v_now = v;
+    if (state->mode[static_cast<std::size_t>(p)] == ParticleMode::kFree) {
+      x = (4.0 * x_now - x_previous) / 3.0;
+      v = (4.0 * v_now - v_previous) / 3.0;
+    } else {
+      // 2/3 h at the prescribed velocity from here ends where a whole h from the start does
+      x = x_now + (h / 3.0) * state->prescribed_v_W_m_per_s.segment<3>(3 * p);
+    }
+    x_previous = x_now;  // the next step's history: this step's start
+    v_previous = v_now;
+  }
+}
+
 StepResult FabricStepper::Step(FabricState* state) {
   HAPTEX_DEMAND(state->num_particles() == model_.num_particles);
   StepResult result;
   ws_.x_backup = state->x_W_m;  // v rolls back to rest
   const double t0 = state->time_s;
-  const bool implicit = options_.method == Integrator::kImplicitEuler;
+  const bool implicit = options_.method != Integrator::kSymplecticEuler;
   if (implicit) {
     StepImplicit(state, &result);
   } else {
@@ -131,6 +168,7 @@ StepResult FabricStepper::Step(FabricState* state) {
     state->time_s = t0 + options_.dt_s;
     ++state->diagnostics.nan_events;
     result.status = StepStatus::kNanRecovered;
+    ws_.has_history = false;  // the cloth restarts at rest
     return result;
   }
   // Speed cap: keep the direction, count the event.
@@ -147,6 +185,7 @@ StepResult FabricStepper::Step(FabricState* state) {
     ++state->diagnostics.speed_capped;
     result.status = StepStatus::kSpeedCapped;
   }
+  ws_.has_history = options_.method == Integrator::kBdf2;
   return result;
 }
 

@@ -40,6 +40,13 @@ class FabricStepper {
 
   StepResult Step(FabricState* state);
 
+  /// BDF2 steps from the state and the one a step before it, which this stepper keeps: an owner
+  /// that puts the state somewhere its motion did not take it (a reset, a loaded state, another
+  /// cloth) calls this, and the next step starts afresh with implicit Euler's. Changes an owner
+  /// makes as part of the motion (a patch's result merged into the same cloth) keep the history:
+  /// the merged state is the one the next step starts from and remembers.
+  void RestartHistory() { ws_.has_history = false; }
+
   const StepOptions& options() const { return options_; }
   /// Substeps of the last step (before the first: the configured count; implicit Euler: 1, or
   /// 2^halvings after a split). Each symplectic step uses at least the configured count, more when the
@@ -48,6 +55,10 @@ class FabricStepper {
 
  private:
   void StepImplicit(FabricState* state, StepResult* result);
+  /// BDF2: the state becomes the extrapolated start (4 x_n - x_n-1) / 3, (4 v_n - v_n-1) / 3 of
+  /// an implicit Euler step of 2/3 dt (prescribed particles: where that step ends on their
+  /// path), and the history moves on to x_n, v_n.
+  void ExtrapolateBdf2(FabricState* state);
 
   const FabricModel& model_;
   StepOptions options_;

@@ -38,6 +38,9 @@ struct FabricWorkspace {
   Eigen::VectorXd v_step_start;
   /// Where a split step's current sub-step started, to retake it as two halves.
   Eigen::VectorXd x_substep_start, v_substep_start;
+  /// BDF2's history: the state at the start of the last step (x_n-1, v_n-1), if it has one.
+  Eigen::VectorXd x_previous, v_previous;
+  bool has_history = false;
   /// Set by ImplicitEulerStep when it updates the state, for FabricStepper's checks (no second
   /// scan): whether the new x and v are all finite, and the largest squared particle speed.
   bool stepped_state_finite = true;

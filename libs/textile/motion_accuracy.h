@@ -44,7 +44,7 @@ struct Motion {
   double stretch_s = 0.0;
 };
 
-/// The converged reference's solver: Newton to 1e-8 (reassembled), CG to 1e-8, no splitting.
+/// The converged reference's solver: BDF2, Newton to 1e-8 (reassembled), CG to 1e-8, no splitting.
 StepOptions ConvergedOptions(double dt_s);
 
 /// The cloth hanging from its top row (warp down) after settling 0.5 s with ConvergedOptions at

@@ -6,6 +6,18 @@
 
 namespace haptex::textile {
 
+const char* IntegratorName(Integrator integrator) {
+  switch (integrator) {
+    case Integrator::kImplicitEuler:
+      return "implicit_euler";
+    case Integrator::kSymplecticEuler:
+      return "symplectic_euler";
+    case Integrator::kBdf2:
+      return "bdf2";
+  }
+  return "unknown";
+}
+
 void ValidateStepOptions(const StepOptions& o) {
   auto fail = [](const std::string& what) { throw std::invalid_argument("StepOptions." + what); };
   if (!(std::isfinite(o.dt_s) && o.dt_s > 0.0)) fail("dt_s must be finite and > 0");
@@ -23,7 +35,8 @@ void ValidateStepOptions(const StepOptions& o) {
   if (!(o.max_strain_rise_per_step >= 0.0 && std::isfinite(o.max_strain_rise_per_step))) {
     fail("max_strain_rise_per_step must be finite and >= 0 (0 = no bound)");
   }
-  if (o.method != Integrator::kImplicitEuler && o.method != Integrator::kSymplecticEuler) {
+  if (o.method != Integrator::kImplicitEuler && o.method != Integrator::kSymplecticEuler &&
+      o.method != Integrator::kBdf2) {
     fail("method is unknown");
   }
   if (o.preconditioner != Preconditioner::kBlockJacobi && o.preconditioner != Preconditioner::kMultilevel &&

@@ -51,6 +51,15 @@ TEST(ClothSetupTest, ModelDialsComeFromTheScene) {
   EXPECT_EQ(setup.model_options.drag.quadratic_coefficient, 0.0);
 }
 
+// Each integrator the scene names; none named is the step options' own default.
+TEST(ClothSetupTest, IntegratorComesFromTheSceneElseTheStepOptionsDefault) {
+  EXPECT_EQ(MakeClothSetup(Scene("")).step_options.method, textile::StepOptions{}.method);
+  EXPECT_EQ(MakeClothSetup(Scene("model { global_integrator: INTEGRATOR_BDF2 }")).step_options.method,
+            textile::Integrator::kBdf2);
+  EXPECT_EQ(MakeClothSetup(Scene("model { global_integrator: INTEGRATOR_IMPLICIT_EULER }")).step_options.method,
+            textile::Integrator::kImplicitEuler);
+}
+
 // The scene gives the fabric's cut in degrees; the model takes radians, 0 when not given.
 TEST(ClothSetupTest, MaterialAngleReachesTheModel) {
   EXPECT_EQ(MakeClothSetup(Scene("")).model_options.material_angle_rad, 0.0);
