@@ -80,9 +80,11 @@ void BM_StepImplicitJacobi(benchmark::State& bm) {
 void BM_StepSymplectic(benchmark::State& bm) {
   BM_Step(bm, Integrator::kSymplecticEuler, Preconditioner::kBlockJacobi);
 }
+void BM_StepBdf2Multilevel(benchmark::State& bm) { BM_Step(bm, Integrator::kBdf2, Preconditioner::kMultilevel); }
 BENCHMARK(BM_StepImplicitMultilevel)
     ->ArgsProduct({{21, 41, 81}, {1000, 100}, {0, 1}, {10000}})
     ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_StepBdf2Multilevel)->ArgsProduct({{21, 41}, {0}, {0, 1}, {10000}})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StepImplicitJacobi)->ArgsProduct({{21, 41, 81}, {1000, 100}, {0}, {10000}})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StepSymplectic)->ArgsProduct({{21, 41, 81}, {0}, {0, 1}, {10000}})->Unit(benchmark::kMillisecond);
 // The local-patch regime (1 kHz, small patch): where the cheap integrator pays off.

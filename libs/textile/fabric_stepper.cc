@@ -51,6 +51,7 @@ void FabricStepper::StepImplicit(FabricState* state, StepResult* result) {
     ws_.x_previous = state->x_W_m;
     ws_.v_previous = state->v_W_m_per_s;
   }
+  if (has_past) RestartMovedParticles(*state);
   StepOptions sub = options_;
   int level = 0;
   std::int64_t sub_steps = 1, done = 0;
@@ -108,6 +109,17 @@ void FabricStepper::StepImplicit(FabricState* state, StepResult* result) {
   if (result->cg.finite && !result->cg.converged) {
     result->status = StepStatus::kCgNotConverged;
     ++d.cg_not_converged;
+  }
+}
+
+void FabricStepper::RestartMovedParticles(const FabricState& state) {
+  const double h = options_.dt_s;
+  for (int p = 0; p < model_.num_particles; ++p) {
+    const auto x = state.x_W_m.segment<3>(3 * p);
+    const auto v = state.v_W_m_per_s.segment<3>(3 * p);
+    if (x == ws_.x_left.segment<3>(3 * p) && v == ws_.v_left.segment<3>(3 * p)) continue;
+    ws_.x_previous.segment<3>(3 * p) = x - h * v;
+    ws_.v_previous.segment<3>(3 * p) = v;
   }
 }
 
@@ -185,7 +197,11 @@ StepResult FabricStepper::Step(FabricState* state) {
     ++state->diagnostics.speed_capped;
     result.status = StepStatus::kSpeedCapped;
   }
-  ws_.has_history = options_.method == Integrator::kBdf2;
+  if (options_.method == Integrator::kBdf2) {
+    ws_.x_left = state->x_W_m;
+    ws_.v_left = state->v_W_m_per_s;
+    ws_.has_history = true;
+  }
   return result;
 }
 

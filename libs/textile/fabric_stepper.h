@@ -40,11 +40,11 @@ class FabricStepper {
 
   StepResult Step(FabricState* state);
 
-  /// BDF2 steps from the state and the one a step before it, which this stepper keeps: an owner
-  /// that puts the state somewhere its motion did not take it (a reset, a loaded state, another
-  /// cloth) calls this, and the next step starts afresh with implicit Euler's. Changes an owner
-  /// makes as part of the motion (a patch's result merged into the same cloth) keep the history:
-  /// the merged state is the one the next step starts from and remembers.
+  /// BDF2 steps from the state and the one a step before it, which this stepper keeps. A
+  /// particle its owner moved between steps (a patch's result merged, a reset: its position or
+  /// velocity is not what the last step left) gets the past of a uniform motion at its present
+  /// velocity, for that step first order there. An owner that puts the whole state elsewhere (a
+  /// loaded state, another cloth) may call this instead: the next step is implicit Euler's.
   void RestartHistory() { ws_.has_history = false; }
 
   const StepOptions& options() const { return options_; }
@@ -55,6 +55,8 @@ class FabricStepper {
 
  private:
   void StepImplicit(FabricState* state, StepResult* result);
+  /// BDF2: the particles moved since the last step restart their history (RestartHistory).
+  void RestartMovedParticles(const FabricState& state);
   /// BDF2: the state becomes the extrapolated start (4 x_n - x_n-1) / 3, (4 v_n - v_n-1) / 3 of
   /// an implicit Euler step of 2/3 dt (prescribed particles: where that step ends on their
   /// path), and the history moves on to x_n, v_n.

@@ -8,7 +8,7 @@ FabricWorkspace::FabricWorkspace(const FabricModel& model, Preconditioner precon
                                                                   : GaussSeidelPreconditioner()) {
   const int n3 = 3 * model.num_particles;
   for (Eigen::VectorXd* v : {&force_N, &dfdx_v, &rhs, &dv, &dv0, &r, &c, &q, &s, &x_backup, &v_step_start,
-                             &x_substep_start, &v_substep_start, &x_previous, &v_previous}) {
+                             &x_substep_start, &v_substep_start, &x_previous, &v_previous, &x_left, &v_left}) {
     *v = Eigen::VectorXd::Zero(n3);
   }
   system.assign(static_cast<std::size_t>(model.pattern.num_blocks()), Eigen::Matrix3d::Zero());

@@ -38,8 +38,9 @@ struct FabricWorkspace {
   Eigen::VectorXd v_step_start;
   /// Where a split step's current sub-step started, to retake it as two halves.
   Eigen::VectorXd x_substep_start, v_substep_start;
-  /// BDF2's history: the state at the start of the last step (x_n-1, v_n-1), if it has one.
-  Eigen::VectorXd x_previous, v_previous;
+  /// BDF2's history: the state at the start of the last step (x_n-1, v_n-1), if it has one, and
+  /// the state that step left (a particle that no longer is there was moved by the state's owner).
+  Eigen::VectorXd x_previous, v_previous, x_left, v_left;
   bool has_history = false;
   /// Set by ImplicitEulerStep when it updates the state, for FabricStepper's checks (no second
   /// scan): whether the new x and v are all finite, and the largest squared particle speed.

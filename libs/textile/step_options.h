@@ -4,11 +4,16 @@
 namespace haptex::textile {
 
 enum class Integrator {
-  kImplicitEuler,    ///< Baraff-Witkin: one Newton step, filtered PCG (default, unconditionally stable)
+  /// Baraff-Witkin: one Newton step, filtered PCG (first order; the default: it damps, and calms
+  /// every cloth of the stability matrix at any step up to 33 ms)
+  kImplicitEuler,
   kSymplecticEuler,  ///< semi-implicit (symplectic) Euler with substeps: cheap, conditionally stable
   /// Second-order backward differences: implicit Euler's solve (and its Newton iterations) on a
   /// step of 2/3 dt from the extrapolated (4 x_n - x_n-1) / 3, (4 v_n - v_n-1) / 3. Damps far
   /// less than implicit Euler (error O(dt^2)), still unconditionally stable (fabric_stepper.h).
+  /// At the same step and nearly the same cost it keeps a moving cloth closer, but with one
+  /// linearised step it can pump energy into a stiff crumpled cloth at 20 ms and longer
+  /// (stability_matrix_test.cc; docs/fabric-model.md, "Accuracy in motion"). Not the default.
   kBdf2,
 };
 

@@ -25,7 +25,7 @@ TEST(ClothSetupTest, HangsFromTheTopEdgeInTheWorldFrame) {
   EXPECT_EQ(cloth.state.mode[2], textile::ParticleMode::kPrescribed);
   EXPECT_EQ(cloth.state.mode[5], textile::ParticleMode::kFree);
   EXPECT_DOUBLE_EQ(setup.step_options.dt_s, 0.01);  // 1 / default 100 Hz
-  EXPECT_EQ(setup.step_options.method, textile::Integrator::kImplicitEuler);
+  EXPECT_EQ(setup.step_options.method, textile::StepOptions{}.method);
 }
 
 TEST(ClothSetupTest, FlatLedgeFixesTheRowsOnTheLedge) {

@@ -37,6 +37,8 @@ class ImplicitEulerTest : public ::testing::Test {
   }
 };
 
+// Implicit Euler's unit: these tests pin it (BDF2, the default, runs the same solve on other
+// inputs: fabric_stepper_test.cc).
 TEST_F(ImplicitEulerTest, FreeFallIsExactInVelocity) {
   ModelOptions o;
   o.drag.linear_N_s_per_m3 = 0.0;
@@ -44,6 +46,7 @@ TEST_F(ImplicitEulerTest, FreeFallIsExactInVelocity) {
   const FabricModel model = BuildFabricModel(MaterialFromKes(testing::CompositeDenim()), {0.1, 0.1, 5, 5}, o);
   FabricState s = MakeRestState(model);
   StepOptions opt;
+  opt.method = Integrator::kImplicitEuler;
   opt.dt_s = 0.01;
   opt.cg_tolerance = 1e-10;
   FabricStepper stepper(model, opt);
@@ -65,6 +68,7 @@ TEST_F(ImplicitEulerTest, FixedAndPrescribedParticlesFollowExactly) {
   const auto top = testing::WarpRow(model, 0);
   const FabricState initial = s;
   StepOptions opt;
+  opt.method = Integrator::kImplicitEuler;
   opt.dt_s = 0.005;
   FabricStepper stepper(model, opt);
   for (int i = 0; i < 40; ++i) stepper.Step(&s);
@@ -78,6 +82,7 @@ TEST_F(ImplicitEulerTest, HangingFabricSettlesWithConvergedCg) {
   const FabricModel model = MakeModel(11);
   FabricState s = Hanging(model);
   StepOptions opt;
+  opt.method = Integrator::kImplicitEuler;
   opt.dt_s = 0.01;
   FabricStepper stepper(model, opt);
   const int steps = testing::RunToRest(&stepper, &s, 2000, 1e-4);
@@ -96,6 +101,7 @@ TEST_F(ImplicitEulerTest, FullyFixedFabricStepsWithoutIterating) {
   for (int p = 0; p < model.num_particles; ++p) s.Fix(p);
   const FabricState initial = s;
   StepOptions opt;
+  opt.method = Integrator::kImplicitEuler;
   opt.preconditioner = Preconditioner::kGaussSeidel;
   FabricStepper stepper(model, opt);
   for (int i = 0; i < 3; ++i) {
@@ -111,14 +117,19 @@ TEST_F(ImplicitEulerTest, FullyFixedFabricStepsWithoutIterating) {
 TEST_F(ImplicitEulerTest, WarmedUpStepDoesNotAllocate) {
   if (!haptex::testing::AllocationCountingSupported()) GTEST_SKIP() << "allocation counting off";
   const FabricModel model = MakeModel(21);
-  FabricState s = Hanging(model);
-  SetPointLoad(model.mesh.Index(20, 10), Eigen::Vector3d(0, 1.0, 0), &s);
-  StepOptions opt;
-  FabricStepper stepper(model, opt);
-  for (int i = 0; i < 3; ++i) stepper.Step(&s);
-  haptex::testing::AllocationCounter counter;
-  for (int i = 0; i < 5; ++i) stepper.Step(&s);
-  EXPECT_EQ(counter.count(), 0);
+  for (const Integrator method : {Integrator::kImplicitEuler, Integrator::kBdf2}) {
+    FabricState s = Hanging(model);
+    SetPointLoad(model.mesh.Index(20, 10), Eigen::Vector3d(0, 1.0, 0), &s);
+    StepOptions opt;
+    opt.method = method;
+    FabricStepper stepper(model, opt);
+    for (int i = 0; i < 3; ++i) stepper.Step(&s);
+    haptex::testing::AllocationCounter counter;
+    for (int i = 0; i < 5; ++i) stepper.Step(&s);
+    stepper.RestartHistory();
+    stepper.Step(&s);
+    EXPECT_EQ(counter.count(), 0) << IntegratorName(method);
+  }
 }
 
 // Implicit Euler's equations at a step's end, evaluated from the forces alone (not from the
@@ -201,6 +212,7 @@ TEST_F(NewtonTest, IterationsSolveTheNonlinearStep) {
 // Too few iterations for the tolerance: the step is still taken, and says so.
 TEST_F(NewtonTest, TooFewIterationsAreReported) {
   StepOptions o;
+  o.method = Integrator::kImplicitEuler;
   o.dt_s = 0.02;
   o.newton_max_iterations = 2;
   o.newton_tolerance = 1e-12;
@@ -217,6 +229,7 @@ TEST_F(NewtonTest, TooFewIterationsAreReported) {
 // the tangent) to tension within the step; it diverges and says so, never claims convergence.
 TEST_F(NewtonTest, TheChordMethodSaysWhenItDiverges) {
   StepOptions o;
+  o.method = Integrator::kImplicitEuler;
   o.dt_s = 0.02;
   o.newton_max_iterations = 8;
   o.newton_update_jacobian = false;
@@ -234,6 +247,7 @@ TEST_F(NewtonTest, TheChordMethodSaysWhenItDiverges) {
 // A cloth at rest without loads needs no correction: the first check meets the tolerance.
 TEST_F(NewtonTest, AClothAtRestConvergesAtTheFirstCheck) {
   StepOptions o;
+  o.method = Integrator::kImplicitEuler;
   o.newton_max_iterations = 10;
   ModelOptions weightless;
   weightless.gravity_m_per_s2.setZero();
@@ -252,20 +266,23 @@ TEST_F(NewtonTest, AClothAtRestConvergesAtTheFirstCheck) {
 TEST_F(ImplicitEulerTest, NewtonAndSplittingDoNotAllocate) {
   if (!haptex::testing::AllocationCountingSupported()) GTEST_SKIP() << "allocation counting off";
   const FabricModel model = MakeModel(21);
-  FabricState s = Hanging(model);
-  SetPointLoad(model.mesh.Index(20, 10), Eigen::Vector3d(0, 5.0, 0), &s);
-  StepOptions opt;
-  opt.dt_s = 0.05;
-  opt.newton_max_iterations = 3;
-  opt.newton_tolerance = 1e-9;  // never met: every step splits to the bottom
-  opt.max_step_halvings = 2;
-  opt.max_strain_rise_per_step = 1e-6;
-  FabricStepper stepper(model, opt);
-  for (int i = 0; i < 3; ++i) stepper.Step(&s);
-  haptex::testing::AllocationCounter counter;
-  for (int i = 0; i < 3; ++i) stepper.Step(&s);
-  EXPECT_EQ(counter.count(), 0);
-  EXPECT_GT(s.diagnostics.step_halvings, 0);
+  for (const Integrator method : {Integrator::kImplicitEuler, Integrator::kBdf2}) {
+    FabricState s = Hanging(model);
+    SetPointLoad(model.mesh.Index(20, 10), Eigen::Vector3d(0, 5.0, 0), &s);
+    StepOptions opt;
+    opt.method = method;
+    opt.dt_s = 0.05;
+    opt.newton_max_iterations = 3;
+    opt.newton_tolerance = 1e-9;  // never met: every step splits to the bottom
+    opt.max_step_halvings = 2;
+    opt.max_strain_rise_per_step = 1e-6;
+    FabricStepper stepper(model, opt);
+    for (int i = 0; i < 3; ++i) stepper.Step(&s);
+    haptex::testing::AllocationCounter counter;
+    for (int i = 0; i < 3; ++i) stepper.Step(&s);
+    EXPECT_EQ(counter.count(), 0) << IntegratorName(method);
+    EXPECT_GT(s.diagnostics.step_halvings, 0);
+  }
 }
 
 }  // namespace
