@@ -69,10 +69,9 @@ std::map<std::string, StepOptions> Settings() {
     newton.newton_update_jacobian = true;
     s["newton" + suffix + "_full"] = newton;
   }
-  // BDF2 (second order): its single linearised step, and with Newton's iterations
+  // BDF2 (second order; it needs Newton's iterations, step_options.h)
   StepOptions bdf2 = bw;
   bdf2.method = Integrator::kBdf2;
-  s["bdf2"] = bdf2;
   bdf2.newton_max_iterations = 2;
   s["bdf2_newton2"] = bdf2;
   bdf2.newton_max_iterations = 8;

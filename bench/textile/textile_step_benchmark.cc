@@ -39,6 +39,7 @@ void BM_Step(benchmark::State& bm, Integrator method, Preconditioner preconditio
   for (int p : validation::WarpRow(model, 0)) s.Fix(p);
   StepOptions opt;
   opt.method = method;
+  if (method == Integrator::kBdf2) opt.newton_max_iterations = 8;  // it needs them (step_options.h)
   opt.preconditioner = preconditioner;
   opt.dt_s = 1e-6 * static_cast<double>(bm.range(3));
   if (bm.range(1) > 0) opt.cg_tolerance = 1.0 / static_cast<double>(bm.range(1));

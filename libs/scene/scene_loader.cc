@@ -267,6 +267,16 @@ void CheckRatesAndModel(const v1::Scene& scene, const FieldLocator& where, Check
   c.ZeroOrRange(m, "substeps", m.substeps(), 1, 10000, "", mo);
   c.ZeroOrRange(m, "newton_max_iterations", m.newton_max_iterations(), 1, 100, "", mo);
   c.ZeroOrRange(m, "newton_tolerance", m.newton_tolerance(), 1e-12, 0.5, "", mo);
+  if (m.global_integrator() == v1::ModelOptions::INTEGRATOR_BDF2 && m.newton_max_iterations() < 2) {
+    c.Add(mo.At(m, "global_integrator", -1,
+                "INTEGRATOR_BDF2 needs newton_max_iterations of 2 or more (one linearised step of it pumps energy "
+                "into stiff or strongly nonlinear fabrics)"));
+  }
+  if (m.local_integrator() == v1::ModelOptions::INTEGRATOR_BDF2) {
+    c.Add(mo.At(m, "local_integrator", -1,
+                "INTEGRATOR_BDF2 is for the global layer: the haptic patch takes one linearised step each tick, "
+                "too few for BDF2"));
+  }
   c.Range(m, "max_step_halvings", m.max_step_halvings(), 0, textile::kMaxStepHalvings, "", mo);
   c.Range(m, "max_strain_rise_per_step", m.max_strain_rise_per_step(), 0.0, 1.0, "", mo);
   c.Range(m, "patch_radius_m", m.patch_radius_m(), 0.0, 0.1, "m", mo);

@@ -35,6 +35,11 @@ void ValidateStepOptions(const StepOptions& o) {
   if (!(o.max_strain_rise_per_step >= 0.0 && std::isfinite(o.max_strain_rise_per_step))) {
     fail("max_strain_rise_per_step must be finite and >= 0 (0 = no bound)");
   }
+  if (o.method == Integrator::kBdf2 && o.newton_max_iterations < 2) {
+    fail(
+        "method kBdf2 needs newton_max_iterations >= 2 (one linearised step of it pumps energy into stiff or "
+        "strongly nonlinear fabrics)");
+  }
   if (o.method != Integrator::kImplicitEuler && o.method != Integrator::kSymplecticEuler &&
       o.method != Integrator::kBdf2) {
     fail("method is unknown");

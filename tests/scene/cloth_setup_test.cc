@@ -54,7 +54,8 @@ TEST(ClothSetupTest, ModelDialsComeFromTheScene) {
 // Each integrator the scene names; none named is the step options' own default.
 TEST(ClothSetupTest, IntegratorComesFromTheSceneElseTheStepOptionsDefault) {
   EXPECT_EQ(MakeClothSetup(Scene("")).step_options.method, textile::StepOptions{}.method);
-  EXPECT_EQ(MakeClothSetup(Scene("model { global_integrator: INTEGRATOR_BDF2 }")).step_options.method,
+  EXPECT_EQ(MakeClothSetup(Scene("model { global_integrator: INTEGRATOR_BDF2 newton_max_iterations: 4 }"))
+                .step_options.method,
             textile::Integrator::kBdf2);
   EXPECT_EQ(MakeClothSetup(Scene("model { global_integrator: INTEGRATOR_IMPLICIT_EULER }")).step_options.method,
             textile::Integrator::kImplicitEuler);

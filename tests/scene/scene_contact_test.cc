@@ -40,8 +40,6 @@ TEST(SceneContactTest, SemiImplicitChoiceIsKept) {
   const textile::StepOptions step =
       LocalStepOptions(Scene("model { local_integrator: INTEGRATOR_SEMI_IMPLICIT }\n").scene, 1000.0);
   EXPECT_EQ(step.method, textile::Integrator::kSymplecticEuler);
-  EXPECT_EQ(LocalStepOptions(Scene("model { local_integrator: INTEGRATOR_BDF2 }\n").scene, 1000.0).method,
-            textile::Integrator::kBdf2);
   EXPECT_EQ(LocalStepOptions(Scene("").scene, 1000.0).method, textile::Integrator::kImplicitEuler);
 }
 

@@ -74,6 +74,20 @@ TEST_F(SceneLoaderTest, LocalSolverDialsAreRangeChecked) {
   EXPECT_EQ(ok.scene.model().local_cg_max_iterations(), 20u);
 }
 
+// BDF2 needs Newton's iterations (libs/textile/step_options.h) and is for the global layer only.
+TEST_F(SceneLoaderTest, Bdf2NeedsNewtonIterationsAndTheGlobalLayer) {
+  const std::string head = "name: \"x\"\nfabric { database_name: \"test_cotton\" }\n";
+  const auto single = Refused(head + "model { global_integrator: INTEGRATOR_BDF2 }\n");
+  ASSERT_EQ(single.size(), 1u);
+  EXPECT_EQ(single[0].line, 3);
+  EXPECT_NE(single[0].message.find("INTEGRATOR_BDF2 needs newton_max_iterations of 2 or more"), std::string::npos)
+      << single[0].message;
+  EXPECT_TRUE(Mentions(Refused(head + "model { local_integrator: INTEGRATOR_BDF2 }\n"), "for the global layer"));
+  const LoadedScene ok =
+      ParseScene(head + "model { global_integrator: INTEGRATOR_BDF2 newton_max_iterations: 6 }\n", "t", db_);
+  EXPECT_EQ(ok.scene.model().global_integrator(), v1::ModelOptions::INTEGRATOR_BDF2);
+}
+
 TEST_F(SceneLoaderTest, OutOfRangeValueIsLocatedAtItsField) {
   const auto issues =
       Refused("name: \"x\"\nfabric { database_name: \"test_cotton\" }\ncloth {\n    particles_u: 1\n}\n");
