@@ -272,6 +272,12 @@ void CheckRatesAndModel(const v1::Scene& scene, const FieldLocator& where, Check
                 "INTEGRATOR_BDF2 needs newton_max_iterations of 2 or more (one linearised step of it pumps energy "
                 "into stiff or strongly nonlinear fabrics)"));
   }
+  if (m.global_integrator() == v1::ModelOptions::INTEGRATOR_BDF2 &&
+      SceneRunsService(scene, v1::ServicePlacement::SERVICE_LOCAL_CONTACT)) {
+    c.Add(mo.At(m, "global_integrator", -1,
+                "INTEGRATOR_BDF2 is for a cloth without local_contact: patch results merged a step late into its "
+                "history made a pinch overshoot 2.4 times (docs/fabric-model.md, BDF2)"));
+  }
   if (m.local_integrator() == v1::ModelOptions::INTEGRATOR_BDF2) {
     c.Add(mo.At(m, "local_integrator", -1,
                 "INTEGRATOR_BDF2 is for the global layer: the haptic patch takes one linearised step each tick, "

@@ -74,8 +74,9 @@ TEST_F(SceneLoaderTest, LocalSolverDialsAreRangeChecked) {
   EXPECT_EQ(ok.scene.model().local_cg_max_iterations(), 20u);
 }
 
-// BDF2 needs Newton's iterations (libs/textile/step_options.h) and is for the global layer only.
-TEST_F(SceneLoaderTest, Bdf2NeedsNewtonIterationsAndTheGlobalLayer) {
+// BDF2 needs Newton's iterations (libs/textile/step_options.h) and is for a cloth without the dual
+// layer (docs/fabric-model.md).
+TEST_F(SceneLoaderTest, Bdf2NeedsNewtonIterationsAndNoDualLayer) {
   const std::string head = "name: \"x\"\nfabric { database_name: \"test_cotton\" }\n";
   const auto single = Refused(head + "model { global_integrator: INTEGRATOR_BDF2 }\n");
   ASSERT_EQ(single.size(), 1u);
@@ -83,6 +84,11 @@ TEST_F(SceneLoaderTest, Bdf2NeedsNewtonIterationsAndTheGlobalLayer) {
   EXPECT_NE(single[0].message.find("INTEGRATOR_BDF2 needs newton_max_iterations of 2 or more"), std::string::npos)
       << single[0].message;
   EXPECT_TRUE(Mentions(Refused(head + "model { local_integrator: INTEGRATOR_BDF2 }\n"), "for the global layer"));
+  // with fingers the dual layer merges patch results into the cloth: not with BDF2
+  EXPECT_TRUE(
+      Mentions(Refused(head + "fingers { finger: FINGER_THUMB shape: SHAPE_CAPSULE radius_m: 0.008 length_m: 0.012 }\n"
+                              "model { global_integrator: INTEGRATOR_BDF2 newton_max_iterations: 6 }\n"),
+               "without local_contact"));
   const LoadedScene ok =
       ParseScene(head + "model { global_integrator: INTEGRATOR_BDF2 newton_max_iterations: 6 }\n", "t", db_);
   EXPECT_EQ(ok.scene.model().global_integrator(), v1::ModelOptions::INTEGRATOR_BDF2);
