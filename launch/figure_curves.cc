@@ -71,7 +71,7 @@ StickSlipFigure MeasureStickSlip(const std::vector<FrictionSample>& samples, con
     figure.first_peak_t_s = peaks.front().t_s;
     std::vector<double> ratios;
     for (const Peak& p : peaks) ratios.push_back(p.ratio);
-    figure.peak_median = Percentile(&ratios, 0.5);
+    figure.peak_median = Percentile(&ratios, 0.5);  // sorts them
     figure.peak_min = ratios.front();
     figure.peak_max = ratios.back();
   }

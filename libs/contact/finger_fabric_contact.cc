@@ -140,10 +140,10 @@ void FingerFabricContact::Prepare(const FingerPose& pose, const textile::FabricS
     const int p = slot_particle_[static_cast<std::size_t>(j)];
     ParticleContact& c = particles_[static_cast<std::size_t>(p)];
     const double ratio = slot_ratio_[j];
-    held_friction_W_N += (mu_target >= 0.0 && ratio > shared_mu ? shared_mu / ratio : 1.0) * slot_spring_W_N_.col(j);
-    if (mu_target >= 0.0 && ratio > shared_mu) {
+    const double keep = mu_target >= 0.0 && ratio > shared_mu ? shared_mu / ratio : 1.0;  // of its spring
+    held_friction_W_N += keep * slot_spring_W_N_.col(j);
+    if (keep < 1.0) {
       // Slide between the old and the desired point, and stay on the curved surface.
-      const double keep = shared_mu / ratio;
       const Eigen::Vector3d between = slot_free_W_.col(j) - (keep / k_N_per_m_[p]) * slot_spring_W_N_.col(j);
       c.anchor_W = ProjectOntoCapsule(seg, radius_eff_m_, between, c.normal_W);
     }

@@ -61,7 +61,7 @@ void FabricStepper::StepImplicit(FabricState* state, StepResult* result) {
     sub.dt_s = options_.dt_s / static_cast<double>(sub_steps);
     const bool second_order = has_past && level == 0;
     const bool may_split = level < options_.max_step_halvings;
-    if (may_split || second_order) {
+    if (may_split) {
       ws_.x_substep_start = state->x_W_m;
       ws_.v_substep_start = state->v_W_m_per_s;
     }

@@ -10,7 +10,7 @@ enum class Integrator {
   kSymplecticEuler,  ///< semi-implicit (symplectic) Euler with substeps: cheap, conditionally stable
   /// Second-order backward differences: implicit Euler's solve (and its Newton iterations) on a
   /// step of 2/3 dt from the extrapolated (4 x_n - x_n-1) / 3, (4 v_n - v_n-1) / 3. Damps far
-  /// less than implicit Euler (error O(dt^2)), still unconditionally stable (fabric_stepper.h).
+  /// less than implicit Euler (error O(dt^2); A-stable on a linear problem, fabric_stepper.h).
   /// Needs newton_max_iterations >= 2: with one linearised step it pumps energy into stiff
   /// crumpled cloths at 20 ms and longer and keeps a soft knit under a point load at the speed
   /// cap (docs/fabric-model.md, "Accuracy in motion"). With Newton it holds the stability matrix

@@ -37,8 +37,8 @@ class ImplicitEulerTest : public ::testing::Test {
   }
 };
 
-// Implicit Euler's unit: these tests pin it (BDF2, the default, runs the same solve on other
-// inputs: fabric_stepper_test.cc).
+// Implicit Euler's unit: these tests pin it (BDF2 runs the same solve on other inputs:
+// fabric_stepper_test.cc).
 TEST_F(ImplicitEulerTest, FreeFallIsExactInVelocity) {
   ModelOptions o;
   o.drag.linear_N_s_per_m3 = 0.0;
