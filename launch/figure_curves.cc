@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 
 namespace haptex::launch {
 namespace {
@@ -27,10 +28,10 @@ StickSlipFigure MeasureStickSlip(const std::vector<FrictionSample>& samples, con
   std::vector<Peak> peaks;
   std::vector<Peak> stick;  // the samples of the present stick run of a pressed finger
   std::vector<double> slide;
-  Peak run_max{0.0, 0.0};      // the break-away's largest ratio so far
-  bool sliding = false;        // in a slide run
-  double slide_start_s = 0.0;  // its first sample
-  bool seeking_peak = false;   // within peak_after_slide_s of a break-away
+  Peak run_max{0.0, 0.0};     // the break-away's largest ratio so far
+  bool sliding = false;       // in a slide run
+  int slide_index = 0;        // samples of the slide run so far
+  bool seeking_peak = false;  // within peak_after_slide_samples of a break-away
   const auto close_peak = [&] {
     if (seeking_peak) peaks.push_back(run_max);
     seeking_peak = false;
@@ -52,17 +53,20 @@ StickSlipFigure MeasureStickSlip(const std::vector<FrictionSample>& samples, con
     }
     if (!sliding) {
       sliding = true;
-      slide_start_s = s.t_s;
+      slide_index = 0;
       seeking_peak = !stick.empty();  // a break-away only from a stick of the same press
       run_max = {0.0, 0.0};
-      for (const Peak& p : stick) {
-        if (p.t_s >= slide_start_s - options.peak_before_slide_s && p.ratio > run_max.ratio) run_max = p;
+      const std::size_t tail =
+          std::min(stick.size(), static_cast<std::size_t>(std::max(0, options.peak_before_slide_samples)));
+      for (auto p = stick.end() - static_cast<std::ptrdiff_t>(tail); p != stick.end(); ++p) {
+        if (p->ratio > run_max.ratio) run_max = *p;
       }
       stick.clear();
     }
-    if (seeking_peak && s.t_s > slide_start_s + options.peak_after_slide_s) close_peak();
+    if (seeking_peak && slide_index >= options.peak_after_slide_samples) close_peak();
     if (seeking_peak && ratio > run_max.ratio) run_max = {ratio, s.t_s};
-    if (s.t_s >= slide_start_s + options.settle_s) slide.push_back(ratio);
+    if (slide_index >= options.settle_samples) slide.push_back(ratio);
+    ++slide_index;
   }
   close_peak();
   figure.breakaways = static_cast<int>(peaks.size());

@@ -21,25 +21,28 @@ struct FrictionSample {
 struct StickSlipOptions {
   /// Below this normal force the ratio says nothing (a finger grazing the fabric).
   double min_normal_N = 0.05;
-  /// The classifier names a slide up to about 15 ms after the contact broke away (its state
-  /// filter), so the break-away peak is looked for until this long after the state says V.
-  double peak_after_slide_s = 0.02;
-  /// ... and from this long before it: the stick's end, where it broke. Earlier in the stick the
+  // The windows below count samples, one per haptic tick, not seconds: the state classifier's
+  // filter counts ticks, and a stall of the host drops ticks from the series (a 50 ms gap) while
+  // the contact moves on by one tick only.
+  /// The classifier names a slide up to about 15 ticks after the contact broke away (its state
+  /// filter), so the break-away peak is looked for until this many samples after the state says V.
+  int peak_after_slide_samples = 20;
+  /// ... and from this many before it: the stick's end, where it broke. Earlier in the stick the
   /// ratio says how the finger met the fabric (a finger pressed on at a slant starts high), not
   /// where it broke away.
-  double peak_before_slide_s = 0.03;
+  int peak_before_slide_samples = 30;
   /// The start of each slide is the break-away transient, not the plateau: left out of it. A
-  /// finger pulled by the user's spring slides only some 60 ms before it sticks again (stick-slip),
-  /// and its ratio settles within about 20 ms of the break-away.
-  double settle_s = 0.02;
+  /// finger pulled by the user's spring slides only some 60 ticks before it sticks again
+  /// (stick-slip), and its ratio settles within about 20 ticks of the break-away.
+  int settle_samples = 20;
 };
 
 struct StickSlipFigure {
   int breakaways = 0;     ///< sticking (IV) turned to sliding (V) with the finger pressed throughout
-  double first_peak = 0;  ///< largest F_T/F_N of the first stick, up to peak_after_slide_s into its slide
+  double first_peak = 0;  ///< largest F_T/F_N of the first break-away (its peak window)
   double first_peak_t_s = 0;
   double peak_min = 0, peak_median = 0, peak_max = 0;     ///< of every break-away's peak
-  std::size_t slide_samples = 0;                          ///< sliding samples past settle_s
+  std::size_t slide_samples = 0;                          ///< sliding samples past settle_samples
   double slide_median = 0, slide_p10 = 0, slide_p90 = 0;  ///< their F_T/F_N
 };
 

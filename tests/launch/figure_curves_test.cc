@@ -34,7 +34,7 @@ TEST(LaunchFigureCurvesTest, StickPeakAndSlidePlateauOfEachBreakaway) {
   EXPECT_NEAR(f.peak_min, 0.39, 1e-12);
   EXPECT_NEAR(f.peak_max, 0.41, 1e-12);
   EXPECT_NEAR(f.peak_median, 0.41, 1e-12) << "nearest rank of two: the upper";
-  // past the 20 ms transient of each slide: 380 samples at 0.2, 380 at 0.21
+  // past the 20-sample transient of each slide: 380 samples at 0.2, 380 at 0.21
   EXPECT_NEAR(static_cast<double>(f.slide_samples), 760.0, 2.0);
   EXPECT_NEAR(f.slide_p10, 0.2, 1e-12);
   EXPECT_NEAR(f.slide_p90, 0.21, 1e-12);
@@ -57,7 +57,7 @@ TEST(LaunchFigureCurvesTest, PeakFoundWhenTheSlideIsNamedLate) {
 }
 
 // A finger pressed on at a slant starts its stick with a high ratio; that is how it met the
-// fabric, not where it broke away (30 ms before the slide and after it are the break-away's).
+// fabric, not where it broke away (30 samples before the slide and 20 after it are the break-away's).
 TEST(LaunchFigureCurvesTest, TheStartOfAStickIsNotItsBreakaway) {
   std::vector<FrictionSample> samples;
   double t = 0.0;
@@ -69,6 +69,23 @@ TEST(LaunchFigureCurvesTest, TheStartOfAStickIsNotItsBreakaway) {
   EXPECT_EQ(f.breakaways, 1);
   EXPECT_NEAR(f.first_peak, 0.37, 1e-12);
   EXPECT_NEAR(f.first_peak_t_s, 0.2, 1e-9);
+}
+
+// A host stall between the break-away and the state's naming of the slide drops ticks from the
+// series: the peak is still the break-away's (its window counts samples, not seconds).
+TEST(LaunchFigureCurvesTest, AStallOfTheHostDoesNotHideTheBreakaway) {
+  std::vector<FrictionSample> samples;
+  double t = 0.0;
+  for (int k = 0; k < 100; ++k, t += 0.001) samples.push_back({t, 1.0, 0.4 * k / 99.0, kIV});
+  for (int k = 0; k < 5; ++k, t += 0.001) samples.push_back({t, 1.0, 0.2, kIV});  // slipped, still named IV
+  t += 0.052;                                                                     // the stall
+  for (int k = 0; k < 2; ++k, t += 0.001) samples.push_back({t, 1.0, 0.2, kIV});
+  for (int k = 0; k < 100; ++k, t += 0.001) samples.push_back({t, 1.0, 0.2, kV});
+  const StickSlipFigure f = MeasureStickSlip(samples);
+  EXPECT_EQ(f.breakaways, 1);
+  EXPECT_NEAR(f.first_peak, 0.4, 1e-12);
+  EXPECT_NEAR(f.first_peak_t_s, 0.099, 1e-9);
+  EXPECT_EQ(f.slide_samples, 80u) << "a slide of 100 past its first 20 samples";
 }
 
 // Sliding without a stick before it (it started sliding), a light touch, or another state
@@ -85,7 +102,7 @@ TEST(LaunchFigureCurvesTest, NoBreakawayWithoutAStickOfTheSamePress) {
   const StickSlipFigure f = MeasureStickSlip(samples);
   EXPECT_EQ(f.breakaways, 0);
   EXPECT_EQ(f.first_peak, 0.0);
-  EXPECT_NEAR(static_cast<double>(f.slide_samples), 60.0, 2.0) << "each slide of 50 past its first 20 ms";
+  EXPECT_NEAR(static_cast<double>(f.slide_samples), 60.0, 2.0) << "each slide of 50 past its first 20 samples";
   EXPECT_NEAR(f.slide_median, 0.2, 1e-12);
   EXPECT_EQ(MeasureStickSlip({}).breakaways, 0);
 }
