@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "libs/codec/envelope_channel.h"
 #include "libs/codec/file_descriptor_set.h"
 #include "libs/codec/message_topic.h"
 #include "libs/mcap/mcap_reader.h"
@@ -19,13 +20,7 @@ namespace {
 
 namespace pb = google::protobuf;
 
-constexpr const char* kEncoding = "protobuf";
-
-const pb::OneofDescriptor& BodyOneof() {
-  const pb::OneofDescriptor* body = v1::Envelope::descriptor()->FindOneofByName("body");
-  if (body == nullptr) throw std::logic_error("haptex.v1.Envelope has no oneof body");
-  return *body;
-}
+const std::string kEncoding(codec::kChannelEncoding);
 
 }  // namespace
 
@@ -35,7 +30,7 @@ RunMcapCounts WriteRunMcap(const std::vector<Recording>& recordings, std::ostrea
     const v1::Envelope* envelope;
     const pb::FieldDescriptor* body;
   };
-  const pb::OneofDescriptor& oneof = BodyOneof();
+  const pb::OneofDescriptor& oneof = codec::EnvelopeBodyOneof();
   const pb::Reflection* reflection = v1::Envelope::GetReflection();
   std::vector<Entry> entries;
   RunMcapCounts tally;
@@ -108,41 +103,25 @@ RunMcapCounts WriteRunMcap(const std::vector<Recording>& recordings, const std::
 
 std::vector<Recording> RecordingsFromMcap(const std::string& path) {
   const mcap::McapFile file = mcap::ReadMcapFile(path);
-  const pb::OneofDescriptor& oneof = BodyOneof();
   auto not_haptex = [&](const std::string& why) {
     return std::runtime_error(path + ": not a haptex run's MCAP: " + why);
   };
 
   // each channel: its sender and the Envelope's body field, checked against its schema
-  struct Source {
-    std::string sender;
-    const pb::FieldDescriptor* body = nullptr;
-  };
-  std::map<std::uint16_t, Source> sources;
+  std::map<std::uint16_t, codec::EnvelopeChannel> sources;
   for (const mcap::Channel& c : file.channels) {
-    const std::string where = "channel " + c.topic + ": ";
-    const auto slash = c.topic.find('/', 1);
-    if (c.topic.empty() || c.topic[0] != '/' || slash == std::string::npos || slash == 1) {
-      throw not_haptex(where + "the topic is not /<service>/<body>");
-    }
-    Source s{c.topic.substr(1, slash - 1), nullptr};
-    const std::string body = c.topic.substr(slash + 1);
-    for (int i = 0; i < oneof.field_count(); ++i) {
-      if (oneof.field(i)->name() == body) s.body = oneof.field(i);
-    }
-    if (s.body == nullptr) throw not_haptex(where + "\"" + body + "\" is no Envelope body");
-    if (c.message_encoding != kEncoding) throw not_haptex(where + "message encoding " + c.message_encoding);
     const mcap::Schema* schema = file.FindSchema(c.schema_id);
-    if (schema == nullptr || schema->encoding != kEncoding || schema->name != s.body->message_type()->full_name()) {
-      throw not_haptex(where + "its schema is not " + s.body->message_type()->full_name());
-    }
-    sources[c.id] = s;
+    std::string why;
+    codec::EnvelopeChannel s = codec::EnvelopeChannelOf(c.topic, c.message_encoding, schema ? schema->name : "",
+                                                        schema ? schema->encoding : "", &why);
+    if (s.body == nullptr) throw not_haptex("channel " + c.topic + ": " + why);
+    sources[c.id] = std::move(s);
   }
 
   std::map<std::string, Recording> by_sender;
   const pb::Reflection* reflection = v1::Envelope::GetReflection();
   for (const mcap::Message& m : file.messages) {
-    const Source& s = sources.at(m.channel_id);  // the reader checked every message's channel
+    const codec::EnvelopeChannel& s = sources.at(m.channel_id);  // the reader checked every message's channel
     Recording& r = by_sender[s.sender];
     if (r.path.empty()) r.path = path + " " + codec::MessageTopic(s.sender, "*");
     v1::Envelope e;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "libs/codec/cloth_positions.h"
 #include "libs/codec/message_conversion.h"
 
 namespace haptex::global_sim {
@@ -53,8 +54,8 @@ bool CopyResult(const v1::PatchResult& result, dual_layer::PatchResultData* out)
   return true;
 }
 
-void FillClothFrame(const textile::FabricModel& model, const textile::FabricState& state, std::uint64_t frame_index,
-                    int chunk, v1::ClothFrame* out) {
+void FillClothFrame(const textile::FabricModel& model, const textile::FabricState& state,
+                    const dual_layer::PatchRect& patch, std::uint64_t frame_index, int chunk, v1::ClothFrame* out) {
   const int n = model.num_particles;
   out->set_frame_index(frame_index);
   out->set_sim_time_s(state.time_s);
@@ -63,11 +64,14 @@ void FillClothFrame(const textile::FabricModel& model, const textile::FabricStat
   out->set_first_particle(static_cast<std::uint32_t>(chunk * kClothFrameChunkParticles));
   out->set_chunk_index(static_cast<std::uint32_t>(chunk));
   out->set_chunk_count(static_cast<std::uint32_t>(ClothFrameChunks(n)));
-  out->clear_position_w_m();
-  const int end = std::min(n, (chunk + 1) * kClothFrameChunkParticles);
-  for (int p = chunk * kClothFrameChunkParticles; p < end; ++p) {
-    for (int k = 0; k < 3; ++k) out->add_position_w_m(static_cast<float>(state.x_W_m[3 * p + k]));
-  }
+  const int first = chunk * kClothFrameChunkParticles;
+  const int end = std::min(n, first + kClothFrameChunkParticles);
+  codec::EncodeClothPositions(state.x_W_m.data() + 3 * first, end - first, codec::kClothQuantumM, out);
+  const bool cut = !patch.empty();
+  out->set_patch_u_begin(cut ? static_cast<std::uint32_t>(patch.i0) : 0);
+  out->set_patch_u_end(cut ? static_cast<std::uint32_t>(patch.i1 + 1) : 0);
+  out->set_patch_v_begin(cut ? static_cast<std::uint32_t>(patch.j0) : 0);
+  out->set_patch_v_end(cut ? static_cast<std::uint32_t>(patch.j1 + 1) : 0);
 }
 
 }  // namespace haptex::global_sim

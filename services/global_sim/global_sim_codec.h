@@ -29,11 +29,13 @@ void ToMessage(const dual_layer::PatchData& patch, v1::LocalPatch* out);
 /// do not match its ids or it is larger than the capacity: nothing is merged then.
 bool CopyResult(const v1::PatchResult& result, dual_layer::PatchResultData* out);
 
-/// Particles per ClothFrame datagram (float positions: 48 kB).
-inline constexpr int kClothFrameChunkParticles = 4000;
-/// Chunk `chunk` of the cloth's positions as frame `frame_index`.
-void FillClothFrame(const textile::FabricModel& model, const textile::FabricState& state, std::uint64_t frame_index,
-                    int chunk, v1::ClothFrame* out);
+/// Particles per ClothFrame datagram: about 24 kB of a draped cloth's positions (two bytes a
+/// coordinate), 60 kB if every difference took the most a sint32 does (five).
+inline constexpr int kClothFrameChunkParticles = 3900;
+/// Chunk `chunk` of the cloth's positions as frame `frame_index`, with the patch cut at its step
+/// (`patch` empty: none).
+void FillClothFrame(const textile::FabricModel& model, const textile::FabricState& state,
+                    const dual_layer::PatchRect& patch, std::uint64_t frame_index, int chunk, v1::ClothFrame* out);
 /// Datagrams a frame of `particles` takes.
 inline int ClothFrameChunks(int particles) {
   return (particles + kClothFrameChunkParticles - 1) / kClothFrameChunkParticles;

@@ -80,9 +80,11 @@ void GlobalSimLoop::Update(double t_s, double /*dt_s*/) {
   const Eigen::VectorXd& cut_v = cut_velocity_.Update(cloth_.state.v_W_m_per_s);
   ++counters_.steps;
   patch_ready_ = false;
+  patch_rect_ = {};
   if (!peers_.local_contact) return;
   const dual_layer::PatchRect rect = dual_layer::FindPatchRect(cloth_.model, cloth_.state, spheres_);
   if (rect.empty()) return;
+  patch_rect_ = rect;
   dual_layer::CutPatch(cloth_.model, cloth_.state, cut_v, rect, ++patch_id_, counters_.steps, setup_.step_options.dt_s,
                        refined_, &patch_);
   patch_.link_round_trip_steps = link_delay_.round_trip_steps();
@@ -102,7 +104,7 @@ void GlobalSimLoop::Write(services::Outbox& out) {
   if ((peers_.viewer || record_cloth_frames_) && t_s_ >= next_frame_s_) {
     next_frame_s_ = t_s_ + frame_period_s_;
     for (int c = 0; c < ClothFrameChunks(cloth_.model.num_particles); ++c) {
-      FillClothFrame(cloth_.model, cloth_.state, counters_.cloth_frames, c, &frame_);
+      FillClothFrame(cloth_.model, cloth_.state, patch_rect_, counters_.cloth_frames, c, &frame_);
       out.Record(frame_);
       if (peers_.viewer) out.Send(*peers_.viewer, frame_);
     }

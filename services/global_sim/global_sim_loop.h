@@ -73,6 +73,7 @@ class GlobalSimLoop final {
   net::NewestWins newest_states_;
   dual_layer::PatchData patch_;
   bool patch_ready_ = false;
+  dual_layer::PatchRect patch_rect_;  ///< of the patch cut this step (empty: none), for the viewer
   std::uint64_t patch_id_ = 0;
   dual_layer::PatchResultData result_;
   double t_s_ = 0.0, next_frame_s_ = 0.0;

@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "libs/codec/envelope_channel.h"
 #include "libs/mcap/mcap_reader.h"
 #include "services/viewer/session_info.h"
 
@@ -57,12 +58,25 @@ RunReplay LoadRunForReplay(const std::string& run_dir) {
   }
   RunReplay replay;
   replay.mcap_bytes = ReadWhole(mcap_path);
+  mcap::McapFile file;
   try {
     // checked whole here, so the page never meets a broken file
-    replay.messages = mcap::ReadMcap(replay.mcap_bytes).messages.size();
+    file = mcap::ReadMcap(replay.mcap_bytes);
   } catch (const mcap::McapError& e) {
     throw std::runtime_error(e.In(mcap_path.string()).what());
   }
+  // ... nor one of another program: every channel must be one a haptex run records
+  for (const mcap::Channel& c : file.channels) {
+    const mcap::Schema* schema = file.FindSchema(c.schema_id);
+    std::string why;
+    if (codec::EnvelopeChannelOf(c.topic, c.message_encoding, schema ? schema->name : "",
+                                 schema ? schema->encoding : "", &why)
+            .body == nullptr) {
+      throw std::runtime_error(mcap_path.string() + " is not a haptex run's recording: channel " + c.topic + ": " +
+                               why);
+    }
+  }
+  replay.messages = file.messages.size();
   const scene::LoadedScene scene = RunScene(run);
   replay.scene_name = scene.scene.name();
   replay.session_json = SessionJson(scene, "/run.mcap");

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include <Eigen/Geometry>
 
 #include "libs/codec/message_conversion.h"
+#include "libs/scene/cloth_setup.h"
 #include "libs/scene/scene_defaults.h"
 
 namespace haptex::viewer {
@@ -46,13 +48,19 @@ SceneViewConfig SceneViewConfigFromScene(const scene::LoadedScene& loaded) {
     const contact::FingerShape shape = scene::FingerShapeFromScene(f);
     config.fingers[static_cast<std::size_t>(slot)] = {shape.radius_m, shape.length_m};
   }
-  config.patch_radius_m = scene::PatchMarginM(loaded.scene);
+  try {
+    for (const int p : scene::MakeClothSetup(loaded).fixed_particles) {
+      config.fixed_particles.push_back(static_cast<std::uint32_t>(p));
+    }
+  } catch (const std::invalid_argument&) {
+    // a fabric that does not load: no stand drawn (global_sim refuses the scene and says why)
+  }
   return config;
 }
 
 const foxglove::SceneUpdate& SceneView::Build(const std::vector<float>& cloth_W_m, std::uint32_t u, std::uint32_t v,
-                                              const v1::FingerStates& fingers, const v1::ForceModel& forces,
-                                              std::uint64_t time_ns) {
+                                              const PatchGridRect& patch, const v1::FingerStates& fingers,
+                                              const v1::ForceModel& forces, std::uint64_t time_ns) {
   if (update_.entities_size() == 0) {
     update_.add_entities()->set_id("cloth");
     update_.add_entities()->set_id("fingers");
@@ -77,14 +85,6 @@ const foxglove::SceneUpdate& SceneView::Build(const std::vector<float>& cloth_W_
   }
   while (mesh->points_size() > static_cast<int>(n)) mesh->mutable_points()->RemoveLast();
   while (mesh->colors_size() > static_cast<int>(n)) mesh->mutable_colors()->RemoveLast();
-  std::array<Eigen::Vector3d, 2> finger_W_m{};
-  std::array<bool, 2> present{};
-  for (const v1::FingerState& s : fingers.fingers()) {
-    const int slot = codec::FingerSlot(s.finger());
-    if (slot < 0) continue;
-    finger_W_m[static_cast<std::size_t>(slot)] = Vec(s.position_w_m());
-    present[static_cast<std::size_t>(slot)] = true;
-  }
   for (std::uint64_t k = 0; k < n; ++k) {
     const Eigen::Vector3d p(cloth_W_m[3 * k], cloth_W_m[3 * k + 1], cloth_W_m[3 * k + 2]);
     foxglove::Point3* point =
@@ -92,15 +92,23 @@ const foxglove::SceneUpdate& SceneView::Build(const std::vector<float>& cloth_W_
     point->set_x(p.x());
     point->set_y(p.y());
     point->set_z(p.z());
-    bool in_patch = false;
-    for (std::size_t f = 0; f < 2; ++f) {
-      const double reach = config_.fingers[f].radius_m + config_.patch_radius_m;
-      in_patch = in_patch || (present[f] && (p - finger_W_m[f]).squaredNorm() < reach * reach);
-    }
+    const bool in_patch = patch.Contains(static_cast<std::uint32_t>(k % u), static_cast<std::uint32_t>(k / u));
     foxglove::Color* color =
         static_cast<int>(k) < mesh->colors_size() ? mesh->mutable_colors(static_cast<int>(k)) : mesh->add_colors();
     // denim blue, the patch under a finger amber
     in_patch ? SetColor(color, 0.85, 0.62, 0.25) : SetColor(color, 0.22, 0.30, 0.52);
+  }
+  // the stand: a grey clamp on each particle it holds
+  cloth->clear_cubes();
+  for (const std::uint32_t k : config_.fixed_particles) {
+    if (k >= n) continue;
+    foxglove::CubePrimitive* clamp = cloth->add_cubes();
+    SetPose(clamp->mutable_pose(), Eigen::Vector3d(cloth_W_m[3 * k], cloth_W_m[3 * k + 1], cloth_W_m[3 * k + 2]),
+            Eigen::Quaterniond::Identity());
+    clamp->mutable_size()->set_x(0.006);
+    clamp->mutable_size()->set_y(0.006);
+    clamp->mutable_size()->set_z(0.006);
+    SetColor(clamp->mutable_color(), 0.54, 0.56, 0.60);
   }
 
   // the fingers: a capsule along the finger frame's x, and the force on it

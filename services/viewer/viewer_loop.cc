@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "libs/codec/cloth_positions.h"
 #include "libs/codec/message_topic.h"
 
 namespace haptex::viewer {
@@ -74,11 +75,11 @@ void ViewerLoop::Read(const v1::Envelope& envelope, double t_s) {
 void ViewerLoop::AssembleCloth(const v1::ClothFrame& chunk) {
   const std::uint64_t n = static_cast<std::uint64_t>(chunk.particles_u()) * chunk.particles_v();
   const std::uint64_t first = chunk.first_particle();
-  const std::uint64_t count = static_cast<std::uint64_t>(chunk.position_w_m_size()) / 3;
+  const std::uint64_t count = static_cast<std::uint64_t>(chunk.position_q_size()) / 3;
   // a chunk that does not fit its own grid is not drawn (hostile or corrupt); the largest grid a
-  // scene allows (401 x 401) comes in 41 chunks
-  if (n == 0 || n > (1u << 20) || chunk.position_w_m_size() % 3 != 0 || first + count > n || chunk.chunk_count() == 0 ||
-      chunk.chunk_count() > 64 || chunk.chunk_index() >= chunk.chunk_count()) {
+  // scene allows (401 x 401) comes in 42 chunks
+  if (n == 0 || n > (1u << 20) || first + count > n || chunk.chunk_count() == 0 || chunk.chunk_count() > 64 ||
+      chunk.chunk_index() >= chunk.chunk_count()) {
     ++counters_.cloth_chunks_bad;
     return;
   }
@@ -90,15 +91,18 @@ void ViewerLoop::AssembleCloth(const v1::ClothFrame& chunk) {
     assembling_W_m_.assign(3 * n, 0.0f);
     chunks_seen_ = 0;
   }
-  for (std::uint64_t i = 0; i < 3 * count; ++i) {
-    const float x = chunk.position_w_m(static_cast<int>(i));
-    assembling_W_m_[3 * first + i] = std::isfinite(x) ? x : 0.0f;
+  // malformed positions (a bad step, a ragged or runaway sum) are refused whole
+  if (codec::DecodeClothPositions(chunk, assembling_W_m_.data() + 3 * first, 3 * (n - first)) < 0) {
+    ++counters_.cloth_chunks_bad;
+    return;
   }
+  assembling_patch_ = {chunk.patch_u_begin(), chunk.patch_u_end(), chunk.patch_v_begin(), chunk.patch_v_end()};
   chunks_seen_ |= std::uint64_t{1} << chunk.chunk_index();
   const std::uint64_t all =
       chunk.chunk_count() == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << chunk.chunk_count()) - 1;
   if (chunks_seen_ == all) {
     cloth_W_m_ = assembling_W_m_;
+    patch_ = assembling_patch_;
     cloth_new_ = true;
     chunks_seen_ = 0;
     ++counters_.cloth_frames_whole;
@@ -110,7 +114,7 @@ void ViewerLoop::Update(double t_s, double /*dt_s*/) {
     next_scene_s_ = t_s + 1.0 / config_.frame_hz;
     cloth_new_ = false;
     const std::uint64_t time_ns = LogTimeNs(t_s);
-    sink_->Publish("/viewer/scene", scene_view_.Build(cloth_W_m_, u_, v_, fingers_, forces_, time_ns), time_ns);
+    sink_->Publish("/viewer/scene", scene_view_.Build(cloth_W_m_, u_, v_, patch_, fingers_, forces_, time_ns), time_ns);
     ++counters_.scene_updates;
   }
   PublishCounters();

@@ -41,6 +41,8 @@ class ViewerLoop final {
   const Counters& counters() const { return counters_; }
   /// The newest whole cloth [m, W], 3 per particle; empty before the first.
   const std::vector<float>& cloth_W_m() const { return cloth_W_m_; }
+  /// The local patch of that cloth.
+  const PatchGridRect& patch() const { return patch_; }
 
  private:
   const std::string& TopicOf(const v1::Envelope& envelope);
@@ -63,6 +65,7 @@ class ViewerLoop final {
   std::uint64_t chunks_seen_ = 0;  ///< bit k: chunk k of the frame being assembled arrived
   std::uint32_t u_ = 0, v_ = 0;
   std::vector<float> assembling_W_m_, cloth_W_m_;
+  PatchGridRect assembling_patch_, patch_;  ///< the local patch of the frame being assembled, the newest
   bool cloth_new_ = false;
   v1::FingerStates fingers_;
   v1::ForceModel forces_;

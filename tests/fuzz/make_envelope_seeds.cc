@@ -57,7 +57,8 @@ int main(int argc, char** argv) {
   auto* pins = e.mutable_pin_frame()->add_fingers();
   for (int i = 0; i < 24; ++i) pins->add_amplitude_40hz(0.1f * static_cast<float>(i % 10));
   emit("pin_frame");
-  e.mutable_cloth_frame()->add_position_w_m(0.5f);
+  e.mutable_cloth_frame()->set_quantum_m(1e-6);
+  e.mutable_cloth_frame()->add_position_q(500000);
   emit("cloth_frame");
   e.mutable_health()->add_counters()->set_name("dropped");
   emit("health");

@@ -6,6 +6,7 @@
 
 import * as THREE from "three";
 import { OrbitControls } from "three/addons/controls/OrbitControls.js";
+import { decodeClothPositions } from "./cloth_positions.js";
 import { connectLive } from "./foxglove_client.js";
 import { readMcap } from "./mcap_file.js";
 import { makeDecoder } from "./proto_decoder.js";
@@ -18,6 +19,7 @@ const SHOWN = new Set(["haptex.v1.ClothFrame", "haptex.v1.FingerStates", "haptex
 
 const stats = {
   mode: "", status: "starting", framesRendered: 0, fps: 0, clothFrames: 0, clothVertexCount: 0,
+  standClamps: 0, patchParticles: 0, patchFramesSeen: 0, pinFrames: 0, pinMax: 0,
   messages: 0, contactStates: { thumb: "-", index: "-" }, forcesN: { thumb: 0, index: 0 },
   peakForceN: { thumb: 0, index: 0 }, stateTicks: { thumb: {}, index: {} }, health: {}, errors: [],
   timeS: 0, durationS: 0, playing: false, renderScale: 1,
@@ -59,11 +61,11 @@ const sun = new THREE.DirectionalLight(0xffffff, 1.6);
 sun.position.set(0.3, 0.6, 0.5);
 scene.add(sun);
 
-const cloth = { mesh: null, positions: null, colors: null, u: 0, v: 0, assembling: null, frame: -1, seen: new Set() };
+const cloth = { mesh: null, positions: null, colors: null, u: 0, v: 0, assembling: null, frame: -1, seen: new Set(),
+                patch: null, assemblingPatch: null };
 const clothMaterial = new THREE.MeshStandardMaterial({ vertexColors: true, side: THREE.DoubleSide, roughness: 0.9 });
-const stand = new THREE.Mesh(new THREE.BoxGeometry(1, 0.008, 0.008), new THREE.MeshStandardMaterial({ color: 0x8a8f98 }));
-stand.visible = false;
-scene.add(stand);
+// the stand: a grey clamp on each particle it holds (the scene's fixed particles, from session.json)
+let stand = null;
 
 const fingers = {};
 for (const name of ["thumb", "index"]) {
@@ -130,49 +132,58 @@ function onClothFrame(m) {
   if (u !== cloth.u || v !== cloth.v) buildCloth(u, v);
   if (m.frame_index !== cloth.frame) {
     cloth.frame = m.frame_index;
-    cloth.seen = new Set();  // chunk indices: a 401 x 401 cloth comes in 41 chunks
+    cloth.seen = new Set();  // chunk indices: a 401 x 401 cloth comes in 42 chunks
     cloth.assembling = cloth.assembling && cloth.assembling.length === 3 * u * v ? cloth.assembling : new Float32Array(3 * u * v);
   }
-  const p = m.position_w_m;
-  if (3 * m.first_particle + p.length > cloth.assembling.length) return;
-  cloth.assembling.set(p, 3 * m.first_particle);
+  if (decodeClothPositions(m, cloth.assembling, 3 * m.first_particle) < 0) return;
+  cloth.assemblingPatch = { u0: m.patch_u_begin ?? 0, u1: m.patch_u_end ?? 0, v0: m.patch_v_begin ?? 0, v1: m.patch_v_end ?? 0 };
   cloth.seen.add(m.chunk_index);
   if (cloth.seen.size === m.chunk_count) showCloth(cloth.assembling);
 }
 
 function showCloth(positions) {
   cloth.positions.set(positions);
-  // the stand: along the top row at rest
-  if (!stand.visible) {
-    const first = new THREE.Vector3(positions[0], positions[1], positions[2]);
-    const last = new THREE.Vector3(...positions.slice(3 * (cloth.u - 1), 3 * cloth.u));
-    stand.scale.x = first.distanceTo(last) + 0.02;
-    stand.position.copy(first).add(last).multiplyScalar(0.5).add(new THREE.Vector3(0, 0, 0.004));
-    stand.visible = true;
-  }
+  cloth.patch = cloth.assemblingPatch;
+  placeStand();
   colourPatch();
   cloth.mesh.geometry.attributes.position.needsUpdate = true;
   cloth.mesh.geometry.computeVertexNormals();
   ++stats.clothFrames;
 }
 
-// The local patch, as near as the page can tell: the particles within the patch radius of a finger
-// (global_sim cuts the grid rectangle around those, from the finger's swept path).
+function placeStand() {
+  const fixed = (session.fixed_particles ?? []).filter((k) => Number.isInteger(k) && k >= 0 && k < cloth.u * cloth.v);
+  if (!stand) {
+    stand = new THREE.InstancedMesh(new THREE.BoxGeometry(0.006, 0.006, 0.006),
+                                    new THREE.MeshStandardMaterial({ color: 0x8a8f98 }), Math.max(1, fixed.length));
+    stand.count = 0;
+    stand.frustumCulled = false;  // its bounds are the one box's at the origin, not the clamps'
+    scene.add(stand);
+  }
+  const place = new THREE.Matrix4();
+  stand.count = Math.min(fixed.length, stand.instanceMatrix.count);
+  for (let i = 0; i < stand.count; ++i) {
+    const k = fixed[i];
+    stand.setMatrixAt(i, place.makeTranslation(cloth.positions[3 * k], cloth.positions[3 * k + 1], cloth.positions[3 * k + 2]));
+  }
+  stand.instanceMatrix.needsUpdate = true;
+  stats.standClamps = stand.count;
+}
+
+// The local patch: the grid rectangle global_sim cut at the frame's step (ClothFrame's patch_*).
 function colourPatch() {
-  const radius = session.patch_radius_m ?? 0.015;
-  const near = [];
-  for (const f of Object.values(fingers)) if (f.position && f.group.visible) near.push([f.position, f.radius + radius]);
-  const c = cloth.colors, p = cloth.positions;
-  for (let k = 0; k < p.length / 3; ++k) {
-    let inPatch = false;
-    for (const [q, r] of near) {
-      const dx = p[3 * k] - q.x, dy = p[3 * k + 1] - q.y, dz = p[3 * k + 2] - q.z;
-      if (dx * dx + dy * dy + dz * dz < r * r) { inPatch = true; break; }
-    }
+  const c = cloth.colors, r = cloth.patch ?? { u0: 0, u1: 0, v0: 0, v1: 0 };
+  let inPatchCount = 0;
+  for (let k = 0; k < c.length / 3; ++k) {
+    const i = k % cloth.u, j = Math.floor(k / cloth.u);
+    const inPatch = i >= r.u0 && i < r.u1 && j >= r.v0 && j < r.v1;
+    inPatchCount += inPatch;
     c[3 * k] = inPatch ? 0.85 : 0.22;
     c[3 * k + 1] = inPatch ? 0.62 : 0.3;
     c[3 * k + 2] = inPatch ? 0.25 : 0.52;  // denim blue, the patch amber
   }
+  stats.patchParticles = inPatchCount;
+  stats.patchFramesSeen += inPatchCount > 0;
   cloth.mesh.geometry.attributes.color.needsUpdate = true;
 }
 
@@ -214,16 +225,27 @@ function onForceModel(m) {
 }
 
 function onPinFrame(m) {
+  ++stats.pinFrames;
   for (const fp of m.fingers) {
     const name = FINGERS[fp.finger];
-    if (name) drawPins(name, fp.amplitude_40hz, fp.amplitude_320hz);
+    if (!name) continue;
+    drawPins(name, fp.amplitude_40hz, fp.amplitude_320hz);
+    for (const a of [...fp.amplitude_40hz, ...fp.amplitude_320hz]) stats.pinMax = Math.max(stats.pinMax, a);
   }
 }
 
+// A loop's measured rate: its ticks since the service's previous Health over the uptime between.
 function onHealth(m) {
+  const before = stats.health[m.service];
+  const measuredHz = (l) => {
+    const was = before?.loops.find((b) => b.name === l.name);
+    const dt = (m.uptime_s ?? 0) - (before?.uptime_s ?? 0);
+    return was && dt > 0 && l.ticks >= was.ticks ? (l.ticks - was.ticks) / dt : null;
+  };
   stats.health[m.service] = {
-    state: m.state, loops: m.loops.map((l) => ({ name: l.name, hz: l.target_rate_hz, ticks: l.ticks, overruns: l.overruns,
-                                                   p99_us: l.period_p99_us })),
+    state: m.state, uptime_s: m.uptime_s ?? 0,
+    loops: m.loops.map((l) => ({ name: l.name, hz: l.target_rate_hz, measured_hz: measuredHz(l), ticks: l.ticks,
+                                 overruns: l.overruns, p99_us: l.period_p99_us })),
     latencies: m.latencies.map((l) => ({ name: l.name, p50_us: l.p50_us, p99_us: l.p99_us })),
     last_error: m.last_error,
   };
@@ -266,7 +288,8 @@ function updatePanels() {
   const rows = [];
   for (const [service, h] of Object.entries(stats.health)) {
     for (const l of h.loops) {
-      rows.push(`<tr><td>${escapeHtml(service)}</td><td>${escapeHtml(l.name)}</td><td>${l.hz.toFixed(0)}</td>` +
+      const rate = l.measured_hz === null ? "-" : l.measured_hz.toFixed(0);
+      rows.push(`<tr><td>${escapeHtml(service)}</td><td>${escapeHtml(l.name)}</td><td>${rate} / ${l.hz.toFixed(0)}</td>` +
                 `<td>${l.overruns}</td><td>${(l.p99_us / 1000).toFixed(2)}</td></tr>`);
     }
   }
@@ -302,6 +325,7 @@ function seek(t) {
       stats.peakForceN[name] = 0;
       stats.stateTicks[name] = {};
     }
+    stats.pinFrames = stats.pinMax = stats.patchFramesSeen = 0;
   }
   stats.timeS = target;
   const until = replay.start + BigInt(Math.round(target * 1e9));

@@ -7,7 +7,9 @@
 
 #include <cmath>
 #include <set>
+#include <vector>
 
+#include "libs/codec/cloth_positions.h"
 #include "libs/codec/message_conversion.h"
 #include "services/local_contact/local_contact_codec.h"
 #include "tests/support/allocation_counter.h"
@@ -79,8 +81,15 @@ TEST_F(GlobalSimLoopTest, ClothFramesAtTheirRateAndPatchesOnlyNearAFinger) {
   EXPECT_EQ(frames.size(), 5u);  // 25 Hz over 0.2 s at a 10 ms step
   EXPECT_EQ(frames.back().particles_u(), 21u);
   EXPECT_EQ(frames.back().chunk_count(), 1u);
-  EXPECT_EQ(frames.back().position_w_m_size(), 3 * 441);
-  EXPECT_FLOAT_EQ(frames.back().position_w_m(3 * 440 + 2), static_cast<float>(loop_.state().x(440).z()));
+  EXPECT_EQ(frames.back().patch_u_end(), frames.back().patch_u_begin()) << "no finger: no patch to show";
+  ASSERT_EQ(frames.back().position_q_size(), 3 * 441);
+  std::vector<float> cloth_W_m(3 * 441);
+  ASSERT_EQ(codec::DecodeClothPositions(frames.back(), cloth_W_m.data(), cloth_W_m.size()), 3 * 441);
+  for (int p = 0; p < 441; ++p) {
+    for (int k = 0; k < 3; ++k) {
+      ASSERT_NEAR(cloth_W_m[3 * p + k], loop_.state().x(p)[k], 0.5 * codec::kClothQuantumM + 1e-7) << p;
+    }
+  }
 
   // the thumb near the cloth's centre: a patch every step around it
   out.Clear();
@@ -105,6 +114,28 @@ TEST_F(GlobalSimLoopTest, ClothFramesAtTheirRateAndPatchesOnlyNearAFinger) {
   Step(out);
   EXPECT_TRUE(out.Of<v1::LocalPatch>(kLocal).empty());
   EXPECT_EQ(Counter("patches_sent"), 3u);
+}
+
+// The viewer is shown the patch global_sim cut at the frame's step: the rectangle its particles lie in.
+TEST_F(GlobalSimLoopTest, ClothFramesCarryThePatchRectangleCutAtTheirStep) {
+  haptex::testing::CapturedOutbox out;
+  loop_.Read(haptex::testing::WrapEnvelope(ThumbAt(V(0, 0.009, -0.05)), ++sequence_), step_ * kDt);
+  for (int s = 0; s < 8; ++s) Step(out);  // two frame periods
+  const auto frames = out.Of<v1::ClothFrame>(kViewer);
+  ASSERT_FALSE(frames.empty());
+  const v1::ClothFrame& f = frames.back();
+  ASSERT_LT(f.patch_u_begin(), f.patch_u_end());
+  ASSERT_LT(f.patch_v_begin(), f.patch_v_end());
+  EXPECT_LT(f.patch_u_end() - f.patch_u_begin(), 21u) << "a patch, not the whole cloth";
+  const v1::LocalPatch& patch = out.Of<v1::LocalPatch>(kLocal).back();
+  int inside = 0;
+  for (const std::uint32_t id : patch.particle_ids()) {
+    if (id >= 441) continue;  // refined particles are the patch's own
+    const std::uint32_t i = id % 21, j = id / 21;
+    EXPECT_TRUE(i >= f.patch_u_begin() && i < f.patch_u_end() && j >= f.patch_v_begin() && j < f.patch_v_end()) << id;
+    ++inside;
+  }
+  EXPECT_EQ(inside, static_cast<int>((f.patch_u_end() - f.patch_u_begin()) * (f.patch_v_end() - f.patch_v_begin())));
 }
 
 // Without a viewer, ClothFrames go only into the recording, and only when the scene asks for them:

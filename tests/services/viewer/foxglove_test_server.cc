@@ -11,6 +11,7 @@
 
 #include "foxglove/SceneUpdate.pb.h"
 #include "haptex/v1/cloth_frame.pb.h"
+#include "libs/codec/cloth_positions.h"
 #include "services/viewer/foxglove_server.h"
 
 namespace {
@@ -18,8 +19,8 @@ namespace {
 using haptex::codec::FileDescriptorSetOf;
 using haptex::viewer::FoxgloveServer;
 
-// A 2 x 2 grid the client checks value by value.
-constexpr float kPositions[] = {0.0F, 0.0F, 0.0F, 0.5F, 0.0F, 0.0F, 0.0F, 0.25F, 0.0F, 0.5F, 0.25F, 0.125F};
+// A 2 x 2 grid the client checks value by value (quantised to a micrometre as global_sim sends it).
+constexpr double kPositions[] = {0.0, 0.0, 0.0, 0.5, 0.0, 0.0, 0.0, 0.25, 0.0, 0.5, 0.25, 0.125};
 
 haptex::v1::ClothFrame ClothFrameOf(std::uint64_t index) {
   haptex::v1::ClothFrame frame;
@@ -28,7 +29,7 @@ haptex::v1::ClothFrame ClothFrameOf(std::uint64_t index) {
   frame.set_particles_u(2);
   frame.set_particles_v(2);
   frame.set_chunk_count(1);
-  for (const float coordinate : kPositions) frame.add_position_w_m(coordinate);
+  haptex::codec::EncodeClothPositions(kPositions, 4, haptex::codec::kClothQuantumM, &frame);
   return frame;
 }
 

@@ -145,8 +145,14 @@ function check() {
     assert.equal(message.particles_u, 2);
     assert.equal(message.particles_v, 2);
     assert.equal(message.chunk_count, 1);
-    assert.equal(message.position_w_m.length, kPositions.length);
-    message.position_w_m.forEach((value, k) => closeTo(value, kPositions[k], `position ${k}`));
+    // the documented rule (cloth_frame.proto): x = quantum_m * the running sum of position_q
+    assert.equal(message.quantum_m, 1e-6);
+    assert.equal(message.position_q.length, kPositions.length);
+    const sum = [0, 0, 0];
+    message.position_q.forEach((q, k) => {
+      sum[k % 3] += q;
+      closeTo(message.quantum_m * sum[k % 3], kPositions[k], `position ${k}`);
+    });
   }
 
   for (const { timestamp, message } of received.get("/scene")) {

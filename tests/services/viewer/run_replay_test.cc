@@ -65,7 +65,18 @@ TEST(RunReplayTest, ARecordingThatIsNotMcapOrCutShortIsRefusedSayingSo) {
   const std::string bytes = Recording(10);
   run.Write("run.mcap", bytes.substr(0, bytes.size() / 2));
   const std::string error = ThrowsWith(run.dir.string());
-  EXPECT_NE(error.find("run.mcap"), std::string::npos) << error;
+  EXPECT_NE(error.find("run.mcap: cut short"), std::string::npos) << error;
+}
+
+TEST(RunReplayTest, AnotherProgramsRecordingIsRefused) {
+  RunFolder run;
+  std::ostringstream file;
+  mcap::McapWriter writer(file);
+  writer.AddChannel(writer.AddSchema("sensor_msgs.Image", "protobuf", "x"), "/camera/image", "protobuf");
+  writer.Finish();
+  run.Write("run.mcap", file.str());
+  const std::string error = ThrowsWith(run.dir.string());
+  EXPECT_NE(error.find("is not a haptex run's recording: channel /camera/image"), std::string::npos) << error;
 }
 
 TEST(RunReplayTest, AWholeRunServesItsRecordingAndTheSceneItRan) {
@@ -82,6 +93,9 @@ TEST(RunReplayTest, AWholeRunServesItsRecordingAndTheSceneItRan) {
   EXPECT_EQ(session["recording"], "/run.mcap");
   ASSERT_EQ(session["scene"]["fingers"].size(), 2u);
   EXPECT_DOUBLE_EQ(session["scene"]["fingers"][0]["radius_m"].get<double>(), 0.008);
+  // the demo's cloth hangs from its top edge: the stand holds the first row of 41
+  ASSERT_EQ(session["fixed_particles"].size(), 41u);
+  EXPECT_EQ(session["fixed_particles"][40], 40);
 }
 
 }  // namespace

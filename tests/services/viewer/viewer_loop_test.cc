@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry>
 
+#include "libs/codec/cloth_positions.h"
 #include "tests/support/wrap_envelope.h"
 
 namespace haptex::viewer {
@@ -35,7 +36,7 @@ v1::Envelope From(const std::string& sender, const Body& body, std::uint64_t seq
   return e;
 }
 
-// A u x v cloth in `chunks` ClothFrame chunks, every coordinate = `value`.
+// A u x v cloth in `chunks` ClothFrame chunks, every coordinate of particle p = `value` + p (mod 1000).
 std::vector<v1::ClothFrame> Cloth(std::uint32_t u, std::uint32_t v, int chunks, std::uint64_t frame, float value) {
   std::vector<v1::ClothFrame> out;
   const std::uint32_t n = u * v, per = (n + chunks - 1) / chunks;
@@ -47,9 +48,11 @@ std::vector<v1::ClothFrame> Cloth(std::uint32_t u, std::uint32_t v, int chunks, 
     f.set_first_particle(c * per);
     f.set_chunk_index(static_cast<std::uint32_t>(c));
     f.set_chunk_count(static_cast<std::uint32_t>(chunks));
+    std::vector<double> x_W_m;
     for (std::uint32_t p = c * per; p < std::min(n, (c + 1) * per); ++p) {
-      for (int k = 0; k < 3; ++k) f.add_position_w_m(value + static_cast<float>(p));
+      x_W_m.insert(x_W_m.end(), 3, static_cast<double>(value) + static_cast<double>(p % 1000));
     }
+    codec::EncodeClothPositions(x_W_m.data(), static_cast<int>(x_W_m.size() / 3), codec::kClothQuantumM, &f);
     out.push_back(f);
   }
   return out;
@@ -126,9 +129,45 @@ TEST(ViewerLoopTest, AssemblesTheClothFromChunksInAnyOrderAndSendsOneSceneAtTheF
   EXPECT_DOUBLE_EQ(f.sink.last_scene.entities(0).triangles(0).points(19).z(), 20.5);
 }
 
+// The patch is the grid rectangle global_sim cut (amber), the rest denim; the stand's clamps sit on
+// the particles it holds.
+TEST(ViewerLoopTest, ThePatchGlobalSimCutIsColouredAndTheStandClampsItsParticles) {
+  Fixture f;
+  ViewerLoopConfig config = f.config;
+  config.scene.fixed_particles = {0, 1, 2, 3, 4, 999};  // the top row of a 5 x 4 grid; 999 is none
+  runtime::HealthReporter health{"viewer"};
+  ViewerLoop loop{config, &f.sink, &health};
+  auto chunks = Cloth(5, 4, 2, 1, 0.5f);
+  for (auto& c : chunks) {
+    c.set_patch_u_begin(1);
+    c.set_patch_u_end(3);
+    c.set_patch_v_begin(2);
+    c.set_patch_v_end(4);
+  }
+  for (std::size_t c = 0; c < chunks.size(); ++c) loop.Read(From("global_sim", chunks[c], c + 1), 0.1);
+  EXPECT_EQ(loop.patch().u_begin, 1u);
+  EXPECT_EQ(loop.patch().v_end, 4u);
+  loop.Update(0.1, 0.01);
+  const foxglove::SceneEntity& cloth = f.sink.last_scene.entities(0);
+  const auto& mesh = cloth.triangles(0);
+  ASSERT_EQ(mesh.colors_size(), 20);
+  std::vector<int> amber;
+  for (int k = 0; k < 20; ++k) {
+    if (mesh.colors(k).r() > 0.5) amber.push_back(k);
+  }
+  EXPECT_EQ(amber, (std::vector<int>{11, 12, 16, 17})) << "i_u in [1, 3), i_v in [2, 4) of a 5-wide grid";
+  ASSERT_EQ(cloth.cubes_size(), 5);
+  EXPECT_DOUBLE_EQ(cloth.cubes(3).pose().position().x(), 3.5);
+
+  // a frame without a patch (no finger near): nothing amber
+  for (const auto& c : Cloth(5, 4, 1, 2, 0.5f)) loop.Read(From("global_sim", c, 9), 0.2);
+  loop.Update(0.2, 0.01);
+  for (const auto& colour : f.sink.last_scene.entities(0).triangles(0).colors()) EXPECT_LT(colour.r(), 0.5);
+}
+
 TEST(ViewerLoopTest, TheLargestClothAScenesAllowsIsAssembledFromItsManyChunks) {
   Fixture f;
-  const auto chunks = Cloth(401, 401, 41, 1, 0.0f);  // global_sim's 4000 particles per chunk
+  const auto chunks = Cloth(401, 401, 42, 1, 0.0f);  // global_sim's 3900 particles per chunk
   for (std::size_t c = 0; c < chunks.size(); ++c) f.loop.Read(From("global_sim", chunks[c], c + 1), 0.1);
   EXPECT_EQ(f.loop.counters().cloth_chunks_bad, 0u);
   EXPECT_EQ(f.loop.counters().cloth_frames_whole, 1u);
@@ -140,14 +179,20 @@ TEST(ViewerLoopTest, ChunksThatDoNotFitTheirGridAreCountedAndNotDrawn) {
   v1::ClothFrame too_far = Cloth(5, 4, 1, 1, 0)[0];
   too_far.set_first_particle(10);  // 20 particles from 10 overruns a 20-particle grid
   v1::ClothFrame ragged = Cloth(5, 4, 1, 2, 0)[0];
-  ragged.add_position_w_m(1.0f);  // not 3 per particle
+  ragged.add_position_q(1);  // not 3 per particle
+  v1::ClothFrame no_step = Cloth(5, 4, 1, 5, 0)[0];
+  no_step.set_quantum_m(0.0);
+  v1::ClothFrame runaway = Cloth(5, 4, 1, 6, 0)[0];
+  for (int i = 0; i < runaway.position_q_size(); ++i) runaway.set_position_q(i, 1 << 30);  // sums past the limit
   v1::ClothFrame huge = Cloth(5, 4, 1, 3, 0)[0];
   huge.set_particles_u(1u << 20);
   huge.set_particles_v(1u << 20);
   v1::ClothFrame bad_index = Cloth(5, 4, 1, 4, 0)[0];
   bad_index.set_chunk_index(1);
-  for (const auto* chunk : {&too_far, &ragged, &huge, &bad_index}) f.loop.Read(From("global_sim", *chunk, 1), 0.1);
-  EXPECT_EQ(f.loop.counters().cloth_chunks_bad, 4u);
+  for (const auto* chunk : {&too_far, &ragged, &huge, &bad_index, &no_step, &runaway}) {
+    f.loop.Read(From("global_sim", *chunk, 1), 0.1);
+  }
+  EXPECT_EQ(f.loop.counters().cloth_chunks_bad, 6u);
   EXPECT_TRUE(f.loop.cloth_W_m().empty());
   f.loop.Update(1.0, 0.01);
   EXPECT_EQ(f.loop.counters().scene_updates, 0u);
