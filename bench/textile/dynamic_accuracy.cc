@@ -21,8 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "libs/scene/fabric_conversion.h"
-#include "libs/textile/kes_material.h"
+#include "bench/textile/accuracy_settings.h"
 #include "libs/textile/motion_accuracy.h"
 #include "libs/textile/validation.h"
 
@@ -31,55 +30,6 @@ namespace {
 
 constexpr double kSide_m = 0.2;
 constexpr double kReferenceDt_s = 1e-4;
-
-// The database denim, its laws on a light (10 g/m2) and a heavy (1 kg/m2) cloth, and scaled
-// 100 times stiffer (nearly inextensible).
-FabricMaterial FabricNamed(const std::string& name) {
-  FabricMaterial denim = MaterialFromKes(scene::LoadKesFabric("wang2011_black_denim_11oz"));
-  if (name == "denim") return denim;
-  if (name == "light" || name == "heavy") {
-    denim.density_kg_per_m2 = name == "light" ? 0.01 : 1.0;
-    return denim;
-  }
-  if (name == "stiff") return validation::ScaleStiffness(denim, 100.0);
-  throw std::invalid_argument("unknown fabric '" + name + "' (light, heavy, stiff, denim)");
-}
-
-// The solver settings compared. "default" is whatever step_options.h says.
-std::map<std::string, StepOptions> Settings() {
-  std::map<std::string, StepOptions> s;
-  StepOptions bw;  // Baraff-Witkin's single linearised step, CG to 1e-2
-  bw.newton_max_iterations = 1;
-  bw.max_step_halvings = 0;
-  bw.max_strain_rise_per_step = 0.0;
-  bw.cg_tolerance = 1e-2;
-  s["bw"] = bw;
-  s["bw_cg1e-3"] = bw;
-  s["bw_cg1e-3"].cg_tolerance = 1e-3;
-  s["default"] = StepOptions{};
-  for (const double tol : {1e-2, 1e-3}) {
-    StepOptions newton = bw;
-    newton.newton_max_iterations = 8;
-    newton.newton_tolerance = tol;
-    const std::string suffix = tol == 1e-2 ? "" : "1e-3";
-    s["newton" + suffix] = newton;
-    newton.max_step_halvings = 4;
-    s["newton" + suffix + "_split"] = newton;
-    newton.max_step_halvings = 0;
-    newton.newton_update_jacobian = true;
-    s["newton" + suffix + "_full"] = newton;
-  }
-  // BDF2 (second order; it needs Newton's iterations, step_options.h)
-  StepOptions bdf2 = bw;
-  bdf2.method = Integrator::kBdf2;
-  bdf2.newton_max_iterations = 2;
-  s["bdf2_newton2"] = bdf2;
-  bdf2.newton_max_iterations = 8;
-  s["bdf2_newton"] = bdf2;
-  bdf2.newton_tolerance = 1e-3;
-  s["bdf2_newton1e-3"] = bdf2;
-  return s;
-}
 
 std::vector<std::string> Split(const std::string& list) {
   std::vector<std::string> out;
