@@ -50,15 +50,6 @@ using validation::RunMotion;
 constexpr double kSide_m = 0.2;
 constexpr double kSample_s = 1e-3;  // motion_accuracy's sampling
 
-std::vector<std::string> Split(const std::string& list) {
-  std::vector<std::string> out;
-  std::stringstream in(list);
-  for (std::string item; std::getline(in, item, ',');) {
-    if (!item.empty()) out.push_back(item);
-  }
-  return out;
-}
-
 double Median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v.empty() ? 0.0 : v[v.size() / 2];

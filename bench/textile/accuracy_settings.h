@@ -3,8 +3,10 @@
 // bench/peer's Bullet comparison): one definition for both, so their rows mean the same.
 
 #include <map>
+#include <sstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "libs/scene/fabric_conversion.h"
 #include "libs/textile/kes_material.h"
@@ -60,6 +62,16 @@ inline std::map<std::string, StepOptions> Settings() {
   bdf2.newton_tolerance = 1e-3;
   s["bdf2_newton1e-3"] = bdf2;
   return s;
+}
+
+/// The items of a comma-separated flag value ("1,2,5").
+inline std::vector<std::string> Split(const std::string& list) {
+  std::vector<std::string> out;
+  std::stringstream in(list);
+  for (std::string item; std::getline(in, item, ',');) {
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
 }
 
 }  // namespace haptex::textile

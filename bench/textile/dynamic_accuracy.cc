@@ -31,15 +31,6 @@ namespace {
 constexpr double kSide_m = 0.2;
 constexpr double kReferenceDt_s = 1e-4;
 
-std::vector<std::string> Split(const std::string& list) {
-  std::vector<std::string> out;
-  std::stringstream in(list);
-  for (std::string item; std::getline(in, item, ',');) {
-    if (!item.empty()) out.push_back(item);
-  }
-  return out;
-}
-
 int Main(int argc, char** argv) {
   std::map<std::string, std::string> flags = {{"--meshes", "21,41"},
                                               {"--steps-ms", "1,2,5,10,20,50"},
