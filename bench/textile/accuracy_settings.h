@@ -40,6 +40,14 @@ inline std::map<std::string, StepOptions> Settings() {
   s["bw_cg1e-3"] = bw;
   s["bw_cg1e-3"].cg_tolerance = 1e-3;
   s["default"] = StepOptions{};
+  // the single step, retaken as halves (down to 1/16) where the largest strain rises by more
+  // than a point in one step: the cost only where the cloth is struck
+  StepOptions strain_split = bw;
+  strain_split.max_step_halvings = 4;
+  strain_split.max_strain_rise_per_step = 0.01;
+  s["bw_strain_split"] = strain_split;
+  strain_split.newton_max_iterations = 8;
+  s["newton_strain_split"] = strain_split;
   for (const double tol : {1e-2, 1e-3}) {
     StepOptions newton = bw;
     newton.newton_max_iterations = 8;

@@ -31,8 +31,9 @@ export async function waitUntilServed(url, timeoutMs = 30000) {
   }
 }
 
-/// Opens the page at `url` and waits until it shows a cloth; returns the page.
-export async function openViewer(browser, url, timeoutMs = 30000) {
+/// Opens the page at `url` and waits until it shows a cloth; returns the page. The wait is long:
+/// beside a demo at normal scheduling on 2 cores a browser takes 10-30 s to load the page.
+export async function openViewer(browser, url, timeoutMs = 60000) {
   await waitUntilServed(url, timeoutMs);
   const page = await browser.newPage();
   await page.setViewport({ width: 1024, height: 640 });
@@ -40,8 +41,19 @@ export async function openViewer(browser, url, timeoutMs = 30000) {
   page.on("pageerror", (e) => errors.push(String(e)));
   page.on("console", (m) => { if (m.type() === "error") errors.push(m.text()); });
   await page.goto(url, { waitUntil: "load" });
-  await page.waitForFunction(() => window.haptexViewer && window.haptexViewer.stats.clothFrames > 0,
-                             { timeout: timeoutMs, polling: 100 });
+  try {
+    await page.waitForFunction(() => window.haptexViewer && window.haptexViewer.stats.clothFrames > 0,
+                               { timeout: timeoutMs, polling: 100 });
+  } catch (e) {
+    // say what the page did get, so a failure shows whether it loaded, connected or decoded
+    const shown = await page.evaluate(() => {
+      const s = window.haptexViewer?.stats;
+      return s ? JSON.stringify({ status: s.status, messages: s.messages, clothFrames: s.clothFrames, errors: s.errors })
+               : "no window.haptexViewer";
+    }).catch((why) => `not readable: ${why}`);
+    throw new Error(`the page at ${url} showed no cloth within ${timeoutMs} ms (${e.message}): ${shown}; ` +
+                    `page errors: ${errors.join("; ") || "none"}`);
+  }
   page.haptexErrors = errors;
   return page;
 }
