@@ -60,13 +60,37 @@ TEST(LaunchFiguresTest, RubFrictionSticksUpToMuStaticAndSlidesAtMuDynamic) {
   EXPECT_NEAR(Number(m, "device_slide_median"), mu_d, 0.1 * mu_d);
 }
 
+// The bridge's answers to a stall of the host: it cuts the force and ramps it in again.
+double BridgeStallCuts(const pb::Struct& summary) {
+  double cuts = 0.0;
+  for (const pb::Value& w : haptex::testing::At(summary, "watchdog").list_value().values()) {
+    const pb::Struct& entry = w.struct_value();
+    const std::string& counter = haptex::testing::At(entry, "counter").string_value();
+    if (counter == "tick_gap_disarms" || counter == "device_lost_events") cuts += Number(entry, "value");
+  }
+  return cuts;
+}
+
+double LargestStrain(const pb::Struct& summary) {
+  return Number(Object(Object(Object(summary, "plots"), "force_vs_elongation"), "measured"), "max_strain");
+}
+
 // Fig. 10: the clamped strip pinched and pulled 3 mm (6 % of its 46 mm): the pinch holds through the
 // pull, and the fingers' force along it follows the warp tensile curve times the strip's width
 // (7.2 and 8.2 % RMS of the curve's value at the largest elongation in two runs; the fingers' force
 // rises some 25 % faster, docs/validation.md section 9).
 TEST(LaunchFiguresTest, PinchedStripFollowsTheFabricsTensileCurve) {
   std::string run;
-  const pb::Struct summary = RunScene("pinch_strip", "10", &run);
+  pb::Struct summary = RunScene("pinch_strip", "10", &run);
+  // A stall of the host while the fingers close makes the bridge cut the force; the mock user's
+  // fingers press on through the strip (as a hand would) and the pinch is lost: the figure needs
+  // an undisturbed pinch, so such a run is run once more and says so.
+  if (LargestStrain(summary) <= 0.05 && BridgeStallCuts(summary) > 0) {
+    std::cout << "[host stall] the bridge cut the force " << BridgeStallCuts(summary)
+              << " times and the pinch was lost (largest strain " << LargestStrain(summary)
+              << "): running the scene again\n";
+    summary = RunScene("pinch_strip", "10", &run);
+  }
   EXPECT_TRUE(std::filesystem::exists(run + "/plots/force_vs_elongation.png"));
   const pb::Struct& m = Object(Object(Object(summary, "plots"), "force_vs_elongation"), "measured");
   EXPECT_NEAR(Number(m, "rest_length_m"), 0.046, 1e-6);
