@@ -60,17 +60,6 @@ TEST(LaunchFiguresTest, RubFrictionSticksUpToMuStaticAndSlidesAtMuDynamic) {
   EXPECT_NEAR(Number(m, "device_slide_median"), mu_d, 0.1 * mu_d);
 }
 
-// The bridge's answers to a stall of the host: it cuts the force and ramps it in again.
-double BridgeStallCuts(const pb::Struct& summary) {
-  double cuts = 0.0;
-  for (const pb::Value& w : haptex::testing::At(summary, "watchdog").list_value().values()) {
-    const pb::Struct& entry = w.struct_value();
-    const std::string& counter = haptex::testing::At(entry, "counter").string_value();
-    if (counter == "tick_gap_disarms" || counter == "device_lost_events") cuts += Number(entry, "value");
-  }
-  return cuts;
-}
-
 double LargestStrain(const pb::Struct& summary) {
   return Number(Object(Object(Object(summary, "plots"), "force_vs_elongation"), "measured"), "max_strain");
 }
@@ -82,13 +71,11 @@ double LargestStrain(const pb::Struct& summary) {
 TEST(LaunchFiguresTest, PinchedStripFollowsTheFabricsTensileCurve) {
   std::string run;
   pb::Struct summary = RunScene("pinch_strip", "10", &run);
-  // A stall of the host while the fingers close makes the bridge cut the force; the mock user's
-  // fingers press on through the strip (as a hand would) and the pinch is lost: the figure needs
-  // an undisturbed pinch, so such a run is run once more and says so.
-  if (LargestStrain(summary) <= 0.05 && BridgeStallCuts(summary) > 0) {
-    std::cout << "[host stall] the bridge cut the force " << BridgeStallCuts(summary)
-              << " times and the pinch was lost (largest strain " << LargestStrain(summary)
-              << "): running the scene again\n";
+  // the figure needs an undisturbed pinch (testing::BridgeStallCuts)
+  const double cuts = testing::BridgeStallCuts(testing::ReadText(run + "/summary.json"));
+  if (LargestStrain(summary) <= 0.05 && cuts > 0) {
+    std::cout << "[host stall] the bridge cut the force " << cuts << " times and the pinch was lost (largest strain "
+              << LargestStrain(summary) << "): running the scene again\n";
     summary = RunScene("pinch_strip", "10", &run);
   }
   EXPECT_TRUE(std::filesystem::exists(run + "/plots/force_vs_elongation.png"));

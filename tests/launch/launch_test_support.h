@@ -36,6 +36,20 @@ inline v1::Scene SceneFromText(const std::string& text) {
   return scene::ParseScene(text, "test.textproto", Fabrics()).scene;
 }
 
+/// The bridge's answers to stalls of the host in a run's summary.json: its tick-gap disarms and
+/// device-lost events, each of which cuts the force. A pinch held by the mock user's constant
+/// squeeze does not survive such a cut (the fingers press on through the cloth): a test of what a
+/// pinch does runs the scene once more when a cut lost it, and says so.
+inline double BridgeStallCuts(const std::string& summary_json) {
+  static const std::regex kCut(R"re("counter":"(tick_gap_disarms|device_lost_events)","value":([0-9.eE+]+))re");
+  double cuts = 0.0;
+  for (auto it = std::sregex_iterator(summary_json.begin(), summary_json.end(), kCut); it != std::sregex_iterator();
+       ++it) {
+    cuts += std::stod((*it)[2].str());
+  }
+  return cuts;
+}
+
 inline std::string ReadText(const std::string& path) {
   std::ifstream in(path);
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
