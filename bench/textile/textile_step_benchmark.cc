@@ -31,7 +31,7 @@ Placement HangingPlacement() {
   return pl;
 }
 
-void BM_Step(benchmark::State& bm, Integrator method, Preconditioner preconditioner) {
+void BM_Step(benchmark::State& bm, Integrator method, Preconditioner preconditioner, bool strain_split = false) {
   const int n = static_cast<int>(bm.range(0));
   const FabricModel model =
       BuildFabricModel(MaterialFromKes(scene::LoadKesFabric(kFabrics[bm.range(2)])), {0.2, 0.2, n, n});
@@ -44,6 +44,10 @@ void BM_Step(benchmark::State& bm, Integrator method, Preconditioner preconditio
   opt.dt_s = 1e-6 * static_cast<double>(bm.range(3));
   if (bm.range(1) > 0) opt.cg_tolerance = 1.0 / static_cast<double>(bm.range(1));
   opt.max_substeps = 20000;
+  if (strain_split) {  // dynamic_accuracy's bw_strain_split: the largest strain checked before and after
+    opt.max_step_halvings = 4;
+    opt.max_strain_rise_per_step = 0.01;
+  }
   std::unique_ptr<FabricStepper> stepper;
   try {
     stepper = std::make_unique<FabricStepper>(model, opt);
@@ -69,6 +73,7 @@ void BM_Step(benchmark::State& bm, Integrator method, Preconditioner preconditio
   bm.counters["cg_iters"] = benchmark::Counter(cg_iterations, benchmark::Counter::kAvgIterations);
   bm.counters["nan_events"] = static_cast<double>(s.diagnostics.nan_events);
   bm.counters["pc_fallbacks"] = fallbacks;
+  bm.counters["halvings"] = static_cast<double>(s.diagnostics.step_halvings);
 }
 
 // Args: particles per side, 1 / CG tolerance (0: default), fabric, dt [us].
@@ -82,10 +87,14 @@ void BM_StepSymplectic(benchmark::State& bm) {
   BM_Step(bm, Integrator::kSymplecticEuler, Preconditioner::kBlockJacobi);
 }
 void BM_StepBdf2Multilevel(benchmark::State& bm) { BM_Step(bm, Integrator::kBdf2, Preconditioner::kMultilevel); }
+void BM_StepImplicitStrainSplit(benchmark::State& bm) {
+  BM_Step(bm, Integrator::kImplicitEuler, Preconditioner::kMultilevel, true);
+}
 BENCHMARK(BM_StepImplicitMultilevel)
     ->ArgsProduct({{21, 41, 81}, {1000, 100}, {0, 1}, {10000}})
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StepBdf2Multilevel)->ArgsProduct({{21, 41}, {0}, {0, 1}, {10000}})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_StepImplicitStrainSplit)->ArgsProduct({{21, 41}, {0}, {0, 1}, {10000}})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StepImplicitJacobi)->ArgsProduct({{21, 41, 81}, {1000, 100}, {0}, {10000}})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StepSymplectic)->ArgsProduct({{21, 41, 81}, {0}, {0, 1}, {10000}})->Unit(benchmark::kMillisecond);
 // The local-patch regime (1 kHz, small patch): where the cheap integrator pays off.
