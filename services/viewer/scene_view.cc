@@ -40,6 +40,17 @@ Eigen::Vector3d Vec(const v1::Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
 }  // namespace
 
+std::vector<std::uint32_t> StandParticles(const scene::LoadedScene& loaded) {
+  std::vector<std::uint32_t> particles;
+  try {
+    for (const int p : scene::MakeClothSetup(loaded).fixed_particles)
+      particles.push_back(static_cast<std::uint32_t>(p));
+  } catch (const std::invalid_argument&) {
+    particles.clear();
+  }
+  return particles;
+}
+
 SceneViewConfig SceneViewConfigFromScene(const scene::LoadedScene& loaded) {
   SceneViewConfig config;
   for (const v1::FingerSpec& f : loaded.scene.fingers()) {
@@ -48,13 +59,7 @@ SceneViewConfig SceneViewConfigFromScene(const scene::LoadedScene& loaded) {
     const contact::FingerShape shape = scene::FingerShapeFromScene(f);
     config.fingers[static_cast<std::size_t>(slot)] = {shape.radius_m, shape.length_m};
   }
-  try {
-    for (const int p : scene::MakeClothSetup(loaded).fixed_particles) {
-      config.fixed_particles.push_back(static_cast<std::uint32_t>(p));
-    }
-  } catch (const std::invalid_argument&) {
-    // a fabric that does not load: no stand drawn (global_sim refuses the scene and says why)
-  }
+  config.fixed_particles = StandParticles(loaded);
   return config;
 }
 

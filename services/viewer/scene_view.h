@@ -33,6 +33,10 @@ struct PatchGridRect {
   }
 };
 
+/// Where the stand holds the cloth (the scene's fixed particles); none when the scene's fabric does
+/// not load (global_sim refuses such a scene and says why). The page and the SceneUpdate draw both.
+std::vector<std::uint32_t> StandParticles(const scene::LoadedScene& scene);
+
 SceneViewConfig SceneViewConfigFromScene(const scene::LoadedScene& scene);
 
 class SceneView {

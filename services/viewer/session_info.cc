@@ -1,28 +1,12 @@
 #include "services/viewer/session_info.h"
 
-#include <stdexcept>
-#include <vector>
-
 #include <nlohmann/json.hpp>
 
 #include "libs/codec/message_conversion.h"
-#include "libs/scene/cloth_setup.h"
 #include "libs/scene/scene_defaults.h"
+#include "services/viewer/scene_view.h"
 
 namespace haptex::viewer {
-namespace {
-
-// where the stand holds the cloth; none when the scene's fabric does not load (the page then
-// draws no stand, and the services say why)
-std::vector<int> FixedParticles(const scene::LoadedScene& loaded) {
-  try {
-    return scene::MakeClothSetup(loaded).fixed_particles;
-  } catch (const std::invalid_argument&) {
-    return {};
-  }
-}
-
-}  // namespace
 
 std::string SessionJson(const scene::LoadedScene& loaded, std::string_view recording_url) {
   const v1::Scene& s = loaded.scene;
@@ -42,7 +26,7 @@ std::string SessionJson(const scene::LoadedScene& loaded, std::string_view recor
           {"particles_u", scene::ClothParticlesU(s.cloth())},
           {"particles_v", scene::ClothParticlesV(s.cloth())}}},
         {"fingers", fingers}}},
-      {"fixed_particles", FixedParticles(loaded)},
+      {"fixed_particles", StandParticles(loaded)},
       {"frame_hz", scene::ClothFrameHz(s)},
   };
   if (!recording_url.empty()) session["recording"] = std::string(recording_url);

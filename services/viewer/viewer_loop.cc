@@ -1,7 +1,5 @@
 #include "services/viewer/viewer_loop.h"
 
-#include <cmath>
-
 #include "libs/codec/cloth_positions.h"
 #include "libs/codec/message_topic.h"
 
