@@ -6,8 +6,12 @@
 //
 //   dynamic_accuracy [--meshes 21,41] [--steps-ms 1,2,5,10,20,50] [--fabrics light,heavy,stiff,denim]
 //                    [--motions swing,push,push_whole,pinch] [--settings bw,default] [--csv FILE]
+//                    [--reference-cache DIR]   (an existing folder: references kept, reference_cache.h)
 //
 // Accuracy does not depend on the machine; the time per step does (a quiet machine for it).
+// After the rows, the trade: for each mesh, step and setting, its worst errors over the fabrics and
+// motions run beside its cost (median time per step, CPU seconds per simulated second, solves and
+// CG iterations per step), marked where another setting is both cheaper and better.
 
 #include <algorithm>
 #include <chrono>
@@ -16,12 +20,15 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "bench/textile/accuracy_settings.h"
+#include "bench/textile/reference_cache.h"
 #include "libs/textile/motion_accuracy.h"
 #include "libs/textile/validation.h"
 
@@ -31,19 +38,59 @@ namespace {
 constexpr double kSide_m = 0.2;
 constexpr double kReferenceDt_s = 1e-4;
 
+// One setting at one mesh and step, over every fabric and motion run: its worst errors and its cost.
+struct Trade {
+  double worst_peak_points = 0.0, worst_peak_pct = 0.0, worst_position_rms_mm = 0.0, worst_energy_pct = 0.0;
+  std::string worst_peak_row;  // the motion and fabric of the worst peak
+  std::vector<double> step_ms, solves, cg;
+};
+
+double Median(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
+// Cost is the median step time per simulated second; a setting is dominated when another at the
+// same mesh is no dearer and no worse in the peak's points and the positions, and better in one
+// of them by more than 5 %.
+void PrintTrades(const std::map<std::tuple<int, double, std::string>, Trade>& trades) {
+  std::printf("\ntrade: worst over the fabrics and motions run, against cost\n");
+  std::printf("%4s %5s %-16s %9s %9s %9s %8s %-22s %8s %9s %6s %6s %s\n", "mesh", "dt_ms", "setting", "peak_pts",
+              "peak_%", "x_rms_mm", "E_err%", "worst peak at", "ms/step", "cpu_s/s", "solves", "cg", "");
+  for (const auto& [key, t] : trades) {
+    const auto& [mesh, dt_ms, setting] = key;
+    const double ms = Median(t.step_ms);
+    bool dominated = false;
+    for (const auto& [other_key, o] : trades) {
+      if (std::get<0>(other_key) != mesh || other_key == key) continue;
+      const double other_ms = Median(o.step_ms) * dt_ms / std::get<1>(other_key);  // per 10 ms of motion alike
+      // 5 % either way is a tie: step times on a shared host move that much run to run
+      const bool no_worse = other_ms <= 1.05 * ms && o.worst_peak_points <= t.worst_peak_points &&
+                            o.worst_position_rms_mm <= t.worst_position_rms_mm;
+      const bool better = other_ms < 0.95 * ms || o.worst_peak_points < 0.95 * t.worst_peak_points ||
+                          o.worst_position_rms_mm < 0.95 * t.worst_position_rms_mm;
+      dominated = dominated || (no_worse && better);
+    }
+    std::printf("%4d %5g %-16s %9.4f %9.1f %9.2f %8.1f %-22s %8.3f %9.3f %6.2f %6.1f %s\n", mesh, dt_ms,
+                setting.c_str(), t.worst_peak_points, t.worst_peak_pct, t.worst_position_rms_mm, t.worst_energy_pct,
+                t.worst_peak_row.c_str(), ms, ms / dt_ms, Median(t.solves), Median(t.cg), dominated ? "dominated" : "");
+  }
+}
+
 int Main(int argc, char** argv) {
   std::map<std::string, std::string> flags = {{"--meshes", "21,41"},
                                               {"--steps-ms", "1,2,5,10,20,50"},
                                               {"--fabrics", "light,heavy,stiff,denim"},
                                               {"--motions", "swing,push,pinch"},
                                               {"--settings", "bw,default"},
-                                              {"--csv", ""}};
+                                              {"--csv", ""},
+                                              {"--reference-cache", ""}};
   for (int i = 1; i < argc; ++i) {
     const std::string flag = argv[i];
     if (!flags.count(flag) || i + 1 >= argc) {
       std::cerr << "usage: dynamic_accuracy [--meshes 21,41] [--steps-ms 1,2,5,10,20,50] [--fabrics "
                    "light,heavy,stiff,denim] [--motions swing,push,push_whole,pinch] [--settings bw,default,...] "
-                   "[--csv FILE]\n";
+                   "[--csv FILE] [--reference-cache DIR]\n";
       return 2;
     }
     flags[flag] = argv[++i];
@@ -65,6 +112,7 @@ int Main(int argc, char** argv) {
   std::printf("%-6s %-6s %4s %5s %-16s %9s %8s %8s %8s %8s %8s %7s %7s %8s %6s %6s %5s %5s\n", "motion", "fabric",
               "mesh", "dt_ms", "setting", "peak_eps%", "eps_err%", "eps_t%", "eps_pts", "eps_t_pts", "x_rms_mm",
               "E_err%", "E_grow%", "ms/step", "newton", "cg", "halv", "nconv");
+  std::map<std::tuple<int, double, std::string>, Trade> trades;
   for (const std::string& mesh_text : Split(flags["--meshes"])) {
     const int mesh = std::stoi(mesh_text);
     for (const std::string& fabric : Split(flags["--fabrics"])) {
@@ -73,8 +121,14 @@ int Main(int argc, char** argv) {
       for (const std::string& motion_name : Split(flags["--motions"])) {
         const validation::Motion motion =
             validation::MakeMotion(validation::MotionKindNamed(motion_name), model, settled);
+        const std::string cached = flags["--reference-cache"].empty() ? std::string()
+                                                                      : flags["--reference-cache"] + "/" + motion_name +
+                                                                            "_" + fabric + "_" + mesh_text + ".ref";
+        std::optional<validation::MotionTrace> read;
+        if (!cached.empty()) read = ReadReference(cached, motion, kReferenceDt_s);
         const validation::MotionTrace ref =
-            validation::RunMotion(motion, model, validation::ConvergedOptions(kReferenceDt_s));
+            read ? *read : validation::RunMotion(motion, model, validation::ConvergedOptions(kReferenceDt_s));
+        if (!cached.empty() && !read) WriteReference(cached, motion, ref);
         for (const std::string& dt_text : Split(flags["--steps-ms"])) {
           for (const std::string& setting : Split(flags["--settings"])) {
             StepOptions o = settings.at(setting);
@@ -101,6 +155,15 @@ int Main(int argc, char** argv) {
                 e.energy_growth_pct, median_ms, run.newton_iterations_per_step, run.cg_iterations_per_step,
                 static_cast<long long>(run.step_halvings), static_cast<long long>(run.newton_not_converged));
             std::fflush(stdout);
+            Trade& trade = trades[{mesh, o.dt_s * 1e3, setting}];
+            if (peak_points >= trade.worst_peak_points) trade.worst_peak_row = motion_name + " " + fabric;
+            trade.worst_peak_points = std::max(trade.worst_peak_points, peak_points);
+            trade.worst_peak_pct = std::max(trade.worst_peak_pct, e.peak_strain_pct);
+            trade.worst_position_rms_mm = std::max(trade.worst_position_rms_mm, e.position_rms_mm);
+            trade.worst_energy_pct = std::max(trade.worst_energy_pct, e.energy_pct);
+            trade.step_ms.push_back(median_ms);
+            trade.solves.push_back(run.newton_iterations_per_step);
+            trade.cg.push_back(run.cg_iterations_per_step);
             if (csv.is_open()) {
               csv << motion_name << ',' << fabric << ',' << mesh << ',' << o.dt_s * 1e3 << ',' << setting << ','
                   << 100.0 * ref.peak_strain << ',' << e.peak_strain_pct << ',' << e.strain_in_time_pct << ','
@@ -115,6 +178,7 @@ int Main(int argc, char** argv) {
       }
     }
   }
+  PrintTrades(trades);
   return 0;
 }
 
