@@ -284,52 +284,64 @@ TEST_F(LaunchImpairTest, ALinkTooSlowGivesNoForceAndTheLauncherSaysWhy) {
 // comes back. The force goes within the bridge's staleness limit and ramp (plus a loaded host's
 // margin) of the last model's arrival, and the bridge renders models again afterwards.
 TEST_F(LaunchImpairTest, ADeadLinkTakesTheForceAwayAndTheBridgeRendersAgainAfterIt) {
-  // The pinch holds from about 3.5 s after the mock starts; the relay counts from the first
-  // datagram, which a loaded host's slow start may put well before that: 2 s of margin.
-  auto launcher = Launch(testing::ShippedScenePath("pinch_stretch"), "9",
-                         {"--impair", std::string(kLink) + ":rtt_ms=20,seed=1,outage_after_s=5.5,outage_s=1"});
-  const auto code = launcher->WaitFor(180s);
-  ASSERT_TRUE(code.has_value()) << launcher->Stdout();
-  EXPECT_EQ(*code, 0) << launcher->Stdout() << launcher->Stderr();
+  // The test needs the pinch held when the link dies. Two clean CI runs lost it before: in one
+  // the fingers closed through the cloth about 3 s in (the VM paused the mock 13 times, no
+  // watchdog cut; the cause is not known). The scene then runs once more and says so; a second
+  // loss fails.
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    if (attempt > 0) run_ = dir_ + "/run_again";
+    // The pinch holds from about 3.5 s after the mock starts; the relay counts from the first
+    // datagram, which a loaded host's slow start may put well before that: 2 s of margin.
+    auto launcher = Launch(testing::ShippedScenePath("pinch_stretch"), "9",
+                           {"--impair", std::string(kLink) + ":rtt_ms=20,seed=1,outage_after_s=5.5,outage_s=1"});
+    const auto code = launcher->WaitFor(180s);
+    ASSERT_TRUE(code.has_value()) << launcher->Stdout();
+    EXPECT_EQ(*code, 0) << launcher->Stdout() << launcher->Stderr();
 
-  // when each direction died, on the steady clock the force log uses
-  const pb::Struct relay = ParseJson(testing::ReadText(run_ + "/network/" + kLink + ".json"));
-  const pb::Struct& forward = Object(relay, "forward");
-  const pb::Struct& back = Object(relay, "back");
-  EXPECT_GT(Number(Object(forward, "dropped"), "outage"), 500) << "FingerStates at 1 kHz for a second";
-  // ForceModels stop when their direction dies, or before: local_contact sends none once its
-  // newest FingerStates are 50 ms old (10 ms on the way, then the staleness limit)
-  const double dead_ns = Number(forward, "outage_from_steady_ns");
-  const double models_stop_ns = std::min(Number(back, "outage_from_steady_ns"), dead_ns + (10.0 + 50.0) * 1e6);
-  const double back_ns = dead_ns + 1e9;
-  ASSERT_GT(dead_ns, 0.0);
+    // when each direction died, on the steady clock the force log uses
+    const pb::Struct relay = ParseJson(testing::ReadText(run_ + "/network/" + kLink + ".json"));
+    const pb::Struct& forward = Object(relay, "forward");
+    const pb::Struct& back = Object(relay, "back");
+    EXPECT_GT(Number(Object(forward, "dropped"), "outage"), 500) << "FingerStates at 1 kHz for a second";
+    // ForceModels stop when their direction dies, or before: local_contact sends none once its
+    // newest FingerStates are 50 ms old (10 ms on the way, then the staleness limit)
+    const double dead_ns = Number(forward, "outage_from_steady_ns");
+    const double models_stop_ns = std::min(Number(back, "outage_from_steady_ns"), dead_ns + (10.0 + 50.0) * 1e6);
+    const double back_ns = dead_ns + 1e9;
+    ASSERT_GT(dead_ns, 0.0);
 
-  const auto rows = testing::MockForceRows(run_ + "/mock_grab_forces.csv");
-  // (after_N is only reported: a second without force lets the user's fingers close past the
-  // cloth, so whether the pinch resumes depends on the user, not on the link.)
-  // The pinch's force in the 300 ms before the link died: a loaded host's stall may have cut the
-  // force (watchdog) just then, and the test needs the pinch held, not that instant's value.
-  double before_N = 0.0, after_N = 0.0;
-  int late_nonzero = 0;
-  // the models in flight (half the round trip and the jitter), the 10 ms model lifetime and 10 ms
-  // ramp, and 30 ms for a loaded machine's scheduling
-  const double zero_after_ns = models_stop_ns + (10.0 + 2.0 + 20.0 + 30.0) * 1e6;
-  double first_zero_ns = -1.0;
-  for (const auto& r : rows) {
-    const double f = std::max(r.thumb_N, r.index_N);
-    if (r.t_ns < dead_ns && r.t_ns >= dead_ns - 300e6) before_N = std::max(before_N, f);
-    if (r.t_ns >= dead_ns && first_zero_ns < 0.0 && f == 0.0) first_zero_ns = r.t_ns;
-    if (r.t_ns > zero_after_ns && r.t_ns < back_ns) late_nonzero += f > 0.0;
-    if (r.t_ns >= back_ns) after_N = std::max(after_N, f);
+    const auto rows = testing::MockForceRows(run_ + "/mock_grab_forces.csv");
+    // (after_N is only reported: a second without force lets the user's fingers close past the
+    // cloth, so whether the pinch resumes depends on the user, not on the link.)
+    // The pinch's force in the 300 ms before the link died: a loaded host's stall may have cut the
+    // force (watchdog) just then, and the test needs the pinch held, not that instant's value.
+    double before_N = 0.0, after_N = 0.0;
+    int late_nonzero = 0;
+    // the models in flight (half the round trip and the jitter), the 10 ms model lifetime and 10 ms
+    // ramp, and 30 ms for a loaded machine's scheduling
+    const double zero_after_ns = models_stop_ns + (10.0 + 2.0 + 20.0 + 30.0) * 1e6;
+    double first_zero_ns = -1.0;
+    for (const auto& r : rows) {
+      const double f = std::max(r.thumb_N, r.index_N);
+      if (r.t_ns < dead_ns && r.t_ns >= dead_ns - 300e6) before_N = std::max(before_N, f);
+      if (r.t_ns >= dead_ns && first_zero_ns < 0.0 && f == 0.0) first_zero_ns = r.t_ns;
+      if (r.t_ns > zero_after_ns && r.t_ns < back_ns) late_nonzero += f > 0.0;
+      if (r.t_ns >= back_ns) after_N = std::max(after_N, f);
+    }
+    std::cout << "[measured] dead link: force zero " << (first_zero_ns - models_stop_ns) * 1e-6
+              << " ms after the models stopped (held up to " << before_N << " N before, " << after_N
+              << " N after the link came back)\n";
+    if (before_N <= 1.0 && attempt == 0) {
+      std::cout << "[pinch lost before the outage] running the scene once more\n";
+      continue;
+    }
+    EXPECT_GT(before_N, 1.0) << "not pinching when the link died: the test would prove nothing";
+    EXPECT_EQ(late_nonzero, 0) << "force while the link was dead";
+    const pb::Struct bridge = BridgeSummary(ParseJson(testing::ReadText(run_ + "/summary.json")));
+    EXPECT_EQ(At(bridge, "state").string_value(), "STATE_READY") << "the bridge did not recover";
+    ExpectEndsAtZeroForce();
+    break;
   }
-  std::cout << "[measured] dead link: force zero " << (first_zero_ns - models_stop_ns) * 1e-6
-            << " ms after the models stopped (held up to " << before_N << " N before, " << after_N
-            << " N after the link came back)\n";
-  EXPECT_GT(before_N, 1.0) << "not pinching when the link died: the test would prove nothing";
-  EXPECT_EQ(late_nonzero, 0) << "force while the link was dead";
-  const pb::Struct bridge = BridgeSummary(ParseJson(testing::ReadText(run_ + "/summary.json")));
-  EXPECT_EQ(At(bridge, "state").string_value(), "STATE_READY") << "the bridge did not recover";
-  ExpectEndsAtZeroForce();
 }
 
 }  // namespace
