@@ -50,11 +50,6 @@ using validation::RunMotion;
 constexpr double kSide_m = 0.2;
 constexpr double kSample_s = 1e-3;  // motion_accuracy's sampling
 
-double Median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
-}
-
 struct Row {
   std::string solver, setting;
   double dt_ms = 0, step_ms = 0, peak_strain = 0, rms_mm = 0;

@@ -2,6 +2,7 @@
 // The fabrics and solver settings the accuracy-in-motion benchmarks compare (dynamic_accuracy,
 // bench/peer's Bullet comparison): one definition for both, so their rows mean the same.
 
+#include <algorithm>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -79,6 +80,13 @@ inline std::map<std::string, StepOptions> Settings() {
   bdf2.newton_tolerance = 1e-3;
   s["bdf2_newton1e-3"] = bdf2;
   return s;
+}
+
+/// The upper median of `v` (0 when empty): step times, iteration counts.
+inline double Median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
+  return v[v.size() / 2];
 }
 
 /// The items of a comma-separated flag value ("1,2,5").

@@ -45,11 +45,6 @@ struct Trade {
   std::vector<double> step_ms, solves, cg;
 };
 
-double Median(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
-  return v[v.size() / 2];
-}
-
 // Cost is the median step time per simulated second; a setting is dominated when another at the
 // same mesh is no dearer and no worse in the peak's points and the positions, and better in one
 // of them by more than 5 %.
@@ -142,8 +137,7 @@ int Main(int argc, char** argv) {
                       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin).count());
                   return r;
                 });
-            std::nth_element(step_ms.begin(), step_ms.begin() + static_cast<long>(step_ms.size() / 2), step_ms.end());
-            const double median_ms = step_ms[step_ms.size() / 2];
+            const double median_ms = Median(step_ms);
             const validation::MotionErrors e = validation::CompareMotion(motion, run, ref);
             const double peak_points = 100.0 * std::abs(run.peak_strain - ref.peak_strain);
             const double in_time_points = e.strain_in_time_pct * ref.peak_strain;
