@@ -10,7 +10,6 @@
 #include <cstring>
 #include <ctime>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <set>
@@ -314,7 +313,8 @@ int Launch(const LaunchOptions& o) {
   fs::create_directories(run_dir + "/logs");
   fs::create_directories(run_dir + "/recordings");
   if (!relays.empty()) fs::create_directories(run_dir + "/network");
-  std::ofstream(run_dir + "/commands.txt") << plan_text;
+  // a run folder that cannot take its first file (a full disk) would lose the run's record: refuse now
+  WriteRunFile(run_dir + "/commands.txt", plan_text);
   // the scene as run, so the folder replays (haptex view) even after the scene file changes
   std::error_code copy_error;
   fs::copy_file(scene_path, run_dir + "/scene.textproto", fs::copy_options::overwrite_existing, copy_error);
@@ -395,7 +395,13 @@ int Launch(const LaunchOptions& o) {
     }
     plots = MakePlots(run_dir, scene, recordings, force_log, reference);
   }
-  std::ofstream(run_dir + "/summary.json") << SummaryJson(record, files, analysis, force_log, plots, mcap);
+  std::string summary_error;
+  try {
+    WriteRunFile(run_dir + "/summary.json", SummaryJson(record, files, analysis, force_log, plots, mcap));
+  } catch (const std::exception& e) {
+    summary_error = e.what();
+    record.errors.push_back(summary_error);
+  }
 
   PrintRelayResults(record.relays);
   for (const std::string& e : record.errors) std::cout << "error: " << e << "\n";
@@ -406,6 +412,11 @@ int Launch(const LaunchOptions& o) {
   for (const auto& p : plots) {
     std::cout << "plot " << p.name << ": " << (p.file.empty() ? "skipped, " + p.skipped : p.file) << "\n";
     if (!p.note.empty()) std::cout << "  " << p.note << "\n";
+  }
+  if (!summary_error.empty()) {
+    std::cout << "run " << record.end_reason << " after " << record.duration_s
+              << " s; no summary.json (the error above)" << std::endl;
+    return 1;
   }
   std::cout << "run " << record.end_reason << " after " << record.duration_s << " s; summary " << run_dir
             << "/summary.json" << std::endl;

@@ -3,6 +3,7 @@
 #include <sys/stat.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
@@ -52,6 +53,18 @@ std::string CreateUniqueRunFolder(const std::string& parent, std::string_view st
   }
   throw std::runtime_error("cannot create a run folder in " + parent + ": " + base + " and " +
                            std::to_string(kMaxSuffix - 1) + " suffixed names are taken");
+}
+
+void WriteRunFile(const std::string& path, std::string_view text) {
+  auto fail = [&](int error) { throw std::runtime_error("cannot write " + path + ": " + std::strerror(error)); };
+  std::FILE* file = std::fopen(path.c_str(), "wb");
+  if (file == nullptr) fail(errno);
+  // a full disk may only show when the buffer is flushed, or even at close
+  const bool written = std::fwrite(text.data(), 1, text.size(), file) == text.size() && std::fflush(file) == 0;
+  const int write_error = errno;
+  const bool closed = std::fclose(file) == 0;
+  if (!written) fail(write_error);
+  if (!closed) fail(errno);
 }
 
 }  // namespace haptex::launch

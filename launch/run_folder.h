@@ -26,4 +26,9 @@ std::string RunFolderStem(std::string_view scene_name, std::string_view stamp, s
 /// @throws std::runtime_error when no folder can be created.
 std::string CreateUniqueRunFolder(const std::string& parent, std::string_view stem);
 
+/// Writes `text` as the whole of the file at `path`. A run folder's record must not be lost without
+/// a word: a full disk, or a folder where the file should be, fails here with the system's reason.
+/// @throws std::runtime_error "cannot write PATH: REASON".
+void WriteRunFile(const std::string& path, std::string_view text);
+
 }  // namespace haptex::launch

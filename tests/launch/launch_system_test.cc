@@ -201,6 +201,35 @@ TEST_F(LaunchSystemTest, CtrlCStopsWithZeroForceAndExitCodeZero) {
   }
 }
 
+// A run folder that cannot take the run's record (a full disk, a folder in the way) is an error
+// of the run with the system's reason, never an exit 0 with an empty or missing summary.json.
+TEST_F(LaunchSystemTest, ASummaryThatCannotBeWrittenFailsTheRunWithTheReason) {
+  std::filesystem::create_directories(run_ + "/summary.json");
+  auto launcher = Launch("1", {"--no-plots"});
+  const auto code = launcher->WaitFor(120s);
+  ASSERT_TRUE(code.has_value()) << launcher->Stdout();
+  EXPECT_EQ(*code, 1) << launcher->Stdout() << launcher->Stderr();
+  EXPECT_THAT(launcher->Stdout(), HasSubstr("error: cannot write " + run_ + "/summary.json: Is a directory"));
+  EXPECT_THAT(launcher->Stdout(), HasSubstr("no summary.json (the error above)"));
+  // the services ran and stopped as ever, the device at zero force
+  EXPECT_THAT(launcher->Stdout(), HasSubstr("device_bridge: stopped (exit 0"));
+  const auto rows = ForceRows();
+  ASSERT_FALSE(rows.empty());
+  EXPECT_EQ(rows.back().thumb_N, 0.0);
+  EXPECT_EQ(rows.back().index_N, 0.0);
+}
+
+TEST_F(LaunchSystemTest, ARunFolderThatCannotTakeItsFirstFileStartsNothing) {
+  std::filesystem::create_directories(run_ + "/commands.txt");
+  auto launcher = Launch("1", {"--no-plots"});
+  const auto code = launcher->WaitFor(60s);
+  ASSERT_TRUE(code.has_value()) << launcher->Stdout();
+  EXPECT_EQ(*code, 1) << launcher->Stdout() << launcher->Stderr();
+  EXPECT_THAT(launcher->Stderr(), HasSubstr("haptex: cannot write " + run_ + "/commands.txt: Is a directory"));
+  EXPECT_THAT(launcher->Stdout(), ::testing::Not(HasSubstr(": started (pid")));
+  EXPECT_FALSE(std::filesystem::exists(run_ + "/mock_grab_forces.csv"));
+}
+
 class LaunchKillTest : public LaunchSystemTest, public ::testing::WithParamInterface<const char*> {};
 
 TEST_P(LaunchKillTest, KilledServiceIsRestartedAndInTheSummary) {

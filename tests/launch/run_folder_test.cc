@@ -63,5 +63,28 @@ TEST(LaunchRunFolderTest, AnUncreatableParentIsAClearError) {
   EXPECT_ANY_THROW(CreateUniqueRunFolder(file + "/runs", "demo"));
 }
 
+// What a full disk or a folder in the way does to a run's record: an error with the reason.
+TEST(LaunchRunFolderTest, AFileThatCannotBeWrittenIsAnErrorWithTheReason) {
+  const std::string dir = testing::FreshDir("run_folder_write");
+  WriteRunFile(dir + "/summary.json", "{\"a\":1}");
+  EXPECT_EQ(testing::ReadText(dir + "/summary.json"), "{\"a\":1}");
+
+  auto message = [](const std::string& path, std::string_view text) {
+    try {
+      WriteRunFile(path, text);
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  // /dev/full fails every write with ENOSPC, as a full disk does
+  EXPECT_EQ(message("/dev/full", std::string(100000, 'x')), "cannot write /dev/full: No space left on device");
+  EXPECT_EQ(message("/dev/full", "{}"), "cannot write /dev/full: No space left on device");
+  fs::create_directories(dir + "/in_the_way.json");
+  EXPECT_EQ(message(dir + "/in_the_way.json", "{}"), "cannot write " + dir + "/in_the_way.json: Is a directory");
+  EXPECT_EQ(message(dir + "/no/such/folder.json", "{}"),
+            "cannot write " + dir + "/no/such/folder.json: No such file or directory");
+}
+
 }  // namespace
 }  // namespace haptex::launch

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -19,6 +20,7 @@ Subprocess::Subprocess(std::vector<std::string> argv, std::vector<std::string> e
   char dir_template[] = "/tmp/haptex_subprocess_XXXXXX";
   const char* dir = mkdtemp(dir_template);
   if (dir == nullptr) throw std::runtime_error("mkdtemp failed");
+  output_dir_ = dir;
   stdout_path_ = std::string(dir) + "/stdout";
   stderr_path_ = std::string(dir) + "/stderr";
 
@@ -58,6 +60,8 @@ Subprocess::~Subprocess() {
     int status = 0;
     waitpid(pid_, &status, 0);
   }
+  std::error_code ignored;
+  std::filesystem::remove_all(output_dir_, ignored);
 }
 
 void Subprocess::Signal(int signal_number) const { kill(pid_, signal_number); }

@@ -30,6 +30,7 @@ class Subprocess final {
  private:
   pid_t pid_ = -1;
   std::optional<int> exit_code_;
+  std::string output_dir_;  // holds stdout and stderr; removed with the object
   std::string stdout_path_;
   std::string stderr_path_;
 };
