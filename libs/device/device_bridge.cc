@@ -241,6 +241,7 @@ void DeviceBridge::Tick(double t_s, double dt_s, std::span<std::byte, kCommandFr
 
   CommandFrame command;
   command.host_flags = shutdown_ ? host_flags::kShutdown : 0;
+  bool stale_cut = false;
   for (std::size_t i = 0; i < kManipulatorCount; ++i) {
     Finger& finger = fingers_[i];
     SafetyInput input;
@@ -265,7 +266,10 @@ void DeviceBridge::Tick(double t_s, double dt_s, std::span<std::byte, kCommandFr
     // still paid off: re-engaging a late model is where delay pumps energy in)
     const Eigen::Vector3d& v_W = finger.state.v_W_m_per_s;
     input.requested_W_N = finger.passivity.Adjust(input.requested_W_N, v_W, dt_s);
+    const std::uint64_t watchdog_zeros = finger.safety.counters().watchdog_zero_steps;
     const SafetyOutput result = finger.safety.Step(input, dt_s);
+    stale_cut |= finger.has_model && input.output_allowed && !link_too_slow_ &&
+                 finger.safety.counters().watchdog_zero_steps > watchdog_zeros;
     // the force held since the last tick moved the finger by what it was measured to move
     if (finger.state.valid && finger.observed) {
       finger.passivity.Observe(finger.last_command_W_N, finger.state.p_W_m - finger.observed_p_W_m);
@@ -282,6 +286,9 @@ void DeviceBridge::Tick(double t_s, double dt_s, std::span<std::byte, kCommandFr
                                          (input.output_allowed && result.ramping ? command_flags::kRamping : 0) |
                                          (result.limited ? command_flags::kLimited : 0));
   }
+
+  if (stale_cut && !stale_cut_) ++counters_.stale_model_cuts;
+  stale_cut_ = stale_cut;
 
   // what the user feels: the first command from a model answering each newer controller frame
   for (const Finger& finger : fingers_) {

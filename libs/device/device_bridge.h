@@ -70,11 +70,14 @@ struct DeviceBridgeConfig {
 /// Faults the bridge counted outside the frame decoder and the safety stages.
 struct BridgeCounters {
   std::uint64_t ticks = 0;
-  std::uint64_t status_out_of_order = 0;   ///< valid frame, sequence not newer: ignored
-  std::uint64_t device_lost_events = 0;    ///< transitions present -> lost
-  std::uint64_t force_models = 0;          ///< ForceModels received
-  std::uint64_t tick_gap_disarms = 0;      ///< gaps >= disarm_after_tick_gap_s that disarmed
-  std::uint64_t tick_gaps_held = 0;        ///< such gaps the controller confirmed it held through
+  std::uint64_t status_out_of_order = 0;  ///< valid frame, sequence not newer: ignored
+  std::uint64_t device_lost_events = 0;   ///< transitions present -> lost
+  std::uint64_t force_models = 0;         ///< ForceModels received
+  std::uint64_t tick_gap_disarms = 0;     ///< gaps >= disarm_after_tick_gap_s that disarmed
+  std::uint64_t tick_gaps_held = 0;       ///< such gaps the controller confirmed it held through
+  /// Transitions into a watchdog zero of an allowed force: the models fell silent for 20 ms (a
+  /// paused host or a stalled local_contact), not refused for a slow link.
+  std::uint64_t stale_model_cuts = 0;
   std::uint64_t slow_link_ticks = 0;       ///< ticks in which models were refused for their age
   std::uint64_t models_unknown_basis = 0;  ///< finger models based on no frame the bridge remembers
   std::uint64_t slow_link_events = 0;      ///< transitions into refusing models for age
@@ -210,6 +213,7 @@ class DeviceBridge {
   std::array<SentCommand, kSendHistory> sent_{};
 
   bool has_status_ = false;
+  bool stale_cut_ = false;  // a finger's force is at the watchdog's zero for stale models
   bool device_lost_ = true;
   bool shutdown_ = false;
   bool zero_force_hold_ = false;

@@ -97,13 +97,13 @@ SafetyOutput ForceSafety::Step(const SafetyInput& input, double dt_s) {
   if (watchdog_gain <= 0.0) ++counters_.watchdog_zero_steps;
   if (!input.output_allowed || watchdog_gain <= 0.0) {
     armed_s_ = 0.0;
-    // a brief link interruption of a fully armed stage resumes over resume_ramp_s; anything else
-    // (device lost, stopped, held, a stale model) ramps in over startup_ramp_s
+    // a brief interruption of a fully armed stage (the link to the controller, or the models
+    // falling silent while output was allowed: a paused host) resumes over resume_ramp_s; anything
+    // else (device lost, stopped, held, or any interruption beyond resume_within_s) ramps in over
+    // startup_ramp_s
     interrupted_s_ += dt_s;
-    if (!input.link_interruption || watchdog_gain <= 0.0 ||
-        interrupted_s_ > config_.resume_within_s + kTimeTolerance_s) {
-      resumable_ = false;
-    }
+    const bool brief_cause = input.link_interruption || input.output_allowed;
+    if (!brief_cause || interrupted_s_ > config_.resume_within_s + kTimeTolerance_s) resumable_ = false;
   } else {
     armed_s_ += dt_s;
   }

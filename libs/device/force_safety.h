@@ -29,8 +29,9 @@ struct ForceSafetyConfig {
   double stale_after_s = 0.010;  ///< a ForceModel is fresh for min(ttl, this) after arrival
   double stale_ramp_s = 0.010;   ///< then the force ramps linearly to zero over this
   double startup_ramp_s = 0.5;   ///< force scales in linearly over this after (re)arming
-  /// After a brief link interruption (SafetyInput::link_interruption) of a fully armed stage, the
-  /// force scales in over this instead (at most startup_ramp_s): the user still holds the device
+  /// After a brief interruption of a fully armed stage (SafetyInput::link_interruption, or the
+  /// watchdog's zero while output was allowed: models that fell silent on a paused host and came
+  /// back), the force scales in over this instead (at most startup_ramp_s): the user still holds the device
   /// where the force was, and a slow ramp lets squeezing fingers close through the virtual object
   /// onto the stiff finger-finger spring. 5 ms is short against that motion, yet for a 2 N pinch
   /// only 400 N/s, a sixth of the slew limit: no jump back to the old force.

@@ -39,6 +39,7 @@ BridgeLoop::BridgeLoop(const BridgeLoopConfig& config, const BridgePeers& peers,
   ids_.lost = health_->AddCounter("device_lost_events");
   ids_.gap = health_->AddCounter("tick_gap_disarms");
   ids_.gap_held = health_->AddCounter("tick_gaps_held");
+  ids_.stale_cuts = health_->AddCounter("stale_model_cuts");
   ids_.nan = health_->AddCounter("non_finite_forces");
   ids_.too_old = health_->AddCounter("slow_link_ticks");
   ids_.slow_events = health_->AddCounter("slow_link_events");
@@ -132,6 +133,7 @@ void BridgeLoop::Write(services::Outbox& out) {
   health_->SetCounter(ids_.lost, bridge_->counters().device_lost_events);
   health_->SetCounter(ids_.gap, bridge_->counters().tick_gap_disarms);
   health_->SetCounter(ids_.gap_held, bridge_->counters().tick_gaps_held);
+  health_->SetCounter(ids_.stale_cuts, bridge_->counters().stale_model_cuts);
   health_->SetCounter(ids_.nan, non_finite);
   health_->SetCounter(ids_.too_old, bridge_->counters().slow_link_ticks);
   health_->SetCounter(ids_.slow_events, bridge_->counters().slow_link_events);

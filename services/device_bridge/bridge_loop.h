@@ -82,8 +82,8 @@ class BridgeLoop final {
   std::uint64_t bad_models_ = 0, foreign_frames_ = 0;
   Degradation degradation_ = Degradation::kDeviceLost;  // no controller yet is not an error
   struct CounterIds {
-    runtime::HealthReporter::CounterId status_ok, status_bad, foreign, models, models_bad, lost, gap, gap_held, nan,
-        too_old, slow_events, damped, foreign_echoes, foreign_echo_events, out_of_order;
+    runtime::HealthReporter::CounterId status_ok, status_bad, foreign, models, models_bad, lost, gap, gap_held,
+        stale_cuts, nan, too_old, slow_events, damped, foreign_echoes, foreign_echo_events, out_of_order;
     /// status_frames_rejected_<reason>, by FrameError (index 0, accepted, unused)
     std::array<runtime::HealthReporter::CounterId, device::kFrameErrorCount> rejected_by_reason;
   } ids_{};

@@ -240,7 +240,7 @@ class ConstantForceBridge {
       : dut_(std::make_unique<DeviceBridge>(config)), force_N_(force_N) {}
   /// One tick `dt_s` after the last; returns the commanded thumb force along x [N]. The status
   /// read before it was sampled `status_age_s` earlier and carries `controller_flags`.
-  double Tick(double dt_s, double status_age_s = 0.0, std::uint16_t controller_flags = 0) {
+  double Tick(double dt_s, double status_age_s = 0.0, std::uint16_t controller_flags = 0, bool model = true) {
     t_ += dt_s;
     StatusFrame f;
     f.sequence = ++seq_;
@@ -253,8 +253,10 @@ class ConstantForceBridge {
     StatusBytes status{};
     EncodeStatusFrame(f, status);
     dut_->OnStatusDatagram(status, t_);
-    dut_->SetForceModel(Manipulator::kThumb, ConstantForce({force_N_, 0.0, 0.0}), t_,
-                        dut_->finger_state(Manipulator::kThumb).controller_sequence);
+    if (model) {
+      dut_->SetForceModel(Manipulator::kThumb, ConstantForce({force_N_, 0.0, 0.0}), t_,
+                          dut_->finger_state(Manipulator::kThumb).controller_sequence);
+    }
     dut_->Tick(t_, dt_s, out_);
     last_command_ = Decode(out_).sequence;
     return dut_->last_force_W_N(Manipulator::kThumb).x();
@@ -323,6 +325,30 @@ TEST(DeviceBridgeTest, OwnTickGapWhileArmedResumesOverTheShortRamp) {
   while (bridge.Tick(kTick_s) != 0.0 && waited < 100) ++waited;
   EXPECT_EQ(bridge.dut().counters().tick_gap_disarms, 1u);
   bridge.ExpectRampsBackIn(config.safety.resume_ramp_s, 100);
+}
+
+// local_contact (or the whole host) paused: the models fall silent and the watchdog takes the
+// force to zero by 20 ms. When models come back within resume_within_s, the force resumes over the
+// short ramp as after a link interruption; a squeezing user's fingers would close through the
+// fabric over the start-up ramp. Each cut is counted once.
+TEST(DeviceBridgeTest, ModelsSilentForAPauseCutThenResumeOverTheShortRamp) {
+  DeviceBridgeConfig config = FastConfig();
+  config.safety.startup_ramp_s = 0.5;
+  config.safety.resume_ramp_s = 0.02;
+  ConstantForceBridge bridge(config, 2.0);
+  for (int k = 0; k < 2600; ++k) bridge.Tick(kTick_s);
+  ASSERT_NEAR(bridge.Tick(kTick_s), 2.0, 1e-9);
+  double last = 0.0;
+  for (int k = 0; k < 150; ++k) last = bridge.Tick(kTick_s, 0.0, 0, /*model=*/false);  // 30 ms
+  EXPECT_EQ(last, 0.0);
+  EXPECT_EQ(bridge.dut().counters().stale_model_cuts, 1u);
+  EXPECT_EQ(bridge.dut().counters().tick_gap_disarms, 0u);
+  bridge.ExpectRampsBackIn(config.safety.resume_ramp_s, 100);
+  // a silence that keeps the force at zero for longer than resume_within_s: the start-up ramp
+  for (int k = 0; k < 100 + 300; ++k) bridge.Tick(kTick_s, 0.0, 0, /*model=*/false);  // 20 + 60 ms
+  EXPECT_EQ(bridge.dut().counters().stale_model_cuts, 2u);
+  for (int k = 0; k < 100; ++k) last = bridge.Tick(kTick_s);
+  EXPECT_NEAR(last, 2.0 * 100 * kTick_s / config.safety.startup_ramp_s, 1e-6);
 }
 
 // The host stalled, and the controller answers the first command sent after the gap without

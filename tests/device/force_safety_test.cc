@@ -191,6 +191,52 @@ TEST(ForceSafetyTest, BriefLinkInterruptionResumesOverResumeRamp) {
   EXPECT_THROW(ForceSafety{config}, std::invalid_argument);
 }
 
+// Models that fall silent while output is allowed (a paused host: local_contact or the whole VM
+// stopped for 20 ms or more) zero the force by the watchdog; when fresh models come back within
+// resume_within_s, the force resumes over resume_ramp_s too. Over the half-second start-up ramp a
+// user squeezing 5 N closed the fingers through the fabric (mock pinch runs on a loaded host).
+TEST(ForceSafetyTest, ModelsBackAfterABriefSilenceResumeOverResumeRamp) {
+  ForceSafetyConfig config;
+  config.startup_ramp_s = 0.5;
+  config.resume_ramp_s = 0.02;
+  config.resume_within_s = 0.05;
+  const Eigen::Vector3d request(5.0, 0.0, 0.0);
+  const auto ticks_to_full = [&](ForceSafety& dut) {
+    for (int k = 1; k <= 5000; ++k) {
+      if (dut.Step(Request(request), kTick_s).force_W_N.x() >= 5.0 - 1e-6) return k;
+    }
+    return -1;
+  };
+  // the models fall silent for `silence_s` (age growing tick by tick), then a fresh one arrives
+  const auto silence = [&](ForceSafety& dut, double silence_s) {
+    for (int k = 1; k * kTick_s <= silence_s + 1e-9; ++k) {
+      SafetyInput in = Request(request);
+      in.model_age_s = k * kTick_s;
+      dut.Step(in, kTick_s);
+    }
+  };
+  ForceSafety dut(config);
+  ASSERT_EQ(ticks_to_full(dut), 2500);
+  silence(dut, 0.030);  // zero from 20 ms on
+  EXPECT_EQ(dut.last_force_W_N(), Eigen::Vector3d::Zero());
+  EXPECT_GT(dut.counters().watchdog_zero_steps, 0u);
+  EXPECT_EQ(ticks_to_full(dut), 100) << "resumed over 20 ms";
+  // zero for longer than resume_within_s: the start-up ramp
+  silence(dut, 0.020 + 0.060);
+  EXPECT_EQ(ticks_to_full(dut), 2500);
+  // a silence while the device was held (output not allowed, not for the link) is no brief cause
+  silence(dut, 0.025);
+  SafetyInput held = Request(request);
+  held.output_allowed = false;
+  dut.Step(held, kTick_s);
+  EXPECT_EQ(ticks_to_full(dut), 2500);
+  // a silence during the start-up ramp restarts the start-up ramp
+  ForceSafety ramping(config);
+  for (int k = 0; k < 1000; ++k) ramping.Step(Request(request), kTick_s);
+  silence(ramping, 0.030);
+  EXPECT_EQ(ticks_to_full(ramping), 2500);
+}
+
 void ExpectConfigError(const ForceSafetyConfig& config, const std::string& field) {
   try {
     config.Validate();

@@ -36,8 +36,8 @@ TEST(FoldSceneTest, PinchHeldThroughTheFoldThenOneFingerAndEndsAtZeroForce) {
     ASSERT_TRUE(code.has_value()) << "launcher still running\n" << launcher.Stdout();
     ASSERT_EQ(*code, 0) << launcher.Stdout() << launcher.Stderr();
     summary = testing::ReadText(run + "/summary.json");
-    // the fold needs an undisturbed pinch (testing::BridgeStallCuts)
-    const double cuts = testing::BridgeStallCuts(summary);
+    // the fold needs an undisturbed pinch (testing::StallCuts)
+    const double cuts = testing::StallCuts(summary);
     if (attempt > 0 || cuts == 0 || summary.find(R"("errors":[])") != std::string::npos) break;
     std::printf("[host stall] the bridge cut the force %g times (an error of the run): running the scene again\n",
                 cuts);

@@ -71,8 +71,8 @@ double LargestStrain(const pb::Struct& summary) {
 TEST(LaunchFiguresTest, PinchedStripFollowsTheFabricsTensileCurve) {
   std::string run;
   pb::Struct summary = RunScene("pinch_strip", "10", &run);
-  // the figure needs an undisturbed pinch (testing::BridgeStallCuts)
-  const double cuts = testing::BridgeStallCuts(testing::ReadText(run + "/summary.json"));
+  // the figure needs an undisturbed pinch (testing::StallCuts)
+  const double cuts = testing::StallCuts(testing::ReadText(run + "/summary.json"));
   if (LargestStrain(summary) <= 0.05 && cuts > 0) {
     std::cout << "[host stall] the bridge cut the force " << cuts << " times and the pinch was lost (largest strain "
               << LargestStrain(summary) << "): running the scene again\n";

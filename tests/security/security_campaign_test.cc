@@ -243,10 +243,11 @@ double LongestHapticPeriodS(const pb::Struct& summary) {
 }
 
 // Cuts the device's watchdogs made because a loop stalled: the bridge disarmed after a stall of
-// its own, or the controller timed out waiting for it. On a paused or starved host these zero the
-// force by design (docs/grab-protocol.md section 7), attack or not.
+// its own or cut a model silent for 20 ms, or the controller timed out waiting for it. On a paused
+// or starved host these zero the force by design (docs/grab-protocol.md section 7), attack or not.
 double StallCuts(const pb::Struct& summary) {
-  return Number(Object(haptex::testing::ServiceSummary(summary, "device_bridge"), "counters"), "tick_gap_disarms") +
+  const pb::Struct bridge = Object(haptex::testing::ServiceSummary(summary, "device_bridge"), "counters");
+  return Number(bridge, "tick_gap_disarms") + Number(bridge, "stale_model_cuts") +
          Number(Object(haptex::testing::ServiceSummary(summary, "mock_grab"), "counters"), "host_timeouts");
 }
 

@@ -148,7 +148,7 @@ try {
   // A whole-VM pause long enough for a watchdog to cut the force is the host's, not the clients':
   // every dropout must be such a cut (as in tests/security's campaign). Dropouts are counted per
   // finger, and a cut takes both fingers' force.
-  const cuts = rtSummary.watchdog.filter((w) => ["tick_gap_disarms", "host_timeouts", "device_lost_events"]
+  const cuts = rtSummary.watchdog.filter((w) => ["tick_gap_disarms", "host_timeouts", "device_lost_events", "stale_model_cuts"]
                                                   .includes(w.counter)).reduce((a, w) => a + w.value, 0);
   const dropouts = rtSummary.forces.mock_controller_commanded.force_dropouts;
   assert.ok(dropouts <= 2 * cuts, `no force dropout but a watchdog's cut for a stall (${dropouts}, ${cuts} cuts)`);
