@@ -313,10 +313,16 @@ TEST(DeviceBridgeTest, OwnTickGapWithoutTheControllersAnswerDisarms) {
 
 // With the scene's half-second start-up ramp, a disarmed stall of a running bridge resumes over
 // the short resume ramp (the device is still held where the force was), from zero.
-TEST(DeviceBridgeTest, OwnTickGapWhileArmedResumesOverTheShortRamp) {
+// The scene's half-second start-up ramp and a 20 ms resume ramp.
+DeviceBridgeConfig SlowStartConfig() {
   DeviceBridgeConfig config = FastConfig();
   config.safety.startup_ramp_s = 0.5;
   config.safety.resume_ramp_s = 0.02;
+  return config;
+}
+
+TEST(DeviceBridgeTest, OwnTickGapWhileArmedResumesOverTheShortRamp) {
+  const DeviceBridgeConfig config = SlowStartConfig();
   ConstantForceBridge bridge(config, 2.0);
   for (int k = 0; k < 2600; ++k) bridge.Tick(kTick_s);
   ASSERT_NEAR(bridge.Tick(kTick_s), 2.0, 1e-9);
@@ -332,9 +338,7 @@ TEST(DeviceBridgeTest, OwnTickGapWhileArmedResumesOverTheShortRamp) {
 // short ramp as after a link interruption; a squeezing user's fingers would close through the
 // fabric over the start-up ramp. Each cut is counted once.
 TEST(DeviceBridgeTest, ModelsSilentForAPauseCutThenResumeOverTheShortRamp) {
-  DeviceBridgeConfig config = FastConfig();
-  config.safety.startup_ramp_s = 0.5;
-  config.safety.resume_ramp_s = 0.02;
+  const DeviceBridgeConfig config = SlowStartConfig();
   ConstantForceBridge bridge(config, 2.0);
   for (int k = 0; k < 2600; ++k) bridge.Tick(kTick_s);
   ASSERT_NEAR(bridge.Tick(kTick_s), 2.0, 1e-9);

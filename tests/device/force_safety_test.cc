@@ -22,6 +22,14 @@ SafetyInput Request(const Eigen::Vector3d& force_N) {
   return in;
 }
 
+// Ticks of fresh requests until the force is back at `request` (along x), or -1 within 1 s.
+int TicksToFull(ForceSafety& dut, const Eigen::Vector3d& request) {
+  for (int k = 1; k <= 5000; ++k) {
+    if (dut.Step(Request(request), kTick_s).force_W_N.x() >= request.x() - 1e-6) return k;
+  }
+  return -1;
+}
+
 // A ForceModel asking for 100 N for 10 s: never above 20 N, never more than 0.5 N change per
 // tick, always along the requested direction, and the RMS settles at the 6 N continuous limit.
 TEST(ForceSafetyTest, ClampsAndSlewHoldUnderAHundredNewtonRequest) {
@@ -155,12 +163,7 @@ TEST(ForceSafetyTest, BriefLinkInterruptionResumesOverResumeRamp) {
   SafetyInput link = Request(request);
   link.output_allowed = false;
   link.link_interruption = true;
-  const auto ticks_to_full = [&](ForceSafety& dut) {
-    for (int k = 1; k <= 5000; ++k) {
-      if (dut.Step(Request(request), kTick_s).force_W_N.x() >= 2.0 - 1e-6) return k;
-    }
-    return -1;
-  };
+  const auto ticks_to_full = [&](ForceSafety& dut) { return TicksToFull(dut, request); };
   {
     ForceSafety dut(config);
     ASSERT_EQ(ticks_to_full(dut), 2500);  // start-up: 0.5 s
@@ -201,12 +204,7 @@ TEST(ForceSafetyTest, ModelsBackAfterABriefSilenceResumeOverResumeRamp) {
   config.resume_ramp_s = 0.02;
   config.resume_within_s = 0.05;
   const Eigen::Vector3d request(5.0, 0.0, 0.0);
-  const auto ticks_to_full = [&](ForceSafety& dut) {
-    for (int k = 1; k <= 5000; ++k) {
-      if (dut.Step(Request(request), kTick_s).force_W_N.x() >= 5.0 - 1e-6) return k;
-    }
-    return -1;
-  };
+  const auto ticks_to_full = [&](ForceSafety& dut) { return TicksToFull(dut, request); };
   // the models fall silent for `silence_s` (age growing tick by tick), then a fresh one arrives
   const auto silence = [&](ForceSafety& dut, double silence_s) {
     for (int k = 1; k * kTick_s <= silence_s + 1e-9; ++k) {

@@ -15,6 +15,7 @@
 
 #include "libs/base/clock.h"
 #include "libs/scene/scene_loader.h"
+#include "tests/support/fresh_dir.h"
 #include "tests/support/mock_force_log.h"
 #include "tests/support/subprocess.h"
 #include "tests/support/test_paths.h"
@@ -60,40 +61,7 @@ inline std::string ReadText(const std::string& path) {
 
 inline void WriteText(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
 
-/// Removes the folders of a test that passed when it ends; a failed test keeps its run folders to be
-/// read. A whole suite's runs would otherwise leave about 1.5 GB behind (recordings, run.mcap, the
-/// force logs), enough to fill a small disk within a few runs.
-class FreshDirRemover : public ::testing::EmptyTestEventListener {
- public:
-  void Add(const std::string& dir) { dirs_.push_back(dir); }
-  void OnTestEnd(const ::testing::TestInfo& test) override {
-    if (test.result()->Passed()) {
-      for (const std::string& dir : dirs_) {
-        std::error_code ignored;
-        std::filesystem::remove_all(dir, ignored);
-      }
-    }
-    dirs_.clear();
-  }
-
- private:
-  std::vector<std::string> dirs_;
-};
-
-/// A fresh folder under the test temp dir, for the current test only (removed when it passes).
-inline std::string FreshDir(const std::string& name) {
-  const std::string dir = ::testing::TempDir() + "/" + name + "_" + std::to_string(getpid());
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  // gtest owns the listener once appended
-  static FreshDirRemover* const remover = [] {
-    auto* listener = new FreshDirRemover;
-    ::testing::UnitTest::GetInstance()->listeners().Append(listener);
-    return listener;
-  }();
-  remover->Add(dir);
-  return dir;
-}
+using haptex::testing::FreshDir;
 
 /// Waits for a line matching `pattern` in a process's output; returns its first group (or the
 /// whole match). Fails the test on timeout, or at once when the process ended without it.

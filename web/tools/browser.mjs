@@ -2,19 +2,23 @@
 // screenshot. The flags keep Chromium off the network (this machine's is closed) and usable as root.
 
 import puppeteer from "puppeteer-core";
-import { mkdtempSync } from "node:fs";
+import { mkdtempSync, rmSync } from "node:fs";
 import { tmpdir } from "node:os";
 import { join } from "node:path";
 
 export async function launchChromium() {
-  return puppeteer.launch({
+  const profile = mkdtempSync(join(tmpdir(), "haptex-chromium-"));
+  const browser = await puppeteer.launch({
     executablePath: process.env.HAPTEX_CHROMIUM ?? "/usr/bin/chromium",
     headless: true,
-    userDataDir: mkdtempSync(join(tmpdir(), "haptex-chromium-")),
+    userDataDir: profile,
     args: ["--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run", "--disable-background-networking",
            "--disable-component-update", "--disable-sync", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
            "--window-size=1024,640"],
   });
+  // the profile (some 40 MB) goes with the browser
+  browser.on("disconnected", () => rmSync(profile, { recursive: true, force: true }));
+  return browser;
 }
 
 /// Waits until the viewer at `url` serves its page (the launcher prints the address before the

@@ -28,6 +28,7 @@
 #include "launch/recording.h"
 #include "libs/scene/scene_contact.h"
 #include "libs/scene/scene_loader.h"
+#include "tests/support/fresh_dir.h"
 #include "tests/support/subprocess.h"
 #include "tests/support/test_paths.h"
 
@@ -71,9 +72,7 @@ double DistanceToPatch(const V& p, const v1::LocalPatch& patch) {
 }
 
 TEST(ContactOnsetProcessTest, ContactBeginsWithinOneLocalTickOfGeometricContact) {
-  const std::string dir = ::testing::TempDir() + "/contact_onset_" + std::to_string(getpid());
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
+  const std::string dir = haptex::testing::FreshDir("contact_onset");
   const std::string scene_path = dir + "/one_finger_recorded.textproto";
   std::ofstream(scene_path) << R"(name: "one_finger_recorded"
 description: "the shipped one_finger scene, recorded"

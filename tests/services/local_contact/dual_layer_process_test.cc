@@ -15,6 +15,7 @@
 #include <regex>
 #include <string>
 
+#include "tests/support/fresh_dir.h"
 #include "tests/support/mock_force_log.h"
 #include "tests/support/subprocess.h"
 #include "tests/support/test_paths.h"
@@ -38,8 +39,7 @@ double NumberAfter(const std::string& json, const std::string& after, const std:
 }
 
 TEST(DualLayerProcessTest, PinchAndStretchIsFeltAndEndsAtZeroForce) {
-  const std::string run = ::testing::TempDir() + "/dual_layer_process_" + std::to_string(getpid());
-  std::filesystem::remove_all(run);
+  const std::string run = haptex::testing::FreshDir("dual_layer_process") + "/run";
   haptex::testing::Subprocess launcher({haptex::testing::BuildDir() + "/cli/haptex", "launch",
                                         haptex::testing::SourceDir() + "/launch/scenes/pinch_stretch.textproto",
                                         "--duration", "6", "--out", run});
