@@ -16,8 +16,16 @@ export async function launchChromium() {
            "--disable-component-update", "--disable-sync", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
            "--window-size=1024,640"],
   });
-  // the profile (some 40 MB) goes with the browser
-  browser.on("disconnected", () => rmSync(profile, { recursive: true, force: true }));
+  // the profile (some 40 MB) goes with the browser, once its process has exited and stopped writing it
+  const close = browser.close.bind(browser);
+  browser.close = async () => {
+    await close();
+    try {
+      rmSync(profile, { recursive: true, force: true, maxRetries: 5, retryDelay: 100 });
+    } catch (e) {
+      console.error(`browser profile ${profile} left behind: ${e.message}`);
+    }
+  };
   return browser;
 }
 
