@@ -250,6 +250,7 @@ void DeviceBridge::Tick(double t_s, double dt_s, std::span<std::byte, kCommandFr
     input.output_allowed = !blocked && !link_hiccup;
     // off only for the link's sake: force resumes over the short ramp once commands get through
     input.link_interruption = !blocked && link_hiccup;
+    input.p_W_m = finger.state.p_W_m;
     if (finger.has_model) {
       const FingerState& other = fingers_[1 - i].state;
       const bool predicted = config_.evaluate_at_predicted_pose;

@@ -51,6 +51,8 @@ void ForceSafetyConfig::Validate() const {
           "must be <= 0.020 s (zero force 20 ms after the last model)", stale_after_s + stale_ramp_s);
   Require(startup_ramp_s >= 0.0 && std::isfinite(startup_ramp_s), "startup_ramp_s", "must be >= 0 s", startup_ramp_s);
   Require(resume_ramp_s >= 0.0 && std::isfinite(resume_ramp_s), "resume_ramp_s", "must be >= 0 s", resume_ramp_s);
+  Require(resume_within_m >= 0.0 && std::isfinite(resume_within_m), "resume_within_m", "must be >= 0 m",
+          resume_within_m);
   Require(resume_within_s >= 0.0 && std::isfinite(resume_within_s), "resume_within_s", "must be >= 0 s",
           resume_within_s);
 }
@@ -64,6 +66,7 @@ void ForceSafety::Reset() {
   armed_s_ = 0.0;
   resumable_ = false;
   interrupted_s_ = 0.0;
+  armed_p_W_m_.setZero();
 }
 
 double ForceSafety::rms_force_N() const { return std::sqrt(mean_square_N2_); }
@@ -98,12 +101,15 @@ SafetyOutput ForceSafety::Step(const SafetyInput& input, double dt_s) {
   if (!input.output_allowed || watchdog_gain <= 0.0) {
     armed_s_ = 0.0;
     // a brief interruption of a fully armed stage (the link to the controller, or the models
-    // falling silent while output was allowed: a paused host) resumes over resume_ramp_s; anything
-    // else (device lost, stopped, held, or any interruption beyond resume_within_s) ramps in over
-    // startup_ramp_s
+    // falling silent while output was allowed: a paused host) with the finger still where it had
+    // force resumes over resume_ramp_s; anything else (device lost, stopped, held, an interruption
+    // beyond resume_within_s or resume_within_m) ramps in over startup_ramp_s
     interrupted_s_ += dt_s;
     const bool brief_cause = input.link_interruption || input.output_allowed;
-    if (!brief_cause || interrupted_s_ > config_.resume_within_s + kTimeTolerance_s) resumable_ = false;
+    const bool held_still = (input.p_W_m - armed_p_W_m_).norm() <= config_.resume_within_m;
+    if (!brief_cause || !held_still || interrupted_s_ > config_.resume_within_s + kTimeTolerance_s) {
+      resumable_ = false;
+    }
   } else {
     armed_s_ += dt_s;
   }
@@ -114,6 +120,8 @@ SafetyOutput ForceSafety::Step(const SafetyInput& input, double dt_s) {
     interrupted_s_ = 0.0;
   }
   const double gain = input.output_allowed ? watchdog_gain * startup_gain : 0.0;
+  // where the user held the finger against the whole force (not while a stale model fades)
+  if (gain >= 1.0) armed_p_W_m_ = input.p_W_m;
   out.ramping = gain < 1.0;
   target *= gain;
 

@@ -39,6 +39,11 @@ struct ForceSafetyConfig {
   /// Interruptions longer than this (summed until the force is back at full scale) ramp in over
   /// startup_ramp_s again.
   double resume_within_s = 0.050;
+  /// So do interruptions over which the finger moved farther than this from where it last had
+  /// force: the user no longer holds it where the force was (a squeeze that went on while only
+  /// the models stalled has closed the fingers onto, or past, each other), and the model would
+  /// answer the new place at once with a force the hand never felt build up.
+  double resume_within_m = 0.002;
 
   void Validate() const;
 };
@@ -52,6 +57,7 @@ struct SafetyInput {
   /// Output is off only because the link to the controller hiccupped (the host's own loop stalled,
   /// or the controller reported that commands stopped reaching it); the device is still there.
   bool link_interruption = false;
+  Eigen::Vector3d p_W_m{Eigen::Vector3d::Zero()};  ///< the finger's position now
 };
 
 /// Result of one safety step.
@@ -101,8 +107,9 @@ class ForceSafety {
   Eigen::Vector3d previous_W_N_{Eigen::Vector3d::Zero()};
   double mean_square_N2_ = 0.0;
   double armed_s_ = 0.0;
-  bool resumable_ = false;      ///< reached full scale, only brief link interruptions since
-  double interrupted_s_ = 0.0;  ///< time without output since full scale was last reached
+  bool resumable_ = false;                                ///< reached full scale, only brief link interruptions since
+  double interrupted_s_ = 0.0;                            ///< time without output since full scale was last reached
+  Eigen::Vector3d armed_p_W_m_{Eigen::Vector3d::Zero()};  ///< the finger's position when it last had the whole force
 };
 
 }  // namespace haptex::device

@@ -235,6 +235,56 @@ TEST(ForceSafetyTest, ModelsBackAfterABriefSilenceResumeOverResumeRamp) {
   EXPECT_EQ(ticks_to_full(ramping), 2500);
 }
 
+// The resume ramp assumes the user still holds the finger where it had force. A finger that moved
+// farther than resume_within_m meanwhile (the models stalled while the squeeze went on, and the
+// fingers closed onto each other) ramps in over the start-up ramp, whatever the cause: the model
+// would answer the new place at once with a force the hand never felt build up.
+TEST(ForceSafetyTest, AFingerThatMovedAwayDuringAnInterruptionRampsInFromTheStart) {
+  ForceSafetyConfig config;
+  config.startup_ramp_s = 0.5;
+  config.resume_ramp_s = 0.02;
+  config.resume_within_m = 0.002;
+  const Eigen::Vector3d request(5.0, 0.0, 0.0);
+  const Eigen::Vector3d held_W_m(0.01, 0.0, 0.0);
+  const auto at = [&](const Eigen::Vector3d& p_W_m) {
+    SafetyInput in = Request(request);
+    in.p_W_m = p_W_m;
+    return in;
+  };
+  const auto ticks_to_full = [&](ForceSafety& dut, const Eigen::Vector3d& p_W_m) {
+    for (int k = 1; k <= 5000; ++k) {
+      if (dut.Step(at(p_W_m), kTick_s).force_W_N.x() >= 5.0 - 1e-6) return k;
+    }
+    return -1;
+  };
+  // 30 ms of silent models, the finger moving from `held_W_m` by `move_m` along y meanwhile
+  const auto silence_moving = [&](ForceSafety& dut, double move_m) -> Eigen::Vector3d {
+    for (int k = 1; k <= 150; ++k) {
+      SafetyInput in = at(held_W_m + Eigen::Vector3d(0.0, move_m * k / 150.0, 0.0));
+      in.model_age_s = k * kTick_s;
+      dut.Step(in, kTick_s);
+    }
+    return held_W_m + Eigen::Vector3d(0.0, move_m, 0.0);
+  };
+  ForceSafety dut(config);
+  ASSERT_EQ(ticks_to_full(dut, held_W_m), 2500);
+  EXPECT_EQ(ticks_to_full(dut, silence_moving(dut, 0.001)), 100) << "1 mm: still held, resumed over 20 ms";
+  ASSERT_EQ(ticks_to_full(dut, held_W_m + Eigen::Vector3d(0.0, 0.001, 0.0)), 1);
+  EXPECT_EQ(ticks_to_full(dut, silence_moving(dut, 0.004)), 2500) << "4 mm: moved away";
+  // a link interruption too
+  ASSERT_EQ(ticks_to_full(dut, held_W_m), 1);
+  SafetyInput link = at(held_W_m + Eigen::Vector3d(0.0, 0.0, 0.003));
+  link.output_allowed = false;
+  link.link_interruption = true;
+  dut.Step(link, 0.005);
+  EXPECT_EQ(ticks_to_full(dut, link.p_W_m), 2500);
+  // and a finger whose position is not finite never resumes early
+  ASSERT_EQ(ticks_to_full(dut, link.p_W_m), 1);
+  link.p_W_m.x() = std::numeric_limits<double>::quiet_NaN();
+  dut.Step(link, 0.005);
+  EXPECT_EQ(ticks_to_full(dut, held_W_m), 2500);
+}
+
 void ExpectConfigError(const ForceSafetyConfig& config, const std::string& field) {
   try {
     config.Validate();
@@ -262,6 +312,9 @@ TEST(ForceSafetyTest, InvalidConfigsThrowWithClearMessages) {
   c.continuous_window_s = std::numeric_limits<double>::quiet_NaN();
   ExpectConfigError(c, "continuous_window_s");
   EXPECT_THROW(ForceSafety{c}, std::invalid_argument);
+  c = {};
+  c.resume_within_m = -0.001;
+  ExpectConfigError(c, "resume_within_m");
 }
 
 // At 20 kHz a step may move a quarter of what it may at 5 kHz (2.5 kN/s either way); one long

@@ -26,8 +26,30 @@ long StateCount(const std::string& summary, const std::string& state) {
   return std::regex_search(summary, m, pattern) ? std::stol(m[1].str()) : -1;
 }
 
+// What the mock's fingers were commanded, at 5 kHz.
+struct Commanded {
+  double peak_N = 0.0, largest_step_N = 0.0, last_thumb_N = -1.0, last_index_N = -1.0;
+  int rows = 0;
+};
+
+Commanded ReadCommanded(const std::string& run) {
+  Commanded c;
+  for (const haptex::testing::ForceRow& r : haptex::testing::MockForceRows(run + "/mock_grab_forces.csv")) {
+    if (c.rows > 0) {
+      c.largest_step_N =
+          std::max({c.largest_step_N, std::abs(r.thumb_N - c.last_thumb_N), std::abs(r.index_N - c.last_index_N)});
+    }
+    c.last_thumb_N = r.thumb_N;
+    c.last_index_N = r.index_N;
+    c.peak_N = std::max({c.peak_N, r.thumb_N, r.index_N});
+    ++c.rows;
+  }
+  return c;
+}
+
 TEST(FoldSceneTest, PinchHeldThroughTheFoldThenOneFingerAndEndsAtZeroForce) {
   std::string run, summary;
+  Commanded commanded;
   for (int attempt = 0; attempt < 2; ++attempt) {
     run = testing::FreshDir(attempt == 0 ? "fold_scene" : "fold_scene_again");
     haptex::testing::Subprocess launcher(
@@ -36,11 +58,15 @@ TEST(FoldSceneTest, PinchHeldThroughTheFoldThenOneFingerAndEndsAtZeroForce) {
     ASSERT_TRUE(code.has_value()) << "launcher still running\n" << launcher.Stdout();
     ASSERT_EQ(*code, 0) << launcher.Stdout() << launcher.Stderr();
     summary = testing::ReadText(run + "/summary.json");
-    // the fold needs an undisturbed pinch (testing::StallCuts)
+    commanded = ReadCommanded(run);
+    // the fold needs an undisturbed pinch (testing::StallCuts): after a cut the run may have an
+    // error, the fingers come back against the stiffer pinch, or the pinch is lost
     const double cuts = testing::StallCuts(summary);
-    if (attempt > 0 || cuts == 0 || summary.find(R"("errors":[])") != std::string::npos) break;
-    std::printf("[host stall] the bridge cut the force %g times (an error of the run): running the scene again\n",
-                cuts);
+    const bool disturbed = summary.find(R"("errors":[])") == std::string::npos || commanded.peak_N >= 10.0 ||
+                           StateCount(summary, "VIII") + StateCount(summary, "IX") <= 3000;
+    if (attempt > 0 || cuts == 0 || !disturbed) break;
+    std::printf("[host stall] the force was cut %g times (errors, or a peak of %.1f N after it): running again\n", cuts,
+                commanded.peak_N);
   }
 
   // Entries are per finger and local tick (1 kHz): the fold and its hold take about 1.9 s, so
@@ -57,24 +83,13 @@ TEST(FoldSceneTest, PinchHeldThroughTheFoldThenOneFingerAndEndsAtZeroForce) {
   EXPECT_THAT(summary, ::testing::HasSubstr(R"("errors":[])"));
 
   // What the mock's fingers were commanded, at 5 kHz: bounded, no step, zero at the end.
-  double peak_N = 0.0, largest_step_N = 0.0, last_thumb = -1.0, last_index = -1.0;
-  int rows = 0;
-  for (const haptex::testing::ForceRow& r : haptex::testing::MockForceRows(run + "/mock_grab_forces.csv")) {
-    if (rows > 0) {
-      largest_step_N = std::max({largest_step_N, std::abs(r.thumb_N - last_thumb), std::abs(r.index_N - last_index)});
-    }
-    last_thumb = r.thumb_N;
-    last_index = r.index_N;
-    peak_N = std::max({peak_N, last_thumb, last_index});
-    ++rows;
-  }
   std::printf("[fold-process] peak commanded force %.2f N, largest change between controller ticks %.3f N, %d ticks\n",
-              peak_N, largest_step_N, rows);
-  ASSERT_GT(rows, 10000);
-  EXPECT_GT(peak_N, 0.5);
-  EXPECT_LT(peak_N, 10.0);
-  EXPECT_EQ(last_thumb, 0.0);
-  EXPECT_EQ(last_index, 0.0);
+              commanded.peak_N, commanded.largest_step_N, commanded.rows);
+  ASSERT_GT(commanded.rows, 10000);
+  EXPECT_GT(commanded.peak_N, 0.5);
+  EXPECT_LT(commanded.peak_N, 10.0);
+  EXPECT_EQ(commanded.last_thumb_N, 0.0);
+  EXPECT_EQ(commanded.last_index_N, 0.0);
 }
 
 }  // namespace
