@@ -365,6 +365,18 @@ int Launch(const LaunchOptions& o) {
   }
 
   ReadRelayReports(&record);
+  // a recording the disk did not take (the services count what their writers could not write)
+  bool recordings_incomplete = false;
+  for (const ServiceRecord& s : record.services) {
+    if (!s.last_health) continue;
+    for (const v1::Counter& c : s.last_health->counters()) {
+      if (c.name() == "record_write_errors" && c.value() > 0) {
+        record.errors.push_back(std::string(Spec(s.placed.service.kind).name) + ": " + std::to_string(c.value()) +
+                                " recording writes failed (a full disk?): " + run_dir + "/recordings is incomplete");
+        recordings_incomplete = true;
+      }
+    }
+  }
 
   // the run folder: recordings, what they say, plots, summary.json
   std::vector<Recording> recordings;
@@ -420,7 +432,7 @@ int Launch(const LaunchOptions& o) {
   }
   std::cout << "run " << record.end_reason << " after " << record.duration_s << " s; summary " << run_dir
             << "/summary.json" << std::endl;
-  return code;
+  return code != 0 ? code : (recordings_incomplete ? 1 : 0);
 }
 
 }  // namespace

@@ -49,6 +49,7 @@ ServiceContext::ServiceContext(std::string name, const ServiceOptions& options)
     recorder_ = std::make_unique<EnvelopeRecorder>(options.record_path, name_, messenger_->identity().epoch,
                                                    messenger_->identity().session_id);
     record_dropped_counter_ = health_.AddCounter("record_dropped");
+    record_write_errors_counter_ = health_.AddCounter("record_write_errors");
   }
   viewer_ = FindPeer(net::peer::kViewer);
   if (const auto launcher = FindPeer("launcher")) {
@@ -94,7 +95,10 @@ void ServiceContext::Tick(std::int64_t now_ns) {
     health_.SetCounter(dropped_by_reason_[r], messenger_->received().Get(static_cast<net::DropReason>(r)));
   }
   health_.SetCounter(kernel_dropped_counter_, messenger_->kernel_drops());
-  if (recorder_) health_.SetCounter(record_dropped_counter_, recorder_->dropped());
+  if (recorder_) {
+    health_.SetCounter(record_dropped_counter_, recorder_->dropped());
+    health_.SetCounter(record_write_errors_counter_, recorder_->write_errors());
+  }
   if (!health_publisher_->MaybePublish(now_ns) || (!recorder_ && !viewer_)) return;
   // the Health just sent, rebuilt into the same message (no allocation)
   const v1::Health& health = health_.Build(static_cast<double>(now_ns - start_ns_) * 1e-9);

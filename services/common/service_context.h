@@ -87,8 +87,9 @@ class ServiceContext final : public Outbox {
   std::optional<PeerId> viewer_;  ///< also gets each Health (loop rates and overruns on the page)
   std::unique_ptr<EnvelopeRecorder> recorder_;
   runtime::HealthReporter::CounterId record_dropped_counter_ = 0;
-  runtime::HealthReporter::CounterId dropped_counter_ = 0;         // datagrams the messenger dropped, every reason
-  runtime::HealthReporter::CounterId kernel_dropped_counter_ = 0;  // dropped by the kernel: queue full
+  runtime::HealthReporter::CounterId record_write_errors_counter_ = 0;  // a full disk, ...: recordings/ is incomplete
+  runtime::HealthReporter::CounterId dropped_counter_ = 0;              // datagrams the messenger dropped, every reason
+  runtime::HealthReporter::CounterId kernel_dropped_counter_ = 0;       // dropped by the kernel: queue full
   std::array<runtime::HealthReporter::CounterId, net::kDropReasonCount> dropped_by_reason_{};  // [kNone] unused
   std::int64_t start_ns_;
   std::int64_t stop_at_ns_;

@@ -170,5 +170,41 @@ TEST(LaunchRecordingTest, ServiceContextRecordsWhatItSendsAndItsHealth) {
   EXPECT_EQ(r.envelopes[1].health().service(), "tactile");
 }
 
+// A recording the disk refuses (here /dev/full, which fails every write as a full disk does) is
+// counted in the service's Health (record_write_errors), which the launcher turns into an error
+// of the run: the service itself runs on.
+TEST(LaunchRecordingTest, ARecordingTheDiskRefusesIsCountedInHealth) {
+  const net::SessionKey key = net::SessionKey::Generate();
+  setenv("HAPTEX_SESSION_KEY", key.ToHex().c_str(), 1);
+  net::MessengerConfig peer_config;
+  peer_config.identity = {"launcher", 0, key.DerivedSessionId()};
+  net::Messenger launcher(key, peer_config);
+  services::ServiceOptions options;
+  options.record_path = "/dev/full";
+  options.health_hz = 1000;
+  options.log_level = "off";
+  options.peers = {"launcher=127.0.0.1:" + std::to_string(launcher.local_port())};
+  services::ServiceContext context("tactile", options);
+  // more than the file's buffer, so the writer's writes reach the device
+  for (int i = 0; i < 300; ++i) {
+    v1::PinFrame frame;
+    frame.set_frame_index(static_cast<std::uint64_t>(i));
+    context.Send(context.RequirePeer("launcher"), frame);
+  }
+  double write_errors = 0.0;
+  for (int attempt = 1; attempt <= 50 && write_errors == 0.0; ++attempt) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    context.Tick(context.start_ns() + attempt * 2'000'000);
+    launcher.WaitReadable(std::chrono::milliseconds(100));
+    launcher.Drain([&](const v1::Envelope& e, const net::Messenger::Endpoint&) {
+      if (!e.has_health()) return;
+      for (const v1::Counter& c : e.health().counters()) {
+        if (c.name() == "record_write_errors") write_errors = std::max(write_errors, static_cast<double>(c.value()));
+      }
+    });
+  }
+  EXPECT_GT(write_errors, 0.0);
+}
+
 }  // namespace
 }  // namespace haptex::launch
