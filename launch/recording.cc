@@ -10,6 +10,10 @@
 namespace haptex::launch {
 
 Recording ReadRecording(const std::string& path) {
+  std::error_code error;
+  if (std::filesystem::exists(path, error) && !std::filesystem::is_regular_file(path, error)) {
+    throw std::runtime_error("recording " + path + " is not a regular file");
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error("cannot read recording " + path);
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -49,7 +53,7 @@ std::vector<Recording> ReadRecordings(const std::string& folder) {
   std::vector<std::string> paths;
   std::error_code error;
   for (const auto& entry : std::filesystem::directory_iterator(folder, error)) {
-    if (entry.path().extension() == ".pb") paths.push_back(entry.path().string());
+    if (entry.path().extension() == ".pb" && entry.is_regular_file(error)) paths.push_back(entry.path().string());
   }
   std::sort(paths.begin(), paths.end());
   std::vector<Recording> recordings;

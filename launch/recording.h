@@ -17,10 +17,12 @@ struct Recording {
   bool truncated = false;      // the file ends inside a record (a service killed mid-write)
 };
 
-/// Throws std::runtime_error when the file cannot be read.
+/// Throws std::runtime_error when the file cannot be read or is not a regular file (a device or a
+/// pipe named like a recording would be read forever or block).
 Recording ReadRecording(const std::string& path);
 
-/// Every *.pb file in `folder`, sorted by name; an empty list when the folder does not exist.
+/// Every regular *.pb file in `folder` (symlinks followed), sorted by name; an empty list when the
+/// folder does not exist.
 std::vector<Recording> ReadRecordings(const std::string& folder);
 
 /// The earliest send time in the recordings [ns, steady clock of the recording machine]; 0 if none.

@@ -138,7 +138,8 @@ void EnvelopeRecorder::WriteWaiting() {
     }
     tail_.store(tail, std::memory_order_release);
   }
-  if (wrote) std::fflush(file_);
+  // small records sit in the file's buffer: a full disk shows only here
+  if (wrote && std::fflush(file_) != 0) write_errors_.fetch_add(1, std::memory_order_relaxed);
 }
 
 }  // namespace haptex::services

@@ -219,6 +219,29 @@ TEST_F(LaunchSystemTest, ASummaryThatCannotBeWrittenFailsTheRunWithTheReason) {
   EXPECT_EQ(rows.back().index_N, 0.0);
 }
 
+// A recording the disk refuses: mock_pins records into /dev/full (its recording is a link there,
+// as a full disk fails every write). The run goes on, the launcher names the service and fails the
+// run, and the device file is not read back as a recording (it would never end).
+TEST_F(LaunchSystemTest, ARecordingTheDiskRefusesFailsTheRunAndNamesTheService) {
+  std::filesystem::create_directories(run_ + "/recordings");
+  std::filesystem::create_symlink("/dev/full", run_ + "/recordings/mock_pins.pb");
+  auto launcher = Launch("2", {"--no-plots"});
+  const auto code = launcher->WaitFor(120s);
+  ASSERT_TRUE(code.has_value()) << launcher->Stdout();
+  EXPECT_EQ(*code, 1) << launcher->Stdout() << launcher->Stderr();
+  EXPECT_THAT(launcher->Stdout(), ::testing::ContainsRegex("error: mock_pins: [1-9][0-9]* recording writes failed "
+                                                           "\\(a full disk\\?\\): .*/recordings is incomplete"));
+  const std::string summary = testing::ReadText(run_ + "/summary.json");
+  EXPECT_THAT(summary, HasSubstr("recording writes failed"));
+  EXPECT_THAT(summary, ::testing::Not(HasSubstr("\"mock_pins.pb\"")));
+  // the others recorded as ever, and the device ended at zero force
+  EXPECT_GT(ReadRecording(run_ + "/recordings/device_bridge.pb").envelopes.size(), 0u);
+  EXPECT_THROW(ReadRecording(run_ + "/recordings/mock_pins.pb"), std::runtime_error);
+  const auto rows = ForceRows();
+  ASSERT_FALSE(rows.empty());
+  EXPECT_EQ(rows.back().thumb_N, 0.0);
+}
+
 TEST_F(LaunchSystemTest, ARunFolderThatCannotTakeItsFirstFileStartsNothing) {
   std::filesystem::create_directories(run_ + "/commands.txt");
   auto launcher = Launch("1", {"--no-plots"});
