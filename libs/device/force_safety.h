@@ -107,8 +107,8 @@ class ForceSafety {
   Eigen::Vector3d previous_W_N_{Eigen::Vector3d::Zero()};
   double mean_square_N2_ = 0.0;
   double armed_s_ = 0.0;
-  bool resumable_ = false;                                ///< reached full scale, only brief link interruptions since
-  double interrupted_s_ = 0.0;                            ///< time without output since full scale was last reached
+  bool resumable_ = false;      ///< reached full scale, only brief interruptions (link or models) since
+  double interrupted_s_ = 0.0;  ///< time without output since full scale was last reached
   Eigen::Vector3d armed_p_W_m_{Eigen::Vector3d::Zero()};  ///< the finger's position when it last had the whole force
 };
 

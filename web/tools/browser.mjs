@@ -71,3 +71,22 @@ export async function openViewer(browser, url, timeoutMs = 60000) {
 }
 
 export const stats = (page) => page.evaluate(() => JSON.parse(JSON.stringify(window.haptexViewer.stats)));
+
+/// The page's drawing over up to `seconds` one-second windows, ended early once `going()` is false
+/// (a live run that has ended): its frame rate { best, median } over the windows, how many windows,
+/// and how many frames it drew and cloth frames it took in meanwhile.
+export async function frameRate(page, seconds, going = () => true) {
+  const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+  const first = await stats(page);
+  const samples = [];
+  for (let i = 0; i < seconds; ++i) {
+    await sleep(1000);
+    if (!going()) break;
+    samples.push((await stats(page)).fps);
+  }
+  const last = await stats(page);
+  samples.sort((x, y) => x - y);
+  return { best: samples.length ? samples[samples.length - 1] : NaN,
+           median: samples.length ? samples[Math.floor(samples.length / 2)] : NaN, windows: samples.length,
+           framesDrawn: last.framesRendered - first.framesRendered, clothFramesTaken: last.clothFrames - first.clothFrames };
+}
