@@ -375,6 +375,12 @@ int Launch(const LaunchOptions& o) {
                                 " recording writes failed (a full disk?): " + run_dir + "/recordings is incomplete");
         recordings_incomplete = true;
       }
+      // not an error (the device was kept safe), but the run did not feel like its scene
+      if (c.name() == "continuous_limited_ticks" && c.value() > 0) {
+        std::cout << "note: " << Spec(s.placed.service.kind).name << ": the device's continuous force limit held "
+                  << "the force down in " << c.value() << " ticks: the scene asks for more force, for longer, "
+                  << "than the device gives (docs/grab-protocol.md, force limits)\n";
+      }
     }
   }
 

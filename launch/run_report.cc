@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "launch/figure_curves.h"
@@ -208,11 +209,17 @@ std::vector<PlotResult> MakePlots(const std::string& run_dir, const v1::Scene& s
   const auto seconds = [t0](const v1::Envelope& e) { return static_cast<double>(e.send_time_ns() - t0) * 1e-9; };
 
   // per finger: |F0| of the ForceModels, F_N and state of the TouchTraces; per ForceModel the
-  // fingers' summed F0 and the pinch state, per FingerStates the fingers' midpoint
+  // fingers' summed F0 and the pinch state, per FingerStates the fingers' midpoint and the sum of
+  // the forces the device measured on them
   std::map<int, std::vector<Sample>> model_force;
   std::map<int, std::vector<Touch>> touches;
   std::vector<std::pair<double, std::pair<Eigen::Vector3d, int>>> pulls;  // t, (sum of F0, state)
-  std::vector<std::pair<double, Eigen::Vector3d>> midpoints;
+  struct Grip {
+    Eigen::Vector3d midpoint_W_m;
+    Eigen::Vector3d measured_force_W_N;  // summed over the fingers
+    double weaker_finger_force_N;        // the smaller of the fingers' measured |force|
+  };
+  std::vector<std::pair<double, Grip>> grips;
   // the last Health of each sender
   std::map<std::string, v1::Health> last_health;
   for (const Recording& r : recordings) {
@@ -233,9 +240,14 @@ std::vector<PlotResult> MakePlots(const std::string& run_dir, const v1::Scene& s
                                          f.friction_tangential_force_n(), static_cast<int>(f.contact_state())});
         }
       } else if (e.has_finger_states() && e.finger_states().fingers_size() > 0) {
-        Eigen::Vector3d sum_m = Eigen::Vector3d::Zero();
-        for (const auto& f : e.finger_states().fingers()) sum_m += codec::ToEigen(f.position_w_m());
-        midpoints.push_back({t, sum_m / e.finger_states().fingers_size()});
+        Eigen::Vector3d sum_m = Eigen::Vector3d::Zero(), sum_N = Eigen::Vector3d::Zero();
+        double weaker_N = std::numeric_limits<double>::infinity();
+        for (const auto& f : e.finger_states().fingers()) {
+          sum_m += codec::ToEigen(f.position_w_m());
+          sum_N += codec::ToEigen(f.measured_force_w_n());
+          weaker_N = std::min(weaker_N, Norm(f.measured_force_w_n()));
+        }
+        grips.push_back({t, {sum_m / e.finger_states().fingers_size(), sum_N, weaker_N}});
       } else if (e.has_health()) {
         last_health[e.sender()] = e.health();
       }
@@ -249,7 +261,7 @@ std::vector<PlotResult> MakePlots(const std::string& run_dir, const v1::Scene& s
     std::sort(samples.begin(), samples.end(), [](const Touch& a, const Touch& b) { return a.t_s < b.t_s; });
   }
   std::sort(pulls.begin(), pulls.end(), by_time);
-  std::sort(midpoints.begin(), midpoints.end(), by_time);
+  std::sort(grips.begin(), grips.end(), by_time);
 
   // 1. forces per finger vs time: the ForceModels' F0, else what the mock's fingers felt
   if (!model_force.empty()) {
@@ -355,13 +367,15 @@ std::vector<PlotResult> MakePlots(const std::string& run_dir, const v1::Scene& s
   // 3. force vs elongation (Fig. 10), stretch scenes: from the pinch onset (state VIII or IX) the
   //    fingers' pull along the stretch (the force holding them back, summed over both) against how
   //    far their midpoint moved along it; beside the fabric's tensile curve when the cloth is a
-  //    strip clamped across the stretch (FigureReference)
+  //    strip clamped across the stretch (FigureReference). The force is the one the device measured
+  //    on the fingers, what the person feels: a ForceModel's F0 is the force at the pose predicted
+  //    for it, and the bridge moves it along the model's stiffness to where the finger is.
   const auto kind = scene.device().mock().user().kind();
   const bool stretches = kind == v1::MockUserScript::KIND_PINCH_AND_STRETCH || kind == v1::MockUserScript::KIND_DEMO;
   const auto pinched = [](int state) { return state == v1::CONTACT_STATE_VIII || state == v1::CONTACT_STATE_IX; };
   const auto onset = std::find_if(pulls.begin(), pulls.end(), [&](const auto& p) { return pinched(p.second.second); });
-  std::size_t m = 0;
-  const Eigen::Vector3d* start = onset == pulls.end() ? nullptr : AtOrBefore(midpoints, onset->first, &m);
+  std::size_t g = 0;
+  const Grip* start = onset == pulls.end() ? nullptr : AtOrBefore(grips, onset->first, &g);
   if (!stretches) {
     plots.push_back({"force_vs_elongation", "", "not a stretch scene"});
   } else if (start == nullptr) {
@@ -369,66 +383,99 @@ std::vector<PlotResult> MakePlots(const std::string& run_dir, const v1::Scene& s
                      "needs a pinch (contact state VIII/IX) in the ForceModel recording and FingerStates"});
   } else {
     const Eigen::Vector3d& s_W = reference.stretch_W;
-    const Eigen::Vector3d start_W = *start;
+    const Eigen::Vector3d start_W = start->midpoint_W_m;
     std::vector<StretchSample> samples;
     {
-      std::ofstream out(dir + "/data/force_vs_elongation.dat");
-      for (auto p = onset; p != pulls.end(); ++p) {
-        if (!pinched(p->second.second)) continue;
-        const Eigen::Vector3d* mid = AtOrBefore(midpoints, p->first, &m);
-        if (mid == nullptr) continue;
-        const StretchSample sample{(*mid - start_W).dot(s_W), -p->second.first.dot(s_W)};
-        out << sample.elongation_m * 1e3 << ' ' << sample.force_N << '\n';
-        samples.push_back(sample);
-      }
-    }
-    std::string commands;
-    PlotResult plot;
-    if (reference.strip) {
-      // the pinched point was at the strip's rest length from the clamp (the strip hangs slack
-      // until the fingers pull)
-      const TensileStrip strip{start_W.dot(s_W) - reference.strip->clamp_along_stretch_m, reference.strip->width_m,
-                               reference.strip->force_per_width_N_per_m};
-      const ForceElongationFigure f = CompareWithTensileCurve(samples, strip);
-      {
-        std::ofstream out(dir + "/data/tensile_curve.dat");
-        for (int i = 0; i <= 100; ++i) {
-          const double e_m = f.max_elongation_m * i / 100.0;
-          out << e_m * 1e3 << ' ' << StripForceN(strip, e_m) << '\n';
+      std::size_t k = static_cast<std::size_t>(onset - pulls.begin());
+      // the sensor's reading averaged over the last kForceAverage_s (a force sensor is noisy: the
+      // mock's, +-0.1 N per axis)
+      constexpr double kForceAverage_s = 0.02;
+      constexpr double kHeldForce_N = 0.5;
+      constexpr double kLoadedShare = 0.98;
+      Eigen::Vector3d window_sum_N = Eigen::Vector3d::Zero();
+      std::size_t window_first = g;
+      for (std::size_t i = g; i < grips.size(); ++i) {
+        window_sum_N += grips[i].second.measured_force_W_N;
+        while (grips[window_first].first < grips[i].first - kForceAverage_s) {
+          window_sum_N -= grips[window_first++].second.measured_force_W_N;
         }
+        const auto* model = AtOrBefore(pulls, grips[i].first, &k);
+        // a pinch the device holds: the model says so and the device presses both fingers (at the
+        // run's end it lets go of the force while the model still says pinched)
+        if (model == nullptr || !pinched(model->second) || grips[i].second.weaker_finger_force_N < kHeldForce_N) {
+          continue;
+        }
+        const Eigen::Vector3d force_W_N = window_sum_N / static_cast<double>(i + 1 - window_first);
+        samples.push_back({(grips[i].second.midpoint_W_m - start_W).dot(s_W), -force_W_N.dot(s_W)});
       }
-      commands =
-          "set title 'Force along the pull vs elongation of the clamped strip, and the fabric tensile curve "
-          "(paper Fig. 10)'\nset xlabel 'elongation of the strip [mm] (strain = elongation / " +
-          Fixed(1e3 * strip.rest_length_m, 1) + " mm)'\nset ylabel 'F_T along the pull [N]'\nplot " +
-          DataFile("force_vs_elongation.dat") + " using 1:2 with points pt 7 ps 0.3 title 'fingers (sum)', " +
-          DataFile("tensile_curve.dat") + " using 1:2 with lines lw 2 title '" + reference.strip->direction +
-          " tensile curve x " + Fixed(1e3 * strip.width_m, 1) + " mm'\n";
-      plot = Draw("force_vs_elongation", dir, commands);
-      plot.measured = {{"rest_length_m", strip.rest_length_m},
-                       {"width_m", strip.width_m},
-                       {"samples", static_cast<double>(f.samples)},
-                       {"max_elongation_m", f.max_elongation_m},
-                       {"max_strain", f.max_elongation_m / strip.rest_length_m},
-                       {"curve_peak_N", f.curve_peak_N},
-                       {"rms_difference_N", f.rms_difference_N},
-                       {"max_difference_N", f.max_difference_N},
-                       {"rms_percent_of_peak", f.rms_percent_of_peak}};
-      plot.note = "strip " + Fixed(1e3 * strip.rest_length_m, 1) + " x " + Fixed(1e3 * strip.width_m, 1) + " mm (" +
-                  reference.strip->direction + "), pulled " + Fixed(1e3 * f.max_elongation_m, 2) + " mm (" +
-                  Fixed(100.0 * f.max_elongation_m / strip.rest_length_m, 2) + " %): fabric " +
-                  Fixed(f.curve_peak_N, 3) + " N there, RMS difference " + Fixed(f.rms_difference_N, 4) +
-                  " N = " + Fixed(f.rms_percent_of_peak, 1) + " % of it over " + std::to_string(f.samples) + " samples";
-    } else {
-      commands =
-          "set title 'Pinch: force along the stretch vs the fingers displacement since the pinch (not a "
-          "tensile test)'\nset xlabel 'displacement along the stretch [mm]'\n"
-          "set ylabel 'force along the stretch, both fingers [N]'\nplot " +
-          DataFile("force_vs_elongation.dat") + " using 1:2 with points pt 7 ps 0.3 title 'fingers (sum)'\n";
-      plot = Draw("force_vs_elongation", dir, commands);
-      plot.note = "no tensile reference: " + (reference.no_strip.empty() ? "not given" : reference.no_strip);
+      // The loading, as a tensile curve is: until the elongation first comes within 2 % of its
+      // largest. The rest is the hold, where the fingers settle on the user's grip springs over
+      // the pull's last tenths of a millimetre while the strip under them relaxes.
+      const auto largest = std::max_element(
+          samples.begin(), samples.end(), [](const auto& a, const auto& b) { return a.elongation_m < b.elongation_m; });
+      if (largest != samples.end()) {
+        const double loaded_m = kLoadedShare * largest->elongation_m;
+        const auto loaded = std::find_if(samples.begin(), samples.end(),
+                                         [loaded_m](const StretchSample& x) { return x.elongation_m >= loaded_m; });
+        samples.erase(loaded + 1, samples.end());
+      }
+      std::ofstream out(dir + "/data/force_vs_elongation.dat");
+      for (const StretchSample& sample : samples) out << sample.elongation_m * 1e3 << ' ' << sample.force_N << '\n';
     }
-    plots.push_back(plot);
+    if (samples.empty()) {
+      plots.push_back({"force_vs_elongation", "", "no sample while the device pressed both pinching fingers"});
+    } else {
+      std::string commands;
+      PlotResult plot;
+      if (reference.strip) {
+        // the pinched point was at the strip's rest length from the clamp (the strip hangs slack
+        // until the fingers pull)
+        const TensileStrip strip{start_W.dot(s_W) - reference.strip->clamp_along_stretch_m, reference.strip->width_m,
+                                 reference.strip->force_per_width_N_per_m};
+        const ForceElongationFigure f = CompareWithTensileCurve(samples, strip);
+        {
+          std::ofstream out(dir + "/data/tensile_curve.dat");
+          for (int i = 0; i <= 100; ++i) {
+            const double e_m = f.max_elongation_m * i / 100.0;
+            out << e_m * 1e3 << ' ' << StripForceN(strip, e_m) << '\n';
+          }
+        }
+        commands =
+            "set title 'Force along the pull vs elongation of the clamped strip, and the fabric tensile curve "
+            "(paper Fig. 10)'\nset xlabel 'elongation of the strip [mm] (strain = elongation / " +
+            Fixed(1e3 * strip.rest_length_m, 1) + " mm)'\nset ylabel 'F_T along the pull [N]'\nplot " +
+            DataFile("force_vs_elongation.dat") +
+            " using 1:2 with points pt 7 ps 0.3 title 'device-measured (sum, 20 ms mean)', " +
+            DataFile("tensile_curve.dat") + " using 1:2 with lines lw 2 title '" + reference.strip->direction +
+            " tensile curve x " + Fixed(1e3 * strip.width_m, 1) + " mm'\n";
+        plot = Draw("force_vs_elongation", dir, commands);
+        plot.measured = {{"rest_length_m", strip.rest_length_m},
+                         {"width_m", strip.width_m},
+                         {"samples", static_cast<double>(f.samples)},
+                         {"max_elongation_m", f.max_elongation_m},
+                         {"max_strain", f.max_elongation_m / strip.rest_length_m},
+                         {"curve_peak_N", f.curve_peak_N},
+                         {"rms_difference_N", f.rms_difference_N},
+                         {"max_difference_N", f.max_difference_N},
+                         {"rms_percent_of_peak", f.rms_percent_of_peak}};
+        plot.note = "strip " + Fixed(1e3 * strip.rest_length_m, 1) + " x " + Fixed(1e3 * strip.width_m, 1) + " mm (" +
+                    reference.strip->direction + "), pulled " + Fixed(1e3 * f.max_elongation_m, 2) + " mm (" +
+                    Fixed(100.0 * f.max_elongation_m / strip.rest_length_m, 2) + " %): fabric " +
+                    Fixed(f.curve_peak_N, 3) + " N there, RMS difference " + Fixed(f.rms_difference_N, 4) +
+                    " N = " + Fixed(f.rms_percent_of_peak, 1) + " % of it over " + std::to_string(f.samples) +
+                    " samples";
+      } else {
+        commands =
+            "set title 'Pinch: force along the stretch vs the fingers displacement since the pinch (not a "
+            "tensile test)'\nset xlabel 'displacement along the stretch [mm]'\n"
+            "set ylabel 'force along the stretch, both fingers [N]'\nplot " +
+            DataFile("force_vs_elongation.dat") +
+            " using 1:2 with points pt 7 ps 0.3 title 'device-measured (sum, 20 ms mean)'\n";
+        plot = Draw("force_vs_elongation", dir, commands);
+        plot.note = "no tensile reference: " + (reference.no_strip.empty() ? "not given" : reference.no_strip);
+      }
+      plots.push_back(plot);
+    }
   }
 
   // 4. loop periods: p50/p99/max of each loop from the last Health of each service

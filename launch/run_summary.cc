@@ -55,7 +55,8 @@ bool IsWatchdogCounter(const std::string& name) {
   if (name.starts_with("datagrams_dropped")) return false;  // transport drops, listed under drops
   return name == "device_lost_events" || name == "host_timeouts" || name == "non_finite_forces" ||
          name == "tick_gap_disarms" || name == "tick_gaps_held" || name == "world_pauses" ||
-         name.find("watchdog") != std::string::npos || name.find("stale") != std::string::npos;
+         name.find("watchdog") != std::string::npos || name.find("stale") != std::string::npos ||
+         name.ends_with("_limited_ticks");
 }
 
 void WriteAskedDirection(JsonWriter& j, std::string_view key, const netsim::ImpairmentConfig& c, std::uint64_t seed) {

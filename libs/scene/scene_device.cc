@@ -113,7 +113,7 @@ device::ScriptParams MockScriptFromScene(const v1::Scene& scene, const device::M
   script.hold_s = OrDefault(user.hold_s(), script.hold_s);
   // the user moves at this speed through each phase (kDemo: the peak speed of every move)
   script.approach_duration_s = script.rest_gap_m / script.speed_m_per_s;
-  script.stretch_duration_s = stretch_m / script.speed_m_per_s;
+  script.stretch_duration_s = stretch_m / OrDefault(user.stretch_speed_m_per_s(), script.speed_m_per_s);
   script.lift_duration_s = script.lift_height_m / script.speed_m_per_s;
   // the user aims beyond the fabric so that its grip spring pulls with the squeeze force
   script.press_depth_m = squeeze_N / controller.finger.user_stiffness_N_per_m;

@@ -181,6 +181,7 @@ void CheckDevice(const v1::Scene& scene, const FieldLocator& where, Checker& c) 
     const v1::MockUserScript& user = d.mock().user();
     const FieldLocator u = at.Nested(d, "mock").Nested(d.mock(), "user");
     c.ZeroOrRange(user, "speed_m_per_s", user.speed_m_per_s(), 1e-3, 1.0, "m/s", u);
+    c.ZeroOrRange(user, "stretch_speed_m_per_s", user.stretch_speed_m_per_s(), 1e-4, 1.0, "m/s", u);
     c.ZeroOrRange(user, "squeeze_force_n", user.squeeze_force_n(), 0.05, 20.0, "N", u);
     c.Range(user, "stretch_m", user.stretch_m(), 0.0, 0.1, "m", u);
     c.Range(user, "rub_amplitude_m", user.rub_amplitude_m(), 0.0, 0.1, "m", u);

@@ -47,6 +47,11 @@ BridgeLoop::BridgeLoop(const BridgeLoopConfig& config, const BridgePeers& peers,
   ids_.foreign_echoes = health_->AddCounter("foreign_echoes");
   ids_.foreign_echo_events = health_->AddCounter("foreign_echo_events");
   ids_.out_of_order = health_->AddCounter("status_frames_out_of_order");
+  // ticks (summed over the fingers) in which the safety stage held a force below what the models
+  // asked: a scene that asks the device for more than it gives shows here
+  ids_.peak_limited = health_->AddCounter("peak_limited_ticks");
+  ids_.continuous_limited = health_->AddCounter("continuous_limited_ticks");
+  ids_.slew_limited = health_->AddCounter("slew_limited_ticks");
   // docs/grab-protocol.md section 6: every rejection counted under its reason
   ids_.rejected_by_reason = health_->AddCounterPerReason<device::FrameError, device::kFrameErrorCount>(
       "status_frames_rejected_", device::FrameErrorName);
@@ -117,10 +122,17 @@ void BridgeLoop::Write(services::Outbox& out) {
     if (to_viewer) out.Send(*peers_.viewer, states_);
   }
   ++tick_;
-  std::uint64_t non_finite = 0;
+  std::uint64_t non_finite = 0, peak_limited = 0, continuous_limited = 0, slew_limited = 0;
   for (std::size_t i = 0; i < device::kManipulatorCount; ++i) {
-    non_finite += bridge_->safety(static_cast<device::Manipulator>(i)).counters().non_finite;
+    const device::SafetyCounters& c = bridge_->safety(static_cast<device::Manipulator>(i)).counters();
+    non_finite += c.non_finite;
+    peak_limited += c.peak_limited;
+    continuous_limited += c.continuous_limited;
+    slew_limited += c.slew_limited;
   }
+  health_->SetCounter(ids_.peak_limited, peak_limited);
+  health_->SetCounter(ids_.continuous_limited, continuous_limited);
+  health_->SetCounter(ids_.slew_limited, slew_limited);
   health_->SetCounter(ids_.status_ok, bridge_->status_frames_accepted());
   health_->SetCounter(ids_.status_bad, bridge_->frame_counters().TotalRejected());
   for (std::size_t e = 1; e < device::kFrameErrorCount; ++e) {

@@ -83,7 +83,8 @@ class BridgeLoop final {
   Degradation degradation_ = Degradation::kDeviceLost;  // no controller yet is not an error
   struct CounterIds {
     runtime::HealthReporter::CounterId status_ok, status_bad, foreign, models, models_bad, lost, gap, gap_held,
-        stale_cuts, nan, too_old, slow_events, damped, foreign_echoes, foreign_echo_events, out_of_order;
+        stale_cuts, nan, too_old, slow_events, damped, foreign_echoes, foreign_echo_events, out_of_order, peak_limited,
+        continuous_limited, slew_limited;
     /// status_frames_rejected_<reason>, by FrameError (index 0, accepted, unused)
     std::array<runtime::HealthReporter::CounterId, device::kFrameErrorCount> rejected_by_reason;
   } ids_{};

@@ -2,6 +2,7 @@
 // process over loopback): rub_friction's F_T/F_N breaks away at mu_s and slides at mu_d (Fig. 9),
 // pinch_strip's force along the pull follows the fabric's tensile curve (Fig. 10), and the plots are
 // in the run folder. Physics only, with stated tolerances; no timing.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -64,18 +65,23 @@ double LargestStrain(const pb::Struct& summary) {
   return Number(Object(Object(Object(summary, "plots"), "force_vs_elongation"), "measured"), "max_strain");
 }
 
-// Fig. 10: the clamped strip pinched and pulled 3 mm (6 % of its 46 mm): the pinch holds through the
-// pull, and the fingers' force along it follows the warp tensile curve times the strip's width
-// (7.2 and 8.2 % RMS of the curve's value at the largest elongation in two runs; the fingers' force
-// rises some 25 % faster, docs/validation.md section 9).
+// Fig. 10: the clamped strip pinched and pulled slowly some 3 mm (6.5 % of its 46 mm): the pinch
+// holds through the pull within the device's continuous force, and the force the device measured
+// on the fingers follows the warp tensile curve times the strip's width over the loading: 6.4-7.0 %
+// RMS of the curve's value at the largest elongation on a quiet host, up to 14 % where the host
+// paused 60-70 times in the run (docs/validation.md); a figure gone wrong is 30 % or more.
 TEST(LaunchFiguresTest, PinchedStripFollowsTheFabricsTensileCurve) {
+  constexpr double kRmsPercentBound = 20.0;
   std::string run;
   pb::Struct summary = RunScene("pinch_strip", "10", &run);
-  // the figure needs an undisturbed pinch (testing::StallCuts)
+  const auto rms_percent = [](const pb::Struct& s) {
+    return Number(Object(Object(Object(s, "plots"), "force_vs_elongation"), "measured"), "rms_percent_of_peak");
+  };
+  // the figure needs an undisturbed pinch and pull (testing::StallCuts)
   const double cuts = testing::StallCuts(testing::ReadText(run + "/summary.json"));
-  if (LargestStrain(summary) <= 0.05 && cuts > 0) {
-    std::cout << "[host stall] the bridge cut the force " << cuts << " times and the pinch was lost (largest strain "
-              << LargestStrain(summary) << "): running the scene again\n";
+  if ((LargestStrain(summary) <= 0.05 || rms_percent(summary) >= kRmsPercentBound) && cuts > 0) {
+    std::cout << "[host stall] the bridge cut the force " << cuts << " times (largest strain " << LargestStrain(summary)
+              << ", " << rms_percent(summary) << " % RMS from the curve): running the scene again\n";
     summary = RunScene("pinch_strip", "10", &run);
   }
   EXPECT_TRUE(std::filesystem::exists(run + "/plots/force_vs_elongation.png"));
@@ -84,8 +90,11 @@ TEST(LaunchFiguresTest, PinchedStripFollowsTheFabricsTensileCurve) {
   EXPECT_NEAR(Number(m, "width_m"), 0.015, 1e-9);
   EXPECT_GT(Number(m, "max_strain"), 0.05) << "the pinch let the strip go before the pull was done";
   EXPECT_GT(Number(m, "samples"), 1000.0);
-  EXPECT_LT(Number(m, "rms_percent_of_peak"), 15.0);
+  EXPECT_LT(Number(m, "rms_percent_of_peak"), kRmsPercentBound);
   EXPECT_GT(Number(Object(summary, "contact_states"), "VIII"), 2000.0) << "pinched (VIII) through the pull";
+  EXPECT_THAT(testing::ReadText(run + "/summary.json"),
+              ::testing::HasSubstr(R"("service":"device_bridge","counter":"continuous_limited_ticks","value":0})"))
+      << "the scene's squeeze is within the device's continuous force";
 }
 
 }  // namespace

@@ -122,6 +122,7 @@ Recording EveryPlotsData() {
     auto* s = states.mutable_finger_states()->add_fingers();
     s->set_finger(v1::FINGER_THUMB);
     s->mutable_position_w_m()->set_x(0.001 * k);
+    s->mutable_measured_force_w_n()->set_z(1.0 + 0.1 * k);
     r.envelopes.push_back(states);
   }
   v1::Envelope health;
@@ -133,6 +134,54 @@ Recording EveryPlotsData() {
   loop->set_period_max_us(900);
   r.envelopes.push_back(health);
   return r;
+}
+
+// Fig. 10 compares the loading with the tensile curve: the force the device measured on both
+// fingers (not a ForceModel's F0, which is at the pose predicted for it), from the pinch until the
+// elongation first comes within 2 % of its largest; not the hold after it, nor the run's end,
+// where the device lets go of the force while the model still says pinched and the fingers spring on.
+TEST(LaunchRunReportTest, TheStripFigureComparesTheLoadingTheDeviceMeasured) {
+  constexpr double kWidth_m = 0.01, kRest_m = 0.05, kStiffness_N_per_m = 1000.0;  // the strip's pull per elongation
+  Recording r;
+  const auto add = [&r](int k, double elongation_m, double pull_N, double squeeze_N, double f0_N) {
+    const std::int64_t t_ns = std::int64_t{k} * 25'000'000;  // apart by more than the 20 ms the force is averaged over
+    v1::Envelope model;
+    model.set_send_time_ns(t_ns);
+    v1::Envelope states;
+    states.set_send_time_ns(t_ns);
+    for (const v1::Finger finger : {v1::FINGER_THUMB, v1::FINGER_INDEX}) {
+      const double side = finger == v1::FINGER_THUMB ? 1.0 : -1.0;
+      auto* m = model.mutable_force_model()->add_fingers();
+      m->set_finger(finger);
+      m->set_contact_state(v1::CONTACT_STATE_VIII);
+      m->mutable_f0_w_n()->set_x(-f0_N / 2);
+      auto* s = states.mutable_finger_states()->add_fingers();
+      s->set_finger(finger);
+      s->mutable_position_w_m()->set_x(kRest_m + elongation_m);
+      s->mutable_position_w_m()->set_y(0.005 * side);
+      s->mutable_measured_force_w_n()->set_x(-pull_N / 2);
+      s->mutable_measured_force_w_n()->set_y(-squeeze_N * side);
+    }
+    r.envelopes.push_back(model);
+    r.envelopes.push_back(states);
+  };
+  int k = 0;
+  for (; k <= 100; ++k)
+    add(k, 1e-5 * k, kStiffness_N_per_m * 1e-5 * k, 4.0, 5.0);  // the pull: on the curve (F0 is not)
+  for (; k <= 200; ++k) add(k, 1e-3, 0.5, 4.0, 5.0);            // the hold: the strip relaxes
+  for (; k <= 220; ++k) add(k, 2e-3, 0.0, 0.0, 5.0);            // the end: the device lets go
+  FigureReference reference;
+  reference.strip = ClampedStrip{0.0, kWidth_m, "warp",
+                                 [](double strain) { return kStiffness_N_per_m * strain * kRest_m / kWidth_m; }};
+  const std::string dir = testing::FreshDir("plots_strip");
+  const auto plots = MakePlots(dir, testing::ShippedScene("pinch_strip"), {r}, std::nullopt, reference);
+  ASSERT_EQ(plots[2].name, "force_vs_elongation");
+  ASSERT_FALSE(plots[2].file.empty()) << plots[2].skipped;
+  std::map<std::string, double> measured(plots[2].measured.begin(), plots[2].measured.end());
+  EXPECT_NEAR(measured["rest_length_m"], kRest_m, 1e-12);
+  EXPECT_NEAR(measured["max_elongation_m"], 0.98e-3, 1.01e-5) << "the loading ends within 2 % of the largest";
+  EXPECT_LT(measured["rms_difference_N"], 1e-9) << "the device's force, on the curve; not the hold's nor F0";
+  EXPECT_NEAR(measured["samples"], 99.0, 1.0) << "from the pinch to 0.98 mm";
 }
 
 // A run folder named by an attacker (as --out may be): its path never reaches a script as code.

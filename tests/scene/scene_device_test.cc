@@ -82,6 +82,20 @@ TEST(SceneDeviceTest, TheRubStrokesAtTheScenesSpeedWithTheFingerItHas) {
   EXPECT_EQ(core_rub.rub_frequency_Hz, device::ScriptParams{}.rub_frequency_Hz);
 }
 
+// The pull of a pinch-and-stretch takes its own speed when the scene gives one (a tensile test
+// pulls slowly), the approach keeps the user's; without it both move at the user's speed.
+TEST(SceneDeviceTest, TheStretchPullsAtItsOwnSpeedWhenTheSceneGivesOne) {
+  const device::ScriptParams slow = MockScriptFromScene(
+      Scene("device { mock { user { kind: KIND_PINCH_AND_STRETCH speed_m_per_s: 0.01 stretch_m: 0.003 "
+            "stretch_speed_m_per_s: 0.002 } } }\n"),
+      {});
+  EXPECT_NEAR(slow.stretch_duration_s, 1.5, 1e-12);
+  EXPECT_NEAR(slow.approach_duration_s, slow.rest_gap_m / 0.01, 1e-12);
+  const device::ScriptParams same = MockScriptFromScene(
+      Scene("device { mock { user { kind: KIND_PINCH_AND_STRETCH speed_m_per_s: 0.01 stretch_m: 0.003 } } }\n"), {});
+  EXPECT_NEAR(same.stretch_duration_s, 0.3, 1e-12);
+}
+
 // The demo user on the mock controller, read by the bridge: the fingertips it reports in W are
 // the same with the device turned and moved as with D = W, at every phase of the demo.
 TEST(SceneDeviceTest, TheDemoTouchesTheSameWorldPointsWhateverTheDevicePose) {

@@ -172,6 +172,20 @@ friction { finger_fabric_mu_static: 0.2 finger_fabric_mu_dynamic: 0.4 }
   EXPECT_TRUE(Mentions(issues, "must not exceed static"));
 }
 
+TEST_F(SceneLoaderTest, TheMockUsersSpeedsAreRangeChecked) {
+  const auto issues = Refused(R"(name: "x"
+fabric { database_name: "test_cotton" }
+fingers { finger: FINGER_INDEX }
+device { mock { user { kind: KIND_PINCH_AND_STRETCH speed_m_per_s: 2
+                       stretch_speed_m_per_s: 0.00001 } } }
+)");
+  ASSERT_EQ(issues.size(), 2u);
+  EXPECT_TRUE(Mentions(issues, "speed_m_per_s must be in [0.001, 1]"));
+  EXPECT_EQ(issues[1].line, 5);
+  EXPECT_NE(issues[1].message.find("stretch_speed_m_per_s must be in [0.0001, 1]"), std::string::npos)
+      << issues[1].message;
+}
+
 TEST_F(SceneLoaderTest, LoadsAndDisplaysMustExist) {
   const auto issues = Refused(R"(name: "x"
 fabric { database_name: "test_cotton" }

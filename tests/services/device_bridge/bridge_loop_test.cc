@@ -120,6 +120,33 @@ TEST_F(BridgeLoopTest, ForceModelsReachTheControllerAfterTheRampAndControlHoldsT
   EXPECT_EQ(CommandedThumbZ(), 0.0);
 }
 
+// A model asking for more than the device's continuous force (6 N RMS over about 1 s): the safety
+// stage holds it down once the mean has filled, and every such tick is counted in Health, as
+// are the peak limit's (20 N) for a model beyond the device's peak.
+TEST_F(BridgeLoopTest, ForcesTheDeviceCannotGiveAreHeldDownAndCounted) {
+  haptex::testing::CapturedOutbox out;
+  out.capture = false;
+  const auto counter = [this](const std::string& name) -> std::int64_t {
+    for (const auto& c : health_.Build(0.0).counters()) {
+      if (c.name() == name) return static_cast<std::int64_t>(c.value());
+    }
+    return -1;
+  };
+  const v1::ForceModel five_newtons = ThumbForce(5.0);
+  for (int k = 0; k < 15000; ++k) Tick(out, k % 5 == 0 ? &five_newtons : nullptr);  // 3 s
+  EXPECT_NEAR(CommandedThumbZ(), 5.0, 1e-3) << "within the device's rating: untouched";
+  EXPECT_EQ(counter("continuous_limited_ticks"), 0);
+  EXPECT_EQ(counter("peak_limited_ticks"), 0);
+  const v1::ForceModel nine_newtons = ThumbForce(9.0);
+  for (int k = 0; k < 15000; ++k) Tick(out, k % 5 == 0 ? &nine_newtons : nullptr);  // 3 s more
+  EXPECT_LT(CommandedThumbZ(), 6.0 + 1e-6) << "held to the continuous force";
+  EXPECT_GT(counter("continuous_limited_ticks"), 5000);
+  const v1::ForceModel fifty_newtons = ThumbForce(50.0);
+  for (int k = 0; k < 50; ++k) Tick(out, k % 5 == 0 ? &fifty_newtons : nullptr);
+  EXPECT_EQ(counter("peak_limited_ticks"), 50) << "every tick of the 50 N model";
+  EXPECT_LE(CommandedThumbZ(), 6.0 + 1e-6);
+}
+
 // The bridge's process stalls while the controller runs on. Shorter than the controller's host
 // timeout, the controller holds the last command and says so: the force it applies never drops.
 // Longer, it times out; the bridge sees the flag and ramps in again from zero, never jumping.
