@@ -5,10 +5,10 @@
 // run) and the render scale the page settled on. Run it alone on the machine: the figure is the host's as much as the page's.
 //   node bench/viewer/viewer_frame_rate.mjs HAPTEX SCENE WORK_DIR [RUNS=3] [WINDOW_S=8]
 
-import { spawn } from "node:child_process";
 import { mkdirSync, rmSync } from "node:fs";
 import { join } from "node:path";
 import { frameRate, launchChromium, openViewer, stats } from "../../web/tools/browser.mjs";
+import { startHaptex } from "../../web/tools/haptex_process.mjs";
 
 const [haptex, scene, work, runsText = "3", windowText = "8"] = process.argv.slice(2);
 if (!haptex || !scene || !work) {
@@ -20,22 +20,7 @@ rmSync(work, { recursive: true, force: true });
 mkdirSync(work, { recursive: true });
 const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 
-// starts `haptex ARGS`, resolves the page's address once printed and the exit code at the end
-function start(args, urlPattern) {
-  const child = spawn(haptex, args, { stdio: ["ignore", "pipe", "pipe"] });
-  let out = "", running = true;
-  const exited = new Promise((resolve) => child.on("exit", (code) => { running = false; resolve(code); }));
-  const url = new Promise((resolve, reject) => {
-    child.stdout.on("data", (d) => {
-      out += d;
-      const m = out.match(urlPattern);
-      if (m) resolve(m[1]);
-    });
-    child.stderr.on("data", (d) => { out += d; });
-    child.on("exit", (code) => reject(new Error(`haptex ${args[0]} exited (${code}) before serving the page:\n${out}`)));
-  });
-  return { child, url, exited, output: () => out, going: () => running };
-}
+const start = (args, urlPattern) => startHaptex(haptex, args, urlPattern);
 
 // the page's frame rate over the window, after the first seconds in which it settles its render scale
 async function measure(browser, url, going) {
@@ -52,7 +37,7 @@ async function live(browser, out, extraArgs) {
                     /viewer: open (http:\/\/[^ ]+\/)/);
   const rate = await measure(browser, await run.url, run.going);
   if (rate.windows === 0) throw new Error(`the page in ${out} loaded too late to measure: use a longer run`);
-  const code = await run.exited;
+  const { code } = await run.exited;
   if (code !== 0) throw new Error(`the run in ${out} exited ${code}:\n${run.output()}`);
   return rate;
 }

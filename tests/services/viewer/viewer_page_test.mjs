@@ -7,11 +7,11 @@
 // rates it prints are for reading; bench/viewer/viewer_frame_rate.mjs measures them.
 //   node viewer_page_test.mjs HAPTEX DEMO_SCENE WORK_DIR
 
-import { spawn } from "node:child_process";
 import { existsSync, readFileSync, rmSync, mkdirSync } from "node:fs";
 import { join } from "node:path";
 import assert from "node:assert/strict";
 import { frameRate, launchChromium, openViewer, stats, waitUntilServed } from "../../../web/tools/browser.mjs";
+import { startHaptex } from "../../../web/tools/haptex_process.mjs";
 import { createRequire } from "node:module";
 
 const requireFromWeb = createRequire(new URL("../../../web/package.json", import.meta.url));
@@ -31,21 +31,7 @@ const runDir = join(work, "run");
 const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 const STATES = ["I", "II", "III", "IV", "V", "VI", "VII", "VIII", "IX"];
 
-function start(args, urlPattern) {
-  const child = spawn(haptex, args, { stdio: ["ignore", "pipe", "pipe"] });
-  let out = "";
-  const exited = new Promise((resolve) => child.on("exit", (code, signal) => resolve({ code, signal })));
-  const url = new Promise((resolve, reject) => {
-    child.stdout.on("data", (d) => {
-      out += d;
-      const m = out.match(urlPattern);
-      if (m) resolve(m[1]);
-    });
-    child.stderr.on("data", (d) => { out += d; });
-    child.on("exit", (code) => reject(new Error(`${args[0]} exited (${code}) before serving the page:\n${out}`)));
-  });
-  return { child, url, exited, output: () => out };
-}
+const start = (args, urlPattern) => startHaptex(haptex, args, urlPattern);
 
 async function positions(page) {
   return page.evaluate(() => {
