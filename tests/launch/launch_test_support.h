@@ -85,6 +85,7 @@ inline std::string WaitForOutput(haptex::testing::Subprocess& p, const std::stri
 }
 
 using haptex::testing::ForceRow;
+using haptex::testing::HostPausedMs;
 using haptex::testing::MockForceRows;
 
 /// `haptex launch` of the shipped demo until Ctrl-C, into `run_dir`; its tactile pair (tactile,
