@@ -84,6 +84,58 @@ const auto* AtOrBefore(const Series& series, double t_s, std::size_t* k) {
   return *k < series.size() && series[*k].first <= t_s ? &series[*k].second : nullptr;
 }
 
+bool Pinched(int state) { return state == v1::CONTACT_STATE_VIII || state == v1::CONTACT_STATE_IX; }
+
+// One FingerStates: the fingers' midpoint and the forces the device measured on them.
+struct Grip {
+  Eigen::Vector3d midpoint_W_m;
+  Eigen::Vector3d measured_force_W_N;  ///< summed over the fingers
+  double weaker_finger_force_N;        ///< the smaller of the fingers' measured |force|
+};
+
+// Fig. 10's samples: from the pinch's onset (model_states[first_state], grips[first_grip]) the force
+// the device measured along the stretch s_W against how far the fingers' midpoint moved along it,
+// over the loading only. The force is the device's, what the person feels: a ForceModel's F0 is
+// the force at the pose predicted for it, and the bridge moves it along the model's stiffness to
+// where the finger is.
+std::vector<StretchSample> PinchLoading(const std::vector<std::pair<double, int>>& model_states,
+                                        std::size_t first_state, const std::vector<std::pair<double, Grip>>& grips,
+                                        std::size_t first_grip, const Eigen::Vector3d& s_W) {
+  // the sensor's reading averaged over the last kForceAverage_s (a force sensor is noisy: the
+  // mock's, +-0.1 N per axis)
+  constexpr double kForceAverage_s = 0.02;
+  constexpr double kHeldForce_N = 0.5;
+  constexpr double kLoadedShare = 0.98;
+  const Eigen::Vector3d start_W = grips[first_grip].second.midpoint_W_m;
+  std::vector<StretchSample> samples;
+  std::size_t k = first_state, window_first = first_grip;
+  Eigen::Vector3d window_sum_N = Eigen::Vector3d::Zero();
+  for (std::size_t i = first_grip; i < grips.size(); ++i) {
+    window_sum_N += grips[i].second.measured_force_W_N;
+    while (grips[window_first].first < grips[i].first - kForceAverage_s) {
+      window_sum_N -= grips[window_first++].second.measured_force_W_N;
+    }
+    const int* state = AtOrBefore(model_states, grips[i].first, &k);
+    // a pinch the device holds: the model says so and the device presses both fingers (at the
+    // run's end it lets go of the force while the model still says pinched)
+    if (state == nullptr || !Pinched(*state) || grips[i].second.weaker_finger_force_N < kHeldForce_N) continue;
+    const Eigen::Vector3d force_W_N = window_sum_N / static_cast<double>(i + 1 - window_first);
+    samples.push_back({(grips[i].second.midpoint_W_m - start_W).dot(s_W), -force_W_N.dot(s_W)});
+  }
+  // The loading, as a tensile curve is: until the elongation first comes within 2 % of its
+  // largest. The rest is the hold, where the fingers settle on the user's grip springs over the
+  // pull's last tenths of a millimetre while the strip under them relaxes.
+  const auto largest = std::max_element(samples.begin(), samples.end(),
+                                        [](const auto& a, const auto& b) { return a.elongation_m < b.elongation_m; });
+  if (largest != samples.end()) {
+    const double loaded_m = kLoadedShare * largest->elongation_m;
+    const auto loaded = std::find_if(samples.begin(), samples.end(),
+                                     [loaded_m](const StretchSample& x) { return x.elongation_m >= loaded_m; });
+    samples.erase(loaded + 1, samples.end());
+  }
+  return samples;
+}
+
 }  // namespace
 
 FigureReference FigureReferenceFromScene(const scene::LoadedScene& loaded) {
@@ -209,16 +261,10 @@ std::vector<PlotResult> MakePlots(const std::string& run_dir, const v1::Scene& s
   const auto seconds = [t0](const v1::Envelope& e) { return static_cast<double>(e.send_time_ns() - t0) * 1e-9; };
 
   // per finger: |F0| of the ForceModels, F_N and state of the TouchTraces; per ForceModel the
-  // fingers' summed F0 and the pinch state, per FingerStates the fingers' midpoint and the sum of
-  // the forces the device measured on them
+  // pinch state, per FingerStates the fingers' midpoint and the forces the device measured on them
   std::map<int, std::vector<Sample>> model_force;
   std::map<int, std::vector<Touch>> touches;
-  std::vector<std::pair<double, std::pair<Eigen::Vector3d, int>>> pulls;  // t, (sum of F0, state)
-  struct Grip {
-    Eigen::Vector3d midpoint_W_m;
-    Eigen::Vector3d measured_force_W_N;  // summed over the fingers
-    double weaker_finger_force_N;        // the smaller of the fingers' measured |force|
-  };
+  std::vector<std::pair<double, int>> model_states;  // t, the fingers' highest contact state
   std::vector<std::pair<double, Grip>> grips;
   // the last Health of each sender
   std::map<std::string, v1::Health> last_health;
@@ -226,14 +272,12 @@ std::vector<PlotResult> MakePlots(const std::string& run_dir, const v1::Scene& s
     for (const v1::Envelope& e : r.envelopes) {
       const double t = seconds(e);
       if (e.has_force_model()) {
-        Eigen::Vector3d sum_N = Eigen::Vector3d::Zero();
         int state = 0;
         for (const auto& m : e.force_model().fingers()) {
           model_force[m.finger()].push_back({t, Norm(m.f0_w_n())});
-          sum_N += codec::ToEigen(m.f0_w_n());
           state = std::max(state, static_cast<int>(m.contact_state()));
         }
-        pulls.push_back({t, {sum_N, state}});
+        model_states.push_back({t, state});
       } else if (e.has_touch_trace()) {
         for (const auto& f : e.touch_trace().fingers()) {
           touches[f.finger()].push_back({t, f.normal_force_n(), f.tangential_force_n(), f.friction_normal_force_n(),
@@ -260,7 +304,7 @@ std::vector<PlotResult> MakePlots(const std::string& run_dir, const v1::Scene& s
   for (auto& [finger, samples] : touches) {
     std::sort(samples.begin(), samples.end(), [](const Touch& a, const Touch& b) { return a.t_s < b.t_s; });
   }
-  std::sort(pulls.begin(), pulls.end(), by_time);
+  std::sort(model_states.begin(), model_states.end(), by_time);
   std::sort(grips.begin(), grips.end(), by_time);
 
   // 1. forces per finger vs time: the ForceModels' F0, else what the mock's fingers felt
@@ -367,115 +411,81 @@ std::vector<PlotResult> MakePlots(const std::string& run_dir, const v1::Scene& s
   // 3. force vs elongation (Fig. 10), stretch scenes: from the pinch onset (state VIII or IX) the
   //    fingers' pull along the stretch (the force holding them back, summed over both) against how
   //    far their midpoint moved along it; beside the fabric's tensile curve when the cloth is a
-  //    strip clamped across the stretch (FigureReference). The force is the one the device measured
-  //    on the fingers, what the person feels: a ForceModel's F0 is the force at the pose predicted
-  //    for it, and the bridge moves it along the model's stiffness to where the finger is.
+  //    strip clamped across the stretch (FigureReference). PinchLoading picks the samples: the
+  //    device's force, over the loading.
   const auto kind = scene.device().mock().user().kind();
   const bool stretches = kind == v1::MockUserScript::KIND_PINCH_AND_STRETCH || kind == v1::MockUserScript::KIND_DEMO;
-  const auto pinched = [](int state) { return state == v1::CONTACT_STATE_VIII || state == v1::CONTACT_STATE_IX; };
-  const auto onset = std::find_if(pulls.begin(), pulls.end(), [&](const auto& p) { return pinched(p.second.second); });
+  const auto onset =
+      std::find_if(model_states.begin(), model_states.end(), [](const auto& m) { return Pinched(m.second); });
   std::size_t g = 0;
-  const Grip* start = onset == pulls.end() ? nullptr : AtOrBefore(grips, onset->first, &g);
+  const Grip* start = onset == model_states.end() ? nullptr : AtOrBefore(grips, onset->first, &g);
+  const Eigen::Vector3d& s_W = reference.stretch_W;
+  const std::vector<StretchSample> samples =
+      stretches && start != nullptr
+          ? PinchLoading(model_states, static_cast<std::size_t>(onset - model_states.begin()), grips, g, s_W)
+          : std::vector<StretchSample>{};
   if (!stretches) {
     plots.push_back({"force_vs_elongation", "", "not a stretch scene"});
   } else if (start == nullptr) {
     plots.push_back({"force_vs_elongation", "",
                      "needs a pinch (contact state VIII/IX) in the ForceModel recording and FingerStates"});
+  } else if (samples.empty()) {
+    plots.push_back({"force_vs_elongation", "", "no sample while the device pressed both pinching fingers"});
   } else {
-    const Eigen::Vector3d& s_W = reference.stretch_W;
     const Eigen::Vector3d start_W = start->midpoint_W_m;
-    std::vector<StretchSample> samples;
     {
-      std::size_t k = static_cast<std::size_t>(onset - pulls.begin());
-      // the sensor's reading averaged over the last kForceAverage_s (a force sensor is noisy: the
-      // mock's, +-0.1 N per axis)
-      constexpr double kForceAverage_s = 0.02;
-      constexpr double kHeldForce_N = 0.5;
-      constexpr double kLoadedShare = 0.98;
-      Eigen::Vector3d window_sum_N = Eigen::Vector3d::Zero();
-      std::size_t window_first = g;
-      for (std::size_t i = g; i < grips.size(); ++i) {
-        window_sum_N += grips[i].second.measured_force_W_N;
-        while (grips[window_first].first < grips[i].first - kForceAverage_s) {
-          window_sum_N -= grips[window_first++].second.measured_force_W_N;
-        }
-        const auto* model = AtOrBefore(pulls, grips[i].first, &k);
-        // a pinch the device holds: the model says so and the device presses both fingers (at the
-        // run's end it lets go of the force while the model still says pinched)
-        if (model == nullptr || !pinched(model->second) || grips[i].second.weaker_finger_force_N < kHeldForce_N) {
-          continue;
-        }
-        const Eigen::Vector3d force_W_N = window_sum_N / static_cast<double>(i + 1 - window_first);
-        samples.push_back({(grips[i].second.midpoint_W_m - start_W).dot(s_W), -force_W_N.dot(s_W)});
-      }
-      // The loading, as a tensile curve is: until the elongation first comes within 2 % of its
-      // largest. The rest is the hold, where the fingers settle on the user's grip springs over
-      // the pull's last tenths of a millimetre while the strip under them relaxes.
-      const auto largest = std::max_element(
-          samples.begin(), samples.end(), [](const auto& a, const auto& b) { return a.elongation_m < b.elongation_m; });
-      if (largest != samples.end()) {
-        const double loaded_m = kLoadedShare * largest->elongation_m;
-        const auto loaded = std::find_if(samples.begin(), samples.end(),
-                                         [loaded_m](const StretchSample& x) { return x.elongation_m >= loaded_m; });
-        samples.erase(loaded + 1, samples.end());
-      }
       std::ofstream out(dir + "/data/force_vs_elongation.dat");
       for (const StretchSample& sample : samples) out << sample.elongation_m * 1e3 << ' ' << sample.force_N << '\n';
     }
-    if (samples.empty()) {
-      plots.push_back({"force_vs_elongation", "", "no sample while the device pressed both pinching fingers"});
-    } else {
-      std::string commands;
-      PlotResult plot;
-      if (reference.strip) {
-        // the pinched point was at the strip's rest length from the clamp (the strip hangs slack
-        // until the fingers pull)
-        const TensileStrip strip{start_W.dot(s_W) - reference.strip->clamp_along_stretch_m, reference.strip->width_m,
-                                 reference.strip->force_per_width_N_per_m};
-        const ForceElongationFigure f = CompareWithTensileCurve(samples, strip);
-        {
-          std::ofstream out(dir + "/data/tensile_curve.dat");
-          for (int i = 0; i <= 100; ++i) {
-            const double e_m = f.max_elongation_m * i / 100.0;
-            out << e_m * 1e3 << ' ' << StripForceN(strip, e_m) << '\n';
-          }
+    std::string commands;
+    PlotResult plot;
+    if (reference.strip) {
+      // the pinched point was at the strip's rest length from the clamp (the strip hangs slack
+      // until the fingers pull)
+      const TensileStrip strip{start_W.dot(s_W) - reference.strip->clamp_along_stretch_m, reference.strip->width_m,
+                               reference.strip->force_per_width_N_per_m};
+      const ForceElongationFigure f = CompareWithTensileCurve(samples, strip);
+      {
+        std::ofstream out(dir + "/data/tensile_curve.dat");
+        for (int i = 0; i <= 100; ++i) {
+          const double e_m = f.max_elongation_m * i / 100.0;
+          out << e_m * 1e3 << ' ' << StripForceN(strip, e_m) << '\n';
         }
-        commands =
-            "set title 'Force along the pull vs elongation of the clamped strip, and the fabric tensile curve "
-            "(paper Fig. 10)'\nset xlabel 'elongation of the strip [mm] (strain = elongation / " +
-            Fixed(1e3 * strip.rest_length_m, 1) + " mm)'\nset ylabel 'F_T along the pull [N]'\nplot " +
-            DataFile("force_vs_elongation.dat") +
-            " using 1:2 with points pt 7 ps 0.3 title 'device-measured (sum, 20 ms mean)', " +
-            DataFile("tensile_curve.dat") + " using 1:2 with lines lw 2 title '" + reference.strip->direction +
-            " tensile curve x " + Fixed(1e3 * strip.width_m, 1) + " mm'\n";
-        plot = Draw("force_vs_elongation", dir, commands);
-        plot.measured = {{"rest_length_m", strip.rest_length_m},
-                         {"width_m", strip.width_m},
-                         {"samples", static_cast<double>(f.samples)},
-                         {"max_elongation_m", f.max_elongation_m},
-                         {"max_strain", f.max_elongation_m / strip.rest_length_m},
-                         {"curve_peak_N", f.curve_peak_N},
-                         {"rms_difference_N", f.rms_difference_N},
-                         {"max_difference_N", f.max_difference_N},
-                         {"rms_percent_of_peak", f.rms_percent_of_peak}};
-        plot.note = "strip " + Fixed(1e3 * strip.rest_length_m, 1) + " x " + Fixed(1e3 * strip.width_m, 1) + " mm (" +
-                    reference.strip->direction + "), pulled " + Fixed(1e3 * f.max_elongation_m, 2) + " mm (" +
-                    Fixed(100.0 * f.max_elongation_m / strip.rest_length_m, 2) + " %): fabric " +
-                    Fixed(f.curve_peak_N, 3) + " N there, RMS difference " + Fixed(f.rms_difference_N, 4) +
-                    " N = " + Fixed(f.rms_percent_of_peak, 1) + " % of it over " + std::to_string(f.samples) +
-                    " samples";
-      } else {
-        commands =
-            "set title 'Pinch: force along the stretch vs the fingers displacement since the pinch (not a "
-            "tensile test)'\nset xlabel 'displacement along the stretch [mm]'\n"
-            "set ylabel 'force along the stretch, both fingers [N]'\nplot " +
-            DataFile("force_vs_elongation.dat") +
-            " using 1:2 with points pt 7 ps 0.3 title 'device-measured (sum, 20 ms mean)'\n";
-        plot = Draw("force_vs_elongation", dir, commands);
-        plot.note = "no tensile reference: " + (reference.no_strip.empty() ? "not given" : reference.no_strip);
       }
-      plots.push_back(plot);
+      commands =
+          "set title 'Force along the pull vs elongation of the clamped strip, and the fabric tensile curve "
+          "(paper Fig. 10)'\nset xlabel 'elongation of the strip [mm] (strain = elongation / " +
+          Fixed(1e3 * strip.rest_length_m, 1) + " mm)'\nset ylabel 'F_T along the pull [N]'\nplot " +
+          DataFile("force_vs_elongation.dat") +
+          " using 1:2 with points pt 7 ps 0.3 title 'device-measured (sum, 20 ms mean)', " +
+          DataFile("tensile_curve.dat") + " using 1:2 with lines lw 2 title '" + reference.strip->direction +
+          " tensile curve x " + Fixed(1e3 * strip.width_m, 1) + " mm'\n";
+      plot = Draw("force_vs_elongation", dir, commands);
+      plot.measured = {{"rest_length_m", strip.rest_length_m},
+                       {"width_m", strip.width_m},
+                       {"samples", static_cast<double>(f.samples)},
+                       {"max_elongation_m", f.max_elongation_m},
+                       {"max_strain", f.max_elongation_m / strip.rest_length_m},
+                       {"curve_peak_N", f.curve_peak_N},
+                       {"rms_difference_N", f.rms_difference_N},
+                       {"max_difference_N", f.max_difference_N},
+                       {"rms_percent_of_peak", f.rms_percent_of_peak}};
+      plot.note = "strip " + Fixed(1e3 * strip.rest_length_m, 1) + " x " + Fixed(1e3 * strip.width_m, 1) + " mm (" +
+                  reference.strip->direction + "), pulled " + Fixed(1e3 * f.max_elongation_m, 2) + " mm (" +
+                  Fixed(100.0 * f.max_elongation_m / strip.rest_length_m, 2) + " %): fabric " +
+                  Fixed(f.curve_peak_N, 3) + " N there, RMS difference " + Fixed(f.rms_difference_N, 4) +
+                  " N = " + Fixed(f.rms_percent_of_peak, 1) + " % of it over " + std::to_string(f.samples) + " samples";
+    } else {
+      commands =
+          "set title 'Pinch: force along the stretch vs the fingers displacement since the pinch (not a "
+          "tensile test)'\nset xlabel 'displacement along the stretch [mm]'\n"
+          "set ylabel 'force along the stretch, both fingers [N]'\nplot " +
+          DataFile("force_vs_elongation.dat") +
+          " using 1:2 with points pt 7 ps 0.3 title 'device-measured (sum, 20 ms mean)'\n";
+      plot = Draw("force_vs_elongation", dir, commands);
+      plot.note = "no tensile reference: " + (reference.no_strip.empty() ? "not given" : reference.no_strip);
     }
+    plots.push_back(plot);
   }
 
   // 4. loop periods: p50/p99/max of each loop from the last Health of each service
