@@ -239,45 +239,95 @@ void DeviceBridge::Tick(double t_s, double dt_s, std::span<std::byte, kCommandFr
   if (link_too_slow_) ++counters_.slow_link_ticks;
   if (foreign_commander_ && t_s - last_foreign_echo_s_ >= config_.foreign_echo_hold_s) foreign_commander_ = false;
 
+  if (controller_timed_out && !host_timed_out_before_) ++counters_.host_timeout_cuts;
+  host_timed_out_before_ = controller_timed_out;
+  // a stall of our own loop: the controller may have cut the force before we could know
+  const bool own_stall = dt_s >= config_.disarm_after_tick_gap_s;
+
   CommandFrame command;
   command.host_flags = shutdown_ ? host_flags::kShutdown : 0;
   bool stale_cut = false;
+  std::array<SafetyInput, kManipulatorCount> inputs;
+  std::array<ResumeProxy::Phase, kManipulatorCount> phase_before{};
+  std::array<bool, kManipulatorCount> began{};
   for (std::size_t i = 0; i < kManipulatorCount; ++i) {
     Finger& finger = fingers_[i];
-    SafetyInput input;
+    SafetyInput& input = inputs[i];
     const bool blocked = lost || shutdown_ || zero_force_hold_ || estop || foreign_commander_ || !finger.state.valid;
     const bool link_hiccup = controller_timed_out || tick_gap;
     input.output_allowed = !blocked && !link_hiccup;
     // off only for the link's sake: force resumes over the short ramp once commands get through
     input.link_interruption = !blocked && link_hiccup;
-    input.p_W_m = finger.state.p_W_m;
+    const bool refused = link_too_slow_ || !std::isfinite(finger.model_basis_s);
     if (finger.has_model) {
-      const FingerState& other = fingers_[1 - i].state;
-      const bool predicted = config_.evaluate_at_predicted_pose;
-      input.requested_W_N = EvaluateForceModel(finger.model, predicted ? finger.state.p_pred_W_m : finger.state.p_W_m,
-                                               predicted ? other.p_pred_W_m : other.p_W_m);
       input.model_ttl_s = finger.model.ttl_s;
       // fresh while models keep arriving, and only while they answer recent enough motion
-      const bool refused = link_too_slow_ || !std::isfinite(finger.model_basis_s);
       input.model_age_s = refused ? std::numeric_limits<double>::infinity() : std::max(0.0, t_s - finger.model_rx_s);
     } else {
       input.model_age_s = std::numeric_limits<double>::infinity();
     }
-    // energy the rendering would create is damped out (a deficit left at a contact's end is
-    // still paid off: re-engaging a late model is where delay pumps energy in)
+    const bool stale = finger.safety.WatchdogGain(input) < 1.0;
+    phase_before[i] = finger.resume.phase();
+    began[i] = finger.resume.BeginTick(own_stall || !input.output_allowed || stale, finger.state.p_W_m, dt_s);
+    if (began[i]) {
+      finger.cut_cause = own_stall              ? CutCause::kBridgeStall
+                         : controller_timed_out ? CutCause::kHostTimeout
+                         : lost                 ? CutCause::kDeviceLost
+                         : blocked              ? CutCause::kHeldOff
+                         : refused              ? CutCause::kRefusedModels
+                                                : CutCause::kStaleModels;
+      finger.cut_at_s = t_s;
+      ++counters_.held_cuts_by_cause[static_cast<std::size_t>(finger.cut_cause)];
+      // energy booked before the cut says nothing of the contact after it
+      finger.passivity.Reset();
+    }
+  }
+  for (std::size_t i = 0; i < kManipulatorCount; ++i) {
+    Finger& finger = fingers_[i];
+    SafetyInput& input = inputs[i];
+    const bool constrained = finger.resume.constraining();
+    // the contact is rendered at the proxies: a finger that passed the surface during the cut
+    // meets the surface it left, not the cloth (or the other finger) beyond it
+    input.p_W_m = finger.resume.Constrain(finger.state.p_W_m);
     const Eigen::Vector3d& v_W = finger.state.v_W_m_per_s;
-    input.requested_W_N = finger.passivity.Adjust(input.requested_W_N, v_W, dt_s);
+    if (finger.has_model) {
+      const Finger& other = fingers_[1 - i];
+      const bool predicted = config_.evaluate_at_predicted_pose;
+      const Eigen::Vector3d at_proxy_W_N = EvaluateForceModel(
+          finger.model, finger.resume.Constrain(predicted ? finger.state.p_pred_W_m : finger.state.p_W_m),
+          other.resume.Constrain(predicted ? other.state.p_pred_W_m : other.state.p_W_m));
+      input.requested_W_N = finger.resume.Shape(at_proxy_W_N, finger.state.p_W_m, v_W);
+    }
+    // energy the rendering would create is damped out (a deficit left at a contact's end is
+    // still paid off: re-engaging a late model is where delay pumps energy in); a resume's return
+    // to the surface is bounded by the resume's own limit instead, and damped by the proxy's spring
+    if (constrained && !finger.resume.constraining()) finger.passivity.Reset();  // back on the surface
+    if (!constrained) input.requested_W_N = finger.passivity.Adjust(input.requested_W_N, v_W, dt_s);
     const std::uint64_t watchdog_zeros = finger.safety.counters().watchdog_zero_steps;
     const SafetyOutput result = finger.safety.Step(input, dt_s);
     stale_cut |= finger.has_model && input.output_allowed && !link_too_slow_ &&
                  finger.safety.counters().watchdog_zero_steps > watchdog_zeros;
+    finger.resume.EndTick(result.force_W_N, finger.state.p_W_m, input.output_allowed && !result.ramping, dt_s);
     // the force held since the last tick moved the finger by what it was measured to move
-    if (finger.state.valid && finger.observed) {
+    if (finger.state.valid && finger.observed && !constrained) {
       finger.passivity.Observe(finger.last_command_W_N, finger.state.p_W_m - finger.observed_p_W_m);
     }
     finger.observed = finger.state.valid;
     finger.observed_p_W_m = finger.state.p_W_m;
     finger.last_command_W_N = result.force_W_N;
+    if ((began[i] || phase_before[i] != ResumeProxy::Phase::kFollowing) &&
+        finger.resume.phase() == ResumeProxy::Phase::kFollowing) {
+      finger.passivity.Reset();
+      FinishResume(finger, i, finger.resume.contacts_ended() != finger.contacts_ended_seen);
+      finger.contacts_ended_seen = finger.resume.contacts_ended();
+    }
+    finger.model_state = finger.state;
+    if (finger.resume.constraining()) {
+      finger.model_state.p_W_m = finger.resume.Constrain(finger.state.p_W_m);
+      finger.model_state.p_pred_W_m = finger.resume.Constrain(finger.state.p_pred_W_m);
+      finger.model_state.p_link_pred_W_m = finger.resume.Constrain(finger.state.p_link_pred_W_m);
+      finger.model_state.v_W_m_per_s.setZero();  // the proxy rests on the surface
+    }
 
     ManipulatorCommand& m = command.manipulators[i];
     m.force_D_N = (R_DW_ * result.force_W_N).cast<float>();
@@ -311,6 +361,40 @@ void DeviceBridge::Tick(double t_s, double dt_s, std::span<std::byte, kCommandFr
   command.echo_controller_time_ns = last_status_time_ns_;
   sent_[command_sequence_ % kSendHistory] = SentCommand{command_sequence_, t_s};
   EncodeCommandFrame(command, out);
+}
+
+const char* CutCauseName(CutCause cause) {
+  switch (cause) {
+    case CutCause::kBridgeStall:
+      return "bridge_stall";
+    case CutCause::kHostTimeout:
+      return "host_timeout";
+    case CutCause::kStaleModels:
+      return "stale_models";
+    case CutCause::kRefusedModels:
+      return "refused_models";
+    case CutCause::kDeviceLost:
+      return "device_lost";
+    case CutCause::kHeldOff:
+      return "held_off";
+  }
+  return "unknown";
+}
+
+void DeviceBridge::FinishResume(Finger& finger, std::size_t index, bool ended) {
+  const ResumeProxy& r = finger.resume;
+  ResumeRecord& record = resumes_[resume_count_ % kResumeHistory];
+  record.number = ++resume_count_;
+  record.cause = finger.cut_cause;
+  record.finger = static_cast<Manipulator>(index);
+  record.cut_at_s = finger.cut_at_s;
+  record.held_N = r.held_N();
+  record.asked_N = r.asked_since_cut_N();
+  record.peak_N = r.peak_since_cut_N();
+  record.limited = r.limited_since_cut() && !ended;
+  record.ended = ended;
+  if (record.limited) ++counters_.resumes_limited;
+  if (ended) ++counters_.contacts_ended;
 }
 
 }  // namespace haptex::device

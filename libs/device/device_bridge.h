@@ -17,6 +17,7 @@
 #include "libs/device/grab_protocol.h"
 #include "libs/device/latency_tracker.h"
 #include "libs/device/passivity_controller.h"
+#include "libs/device/resume_proxy.h"
 
 namespace haptex::device {
 
@@ -29,6 +30,7 @@ struct DeviceBridgeConfig {
   FingerStateEstimatorConfig estimator;
   ForceSafetyConfig safety;
   PassivityConfig passivity;
+  ResumeProxyConfig resume;
   GrabValueLimits value_limits;
   /// No accepted StatusFrame for this long: device lost, force zero, start-up ramp on return.
   double device_lost_after_s = 0.050;
@@ -83,7 +85,32 @@ struct BridgeCounters {
   std::uint64_t slow_link_events = 0;      ///< transitions into refusing models for age
   std::uint64_t foreign_echoes = 0;        ///< status frames echoing a command this bridge never sent
   std::uint64_t foreign_echo_events = 0;   ///< transitions into the foreign-echo fault
+  std::uint64_t host_timeout_cuts = 0;     ///< transitions into the controller's HOST_TIMEOUT
+  /// Cuts of a held contact (either finger; ResumeProxy), by what cut it first.
+  std::array<std::uint64_t, 6> held_cuts_by_cause{};
+  std::uint64_t resumes_limited = 0;  ///< resumes whose force the bound held down
+  std::uint64_t contacts_ended = 0;   ///< cuts too long to resume: the contact ended
 };
+
+/// What cut the force of a held contact, in the order the bridge looks for it.
+enum class CutCause : std::uint8_t { kBridgeStall, kHostTimeout, kStaleModels, kRefusedModels, kDeviceLost, kHeldOff };
+inline constexpr std::size_t kCutCauseCount = 6;
+const char* CutCauseName(CutCause cause);
+
+/// One resume after a cut of a held contact, finished (the bound's watch over, the contact ended, or
+/// the finger let go). Times on the host clock.
+struct ResumeRecord {
+  std::uint64_t number = 0;  ///< 1, 2, ... over the bridge's life
+  CutCause cause = CutCause::kBridgeStall;
+  Manipulator finger = Manipulator::kThumb;
+  double cut_at_s = 0.0;
+  double held_N = 0.0;   ///< mean over the 100 ms before the cut
+  double asked_N = 0.0;  ///< largest force the model and the return spring asked for
+  double peak_N = 0.0;   ///< largest force commanded
+  bool limited = false;  ///< the bound held it down
+  bool ended = false;    ///< too long: the contact ended instead
+};
+inline constexpr std::size_t kResumeHistory = 16;
 
 /// Bridge core for both manipulators. Non-copyable (holds ~80 kB of histograms: create it once,
 /// e.g. with std::make_unique, before the loop starts).
@@ -127,6 +154,13 @@ class DeviceBridge {
   const ForceModel& force_model(Manipulator finger) const { return fingers_[Index(finger)].model; }
   const ForceSafety& safety(Manipulator finger) const { return fingers_[Index(finger)].safety; }
   const PassivityController& passivity(Manipulator finger) const { return fingers_[Index(finger)].passivity; }
+  const ResumeProxy& resume(Manipulator finger) const { return fingers_[Index(finger)].resume; }
+  /// The state the contact models get: the finger's, with its positions on its proxy while a
+  /// held contact resumes after a cut (ResumeProxy).
+  const FingerState& model_finger_state(Manipulator finger) const { return fingers_[Index(finger)].model_state; }
+  /// The newest finished resumes, by number modulo kResumeHistory (number 0: empty slot).
+  const std::array<ResumeRecord, kResumeHistory>& resumes() const { return resumes_; }
+  std::uint64_t resumes_finished() const { return resume_count_; }
   /// Force commanded in the last Tick, world frame.
   const Eigen::Vector3d& last_force_W_N(Manipulator finger) const {
     return fingers_[Index(finger)].safety.last_force_W_N();
@@ -161,11 +195,17 @@ class DeviceBridge {
   static std::size_t Index(Manipulator m) { return static_cast<std::size_t>(m); }
 
   struct Finger {
-    explicit Finger(const DeviceBridgeConfig& c) : estimator(c.estimator), safety(c.safety), passivity(c.passivity) {}
+    explicit Finger(const DeviceBridgeConfig& c)
+        : estimator(c.estimator), safety(c.safety), passivity(c.passivity), resume(c.resume, c.safety.resume_within_s) {}
     FingerStateEstimator estimator;
     ForceSafety safety;
     PassivityController passivity;
+    ResumeProxy resume;
     FingerState state;
+    FingerState model_state;
+    CutCause cut_cause = CutCause::kBridgeStall;
+    double cut_at_s = 0.0;
+    std::uint64_t contacts_ended_seen = 0;
     ForceModel model;
     bool has_model = false;
     double model_rx_s = 0.0;
@@ -211,6 +251,10 @@ class DeviceBridge {
   double last_foreign_echo_s_ = -std::numeric_limits<double>::infinity();
   double young_since_s_ = -1.0;  // since when every model has been young enough to recover (-1: not)
   std::array<SentCommand, kSendHistory> sent_{};
+  std::array<ResumeRecord, kResumeHistory> resumes_{};
+  std::uint64_t resume_count_ = 0;
+  bool host_timed_out_before_ = false;
+  void FinishResume(Finger& finger, std::size_t index, bool ended);
 
   bool has_status_ = false;
   bool stale_cut_ = false;  // a finger's force is at the watchdog's zero for stale models

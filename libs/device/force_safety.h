@@ -99,9 +99,11 @@ class ForceSafety {
   double rms_force_N() const;
   const Eigen::Vector3d& last_force_W_N() const { return previous_W_N_; }
 
- private:
+  /// The watchdog's scale for a model of this age and ttl: 1 while fresh, then down to 0 over
+  /// stale_ramp_s.
   double WatchdogGain(const SafetyInput& input) const;
 
+ private:
   ForceSafetyConfig config_;
   SafetyCounters counters_;
   Eigen::Vector3d previous_W_N_{Eigen::Vector3d::Zero()};

@@ -63,7 +63,7 @@ void FillFingerStates(const device::DeviceBridge& bridge, v1::FingerStates* out)
   std::uint64_t newest = 0;
   for (int i = 0; i < 2; ++i) {
     const auto m = static_cast<device::Manipulator>(i);
-    const device::FingerState& s = bridge.finger_state(m);
+    const device::FingerState& s = bridge.model_finger_state(m);
     v1::FingerState* f = out->mutable_fingers(i);
     f->set_finger(ToFinger(m));
     codec::ToMessage(s.p_W_m, f->mutable_position_w_m());

@@ -3,6 +3,7 @@
 #include <google/protobuf/descriptor.h>
 #include <google/protobuf/message.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -183,27 +184,85 @@ void InProcessSystem::Deliver(Node node) {
   }
 }
 
+void InProcessSystem::AddStall(const Stall& stall) {
+  if (!(stall.at_s >= 0.0) || !std::isfinite(stall.at_s) || !(stall.duration_s >= 0.0) ||
+      !std::isfinite(stall.duration_s)) {
+    throw std::invalid_argument("InProcessSystem::AddStall: at_s and duration_s must be finite and >= 0");
+  }
+  stalls_.push_back(stall);
+}
+
+bool InProcessSystem::Paused(StallTarget target) const {
+  const double t = t_s();
+  for (const Stall& s : stalls_) {
+    if ((s.target == target || s.target == StallTarget::kAll) && t >= s.at_s - 1e-9 &&
+        t < s.at_s + s.duration_s - 1e-9) {
+      return true;
+    }
+  }
+  return false;
+}
+
+void InProcessSystem::StepMock(double t) {
+  // what reached its socket while it was paused, oldest first (the newest valid command wins)
+  for (const auto& command : command_queue_) mock_->ReadHost(command, t, true);
+  command_queue_.clear();
+  // one long step after a pause, as its loop takes after SIGCONT (the world stands still meanwhile)
+  const double t_end = t + dt_s_;
+  mock_->Update(mock_simulated_to_s_, t_end - mock_simulated_to_s_);
+  mock_simulated_to_s_ = t_end;
+}
+
+void InProcessSystem::StepBridge(double t) {
+  for (const QueuedStatus& status : status_queue_) bridge_->ReadController(status.bytes, status.arrival_s, t, true);
+  status_queue_.clear();
+  Deliver(Node::kBridge);
+  // the whole time since its last tick, as its loop reports a stall's skipped periods
+  const double dt = bridge_ran_ ? static_cast<double>(step_ - bridge_last_step_) * dt_s_ : dt_s_;
+  bridge_->Update(t, dt);
+  bridge_->Write(*outboxes_[static_cast<std::size_t>(Node::kBridge)]);
+  bridge_last_step_ = step_;
+  bridge_ran_ = true;
+}
+
 void InProcessSystem::Step() {
   const double t = t_s();
+  const bool mock_paused = Paused(StallTarget::kMockGrab), bridge_paused = Paused(StallTarget::kDeviceBridge);
   // the controller, and the bridge over the GRAB link (a cable: no impairment)
-  mock_->Update(t, dt_s_);
-  bridge_->ReadController(mock_->status(), t, t, true);
-  Deliver(Node::kBridge);
-  bridge_->Update(t, dt_s_);
-  bridge_->Write(*outboxes_[static_cast<std::size_t>(Node::kBridge)]);
-  mock_->ReadHost(bridge_->command(), t, true);
-  if (step_ % static_cast<std::uint64_t>(local_every_) == 0) {
+  if (!mock_paused) StepMock(t);
+  if (bridge_paused) {
+    if (!mock_paused) {
+      QueuedStatus& queued = status_queue_.emplace_back();
+      std::copy(mock_->status().begin(), mock_->status().end(), queued.bytes.begin());
+      queued.arrival_s = t;
+    }
+  } else {
+    if (!mock_paused) bridge_->ReadController(mock_->status(), t, t, true);
+    StepBridge(t);
+    if (mock_paused) {
+      auto& queued = command_queue_.emplace_back();
+      std::copy(bridge_->command().begin(), bridge_->command().end(), queued.begin());
+    } else {
+      mock_->ReadHost(bridge_->command(), t, true);
+    }
+  }
+  // a paused service runs at once when it goes on, then on its own schedule
+  const bool local_paused = Paused(StallTarget::kLocalContact);
+  if (!local_paused && (step_ % static_cast<std::uint64_t>(local_every_) == 0 || local_was_paused_)) {
     Deliver(Node::kLocal);
     while (builder_->RunOnce()) {
     }
     local_->Update(t, local_every_ * dt_s_);
     local_->Write(*outboxes_[static_cast<std::size_t>(Node::kLocal)]);
   }
-  if (step_ % static_cast<std::uint64_t>(global_every_) == 0) {
+  local_was_paused_ = local_paused;
+  const bool global_paused = Paused(StallTarget::kGlobalSim);
+  if (!global_paused && (step_ % static_cast<std::uint64_t>(global_every_) == 0 || global_was_paused_)) {
     Deliver(Node::kGlobal);
     global_->Update(t, global_every_ * dt_s_);
     global_->Write(*outboxes_[static_cast<std::size_t>(Node::kGlobal)]);
   }
+  global_was_paused_ = global_paused;
   for (int f = 0; f < 2; ++f) {
     const device::MockFingerState& s = mock_->controller().finger(static_cast<device::Manipulator>(f));
     FingerSample& sample = fingers_[static_cast<std::size_t>(f)];
@@ -211,7 +270,7 @@ void InProcessSystem::Step() {
     sample.applied_N = s.applied_force_D_N;
     sample.velocity_m_per_s = s.v_D_m_per_s;
     sample.position_m = s.p_D_m;
-    energy_J_[static_cast<std::size_t>(f)] += s.applied_force_D_N.dot(s.v_D_m_per_s) * dt_s_;
+    if (!mock_paused) energy_J_[static_cast<std::size_t>(f)] += s.applied_force_D_N.dot(s.v_D_m_per_s) * dt_s_;
   }
   ++step_;
 }

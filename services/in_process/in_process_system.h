@@ -42,6 +42,20 @@ struct LinkImpairments {
   static LinkImpairments GlobalLink(const netsim::ImpairmentConfig& each_way, std::uint64_t seed = 1);
 };
 
+/// A service's process, or the whole host, as a stall pauses it.
+enum class StallTarget { kMockGrab, kDeviceBridge, kLocalContact, kGlobalSim, kAll };
+
+/// A pause of the host on purpose: from at_s for duration_s the target neither reads, computes nor
+/// sends, as after SIGSTOP; what is sent to it waits in its socket and it takes it all when it goes
+/// on, with one long period, as after SIGCONT. kAll pauses the mock controller too, whose world
+/// then stands still (a real controller is another machine: pause kDeviceBridge, kLocalContact and
+/// kGlobalSim for a host that stops while the device goes on).
+struct Stall {
+  StallTarget target = StallTarget::kAll;
+  double at_s = 0.0;
+  double duration_s = 0.0;
+};
+
 /// One controller period's view of what the fingers felt (frame D = W).
 struct FingerSample {
   Eigen::Vector3d commanded_N{Eigen::Vector3d::Zero()};
@@ -67,6 +81,9 @@ class InProcessSystem final {
   void CutNetwork(bool cut);
   /// Steps until `t_s`.
   void RunUntil(double t_s);
+  /// Pauses `stall.target` over [at_s, at_s + duration_s) of the simulated clock.
+  /// @throws std::invalid_argument for a negative or non-finite time.
+  void AddStall(const Stall& stall);
 
   double t_s() const { return static_cast<double>(step_) * dt_s_; }
   double dt_s() const { return dt_s_; }
@@ -88,6 +105,15 @@ class InProcessSystem final {
   enum class Node { kBridge, kLocal, kGlobal };
   class NodeOutbox;
   void Deliver(Node node);
+  bool Paused(StallTarget target) const;
+  void StepMock(double t);
+  void StepBridge(double t);
+
+  // StatusFrames that reached a paused bridge's socket, with their arrival (the kernel's stamp)
+  struct QueuedStatus {
+    std::array<std::byte, device::kStatusFrameSize> bytes;
+    double arrival_s;
+  };
 
   double dt_s_;
   std::uint64_t step_ = 0;
@@ -102,6 +128,12 @@ class InProcessSystem final {
   std::array<std::unique_ptr<NodeOutbox>, 3> outboxes_;
   std::array<FingerSample, 2> fingers_{};
   std::array<double, 2> energy_J_{};
+  std::vector<Stall> stalls_;
+  std::vector<QueuedStatus> status_queue_;  // to a paused bridge
+  std::vector<std::array<std::byte, device::kCommandFrameSize>> command_queue_;  // to a paused mock
+  double mock_simulated_to_s_ = 0.0;  // the mock's world has run up to here
+  std::uint64_t bridge_last_step_ = 0;
+  bool bridge_ran_ = false, local_was_paused_ = false, global_was_paused_ = false;
 };
 
 }  // namespace haptex::in_process

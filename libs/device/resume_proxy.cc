@@ -1,0 +1,164 @@
+#include "libs/device/resume_proxy.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace haptex::device {
+namespace {
+
+void Require(bool ok, const char* field, const char* rule, double value) {
+  if (!ok) {
+    throw std::invalid_argument(std::string("ResumeProxyConfig: ") + field + " " + rule + ", got " +
+                                std::to_string(value));
+  }
+}
+
+bool NonNegativeFinite(double v) { return v >= 0.0 && std::isfinite(v); }
+
+}  // namespace
+
+void ResumeProxyConfig::Validate() const {
+  Require(held_window_s > 0.0 && held_window_s <= 1.0, "held_window_s", "must be in (0, 1] s", held_window_s);
+  Require(NonNegativeFinite(min_held_N), "min_held_N", "must be >= 0 N", min_held_N);
+  Require(bound_ratio >= 1.0 && std::isfinite(bound_ratio), "bound_ratio", "must be >= 1", bound_ratio);
+  Require(NonNegativeFinite(bound_margin_N), "bound_margin_N", "must be >= 0 N", bound_margin_N);
+  Require(NonNegativeFinite(watch_s), "watch_s", "must be >= 0 s", watch_s);
+  Require(NonNegativeFinite(spring_N_per_m), "spring_N_per_m", "must be >= 0 N/m", spring_N_per_m);
+  Require(NonNegativeFinite(damping_N_s_per_m), "damping_N_s_per_m", "must be >= 0 N s/m", damping_N_s_per_m);
+  Require(NonNegativeFinite(rejoin_m), "rejoin_m", "must be >= 0 m", rejoin_m);
+  Require(NonNegativeFinite(contact_end_N), "contact_end_N", "must be >= 0 N", contact_end_N);
+}
+
+void HeldForceWindow::Add(double force_N, double dt_s, double window_s) {
+  const double bucket_s = window_s / static_cast<double>(kBuckets);
+  if (time_s_[current_] >= bucket_s) {
+    current_ = (current_ + 1) % kBuckets;
+    sum_N_s_[current_] = 0.0;
+    time_s_[current_] = 0.0;
+  }
+  sum_N_s_[current_] += force_N * dt_s;
+  time_s_[current_] += dt_s;
+}
+
+double HeldForceWindow::Mean() const {
+  double sum = 0.0, time = 0.0;
+  for (std::size_t i = 0; i < kBuckets; ++i) {
+    sum += sum_N_s_[i];
+    time += time_s_[i];
+  }
+  return time > 0.0 ? sum / time : 0.0;
+}
+
+void HeldForceWindow::Clear() {
+  sum_N_s_.fill(0.0);
+  time_s_.fill(0.0);
+  current_ = 0;
+}
+
+ResumeProxy::ResumeProxy(const ResumeProxyConfig& config, double max_cut_s) : config_(config), max_cut_s_(max_cut_s) {
+  config_.Validate();
+  Require(NonNegativeFinite(max_cut_s), "max_cut_s", "must be >= 0 s", max_cut_s);
+}
+
+double ResumeProxy::bound_N() const {
+  return std::max(config_.bound_ratio * held_N_, held_N_ + config_.bound_margin_N);
+}
+
+void ResumeProxy::EndContact() {
+  phase_ = Phase::kFollowing;
+  proxy_active_ = false;
+  window_.Clear();
+  has_whole_ = false;
+}
+
+bool ResumeProxy::BeginTick(bool cut, const Eigen::Vector3d& p_W_m, double dt_s) {
+  (void)p_W_m;
+  if (!(dt_s > 0.0) || !std::isfinite(dt_s)) dt_s = 0.0;
+  if (cut) {
+    if (phase_ == Phase::kFollowing) {
+      const double held_N = window_.Mean();
+      if (!has_whole_ || held_N < config_.min_held_N || last_whole_W_N_.norm() <= 0.0) return false;
+      held_N_ = held_N;
+      surface_p_W_m_ = last_whole_p_W_m_;
+      inward_W_ = -last_whole_W_N_.normalized();
+      phase_ = Phase::kCut;
+      proxy_active_ = true;
+      // a cut noticed after a stall of our own lasted up to this tick's period
+      cut_s_ = dt_s;
+      peak_since_cut_N_ = asked_since_cut_N_ = 0.0;
+      limited_since_cut_ = false;
+      ++cuts_;
+      if (cut_s_ > max_cut_s_) {
+        ++contacts_ended_;
+        EndContact();
+      }
+      return true;
+    }
+    phase_ = Phase::kCut;
+    cut_s_ += dt_s;
+    if (cut_s_ > max_cut_s_) {
+      ++contacts_ended_;
+      EndContact();
+    }
+    return false;
+  }
+  if (phase_ == Phase::kCut) {
+    phase_ = Phase::kResuming;
+    resumed_s_ = 0.0;
+  } else if (phase_ == Phase::kResuming) {
+    resumed_s_ += dt_s;
+    if (resumed_s_ >= config_.watch_s) EndContact();
+  }
+  return false;
+}
+
+Eigen::Vector3d ResumeProxy::Constrain(const Eigen::Vector3d& p_W_m) const {
+  if (!constraining()) return p_W_m;
+  const double depth_m = (p_W_m - surface_p_W_m_).dot(inward_W_);
+  return depth_m > 0.0 ? Eigen::Vector3d(p_W_m - depth_m * inward_W_) : p_W_m;
+}
+
+Eigen::Vector3d ResumeProxy::Shape(const Eigen::Vector3d& model_at_proxy_W_N, const Eigen::Vector3d& p_W_m,
+                                   const Eigen::Vector3d& v_W_m_per_s) {
+  if (phase_ == Phase::kFollowing) return model_at_proxy_W_N;
+  Eigen::Vector3d force = model_at_proxy_W_N.allFinite() ? model_at_proxy_W_N : Eigen::Vector3d::Zero();
+  const double depth_m = (p_W_m - surface_p_W_m_).dot(inward_W_);
+  if (proxy_active_ && depth_m > 0.0) {
+    const double inward_speed = v_W_m_per_s.allFinite() ? v_W_m_per_s.dot(inward_W_) : 0.0;
+    force -= (config_.spring_N_per_m * depth_m + config_.damping_N_s_per_m * inward_speed) * inward_W_;
+  }
+  // contact pushes: nothing of the force may pull the finger into the surface
+  const double inward_N = force.dot(inward_W_);
+  if (inward_N > 0.0) force -= inward_N * inward_W_;
+  if (phase_ == Phase::kResuming) {
+    if (proxy_active_ && depth_m <= config_.rejoin_m) proxy_active_ = false;  // back on the surface
+    if (depth_m <= 0.0 && model_at_proxy_W_N.norm() < config_.contact_end_N) {
+      EndContact();  // the finger has left the contact
+      return force;
+    }
+  }
+  asked_since_cut_N_ = std::max(asked_since_cut_N_, force.norm());
+  const double bound = bound_N();
+  if (force.norm() > bound) {
+    force *= bound / force.norm();
+    limited_since_cut_ = true;
+  }
+  return force;
+}
+
+void ResumeProxy::EndTick(const Eigen::Vector3d& commanded_W_N, const Eigen::Vector3d& p_W_m, bool whole_force,
+                          double dt_s) {
+  if (phase_ != Phase::kFollowing) {
+    peak_since_cut_N_ = std::max(peak_since_cut_N_, commanded_W_N.norm());
+    return;
+  }
+  if (!whole_force || !(dt_s > 0.0) || !std::isfinite(dt_s)) return;
+  window_.Add(commanded_W_N.norm(), dt_s, config_.held_window_s);
+  last_whole_W_N_ = commanded_W_N;
+  last_whole_p_W_m_ = p_W_m;
+  has_whole_ = true;
+}
+
+}  // namespace haptex::device
