@@ -382,6 +382,22 @@ int Launch(const LaunchOptions& o) {
                   << "than the device gives (docs/grab-protocol.md, force limits)\n";
       }
     }
+    // each resume after a cut whose force the bound held down, and each contact a cut ended
+    std::vector<const v1::ForceResume*> resumes;
+    for (const v1::ForceResume& r : s.last_health->resumes()) {
+      if (r.number() != 0 && (r.limited() || r.ended())) resumes.push_back(&r);
+    }
+    std::sort(resumes.begin(), resumes.end(), [](auto* a, auto* b) { return a->number() < b->number(); });
+    for (const v1::ForceResume* r : resumes) {
+      const std::string cause = v1::ForceResume::Cause_Name(r->cause());
+      std::cout << "note: " << Spec(s.placed.service.kind).name << ": " << (r->finger_slot() == 0 ? "thumb" : "index")
+                << " force cut at " << r->cut_at_s() << " s (" << cause.substr(cause.find('_') + 1) << ") "
+                << (r->ended() ? "for too long: the contact ended at zero force"
+                               : "resumed within its bound: asked " + std::to_string(r->asked_n()) + " N, gave " +
+                                     std::to_string(r->peak_n()) + " N, held " + std::to_string(r->held_n()) +
+                                     " N before")
+                << "\n";
+    }
   }
 
   // the run folder: recordings, what they say, plots, summary.json

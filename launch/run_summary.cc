@@ -1,10 +1,21 @@
 #include "launch/run_summary.h"
 
+#include <algorithm>
+#include <cctype>
+#include <vector>
+
 #include "launch/impair_option.h"
 #include "launch/json_writer.h"
 
 namespace haptex::launch {
 namespace {
+
+std::string ResumeCauseName(v1::ForceResume::Cause cause) {
+  std::string name = v1::ForceResume::Cause_Name(cause);
+  if (name.starts_with("CAUSE_")) name = name.substr(6);
+  std::transform(name.begin(), name.end(), name.begin(), [](unsigned char ch) { return std::tolower(ch); });
+  return name;
+}
 
 void WriteForce(JsonWriter& j, std::string_view key, const FingerForceStats& s) {
   j.BeginObject(key)
@@ -47,6 +58,29 @@ void WriteHealth(JsonWriter& j, const v1::Health& h) {
   j.BeginObject("counters");
   for (const v1::Counter& c : h.counters()) j.Field(c.name(), c.value());
   j.EndObject();
+  if (h.resumes_size() > 0) {  // the bridge's newest resumes after a cut, oldest first
+    j.BeginArray("resumes");
+    std::vector<const v1::ForceResume*> resumes;
+    for (const v1::ForceResume& r : h.resumes()) {
+      if (r.number() != 0) resumes.push_back(&r);
+    }
+    std::sort(resumes.begin(), resumes.end(), [](auto* a, auto* b) { return a->number() < b->number(); });
+    for (const v1::ForceResume* r : resumes) {
+      j.BeginObject()
+          .Field("number", r->number())
+          .Field("cause", ResumeCauseName(r->cause()))
+          .Field("finger", r->finger_slot() == 0 ? "thumb" : "index")
+          .Field("cut_at_s", r->cut_at_s())
+          .Field("held_n", r->held_n())
+          .Field("asked_n", r->asked_n())
+          .Field("peak_n", r->peak_n())
+          .Field("peak_over_held", r->held_n() > 0 ? r->peak_n() / r->held_n() : 0.0)
+          .Field("limited", r->limited())
+          .Field("ended", r->ended())
+          .EndObject();
+    }
+    j.EndArray();
+  }
   j.Field("last_error", h.last_error());
 }
 
@@ -56,7 +90,8 @@ bool IsWatchdogCounter(const std::string& name) {
   return name == "device_lost_events" || name == "host_timeouts" || name == "non_finite_forces" ||
          name == "tick_gap_disarms" || name == "tick_gaps_held" || name == "world_pauses" ||
          name.find("watchdog") != std::string::npos || name.find("stale") != std::string::npos ||
-         name.ends_with("_limited_ticks");
+         name.ends_with("_limited_ticks") || name.starts_with("held_cuts_") || name == "host_timeout_cuts" ||
+         name == "resumes_limited" || name == "contacts_ended";
 }
 
 void WriteAskedDirection(JsonWriter& j, std::string_view key, const netsim::ImpairmentConfig& c, std::uint64_t seed) {

@@ -8,7 +8,7 @@
 //       [--trace-dir DIR]
 //
 // T: mock_grab, device_bridge, local_contact, global_sim, all. Without --case: the pinch
-// (pinch_stretch at 4.5 s), the rub (rub_friction at 3.0 s) and the fold (fold at 2.5 s).
+// (pinch_stretch at 4.5 s), the rub (rub_friction at 3.0 s) and the fold (fold at 5.0 s, holding the folded cloth).
 
 #include <CLI/CLI.hpp>
 #include <cmath>
@@ -60,7 +60,7 @@ int main(int argc, char** argv) {
   const std::string root = HAPTEX_SOURCE_DIR;
   std::vector<std::string> case_texts{"pinch=" + root + "/launch/scenes/pinch_stretch.textproto@4.5",
                                       "rub=" + root + "/launch/scenes/rub_friction.textproto@3.0",
-                                      "fold=" + root + "/launch/scenes/fold.textproto@2.5"};
+                                      "fold=" + root + "/launch/scenes/fold.textproto@5.0"};
   std::vector<double> pauses_ms{2, 5, 10, 30, 100};
   std::vector<std::string> target_names{"mock_grab", "device_bridge", "local_contact", "global_sim", "all"};
   std::string trace_dir;
@@ -102,7 +102,8 @@ int main(int argc, char** argv) {
         if (std::isfinite(r.held_again_after_s)) {
           std::snprintf(held_again, sizeof held_again, "%.1f", r.held_again_after_s * 1e3);
         } else {
-          std::snprintf(held_again, sizeof held_again, "%s", r.pinched_before ? "not in 1 s" : "(no pinch)");
+          std::snprintf(held_again, sizeof held_again, "%s",
+                        r.state_before != haptex::contact::ContactState::kI ? "not in 1 s" : "(no contact)");
         }
         std::printf("| %s | %s | %g | %.2f / %.2f | %.2f | %s | %.2f | %llu / %llu / %llu / %llu / %llu |\n",
                     c.name.c_str(), target.c_str(), pause_ms, f[0].held_N, f[1].held_N, r.worst_peak_over_bound,

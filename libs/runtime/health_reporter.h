@@ -52,6 +52,8 @@ class HealthReporter final {
   /// without allocating).
   void SetLastError(std::string_view text) { health_.mutable_last_error()->assign(text.data(), text.size()); }
   void ReserveLastError(std::size_t bytes) { health_.mutable_last_error()->reserve(bytes); }
+  /// The resumes after a cut the device bridge reports; sized by the service once, written in place.
+  google::protobuf::RepeatedPtrField<v1::ForceResume>* mutable_resumes() { return health_.mutable_resumes(); }
 
   const v1::Health& Build(double uptime_s);
 

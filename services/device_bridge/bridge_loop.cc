@@ -55,6 +55,13 @@ BridgeLoop::BridgeLoop(const BridgeLoopConfig& config, const BridgePeers& peers,
   // docs/grab-protocol.md section 6: every rejection counted under its reason
   ids_.rejected_by_reason = health_->AddCounterPerReason<device::FrameError, device::kFrameErrorCount>(
       "status_frames_rejected_", device::FrameErrorName);
+  ids_.host_timeout_cuts = health_->AddCounter("host_timeout_cuts");
+  // cuts of a held contact by cause, and how their resumes went (docs/grab-protocol.md)
+  ids_.held_cuts = health_->AddCounterPerReason<device::CutCause, device::kCutCauseCount + 1>(
+      "held_cuts_", [](device::CutCause c) { return device::CutCauseName(static_cast<device::CutCause>(static_cast<int>(c) - 1)); });
+  ids_.resumes_limited = health_->AddCounter("resumes_limited");
+  ids_.contacts_ended = health_->AddCounter("contacts_ended");
+  for (std::size_t i = 0; i < device::kResumeHistory; ++i) health_->mutable_resumes()->Add();
   FillFingerStates(*bridge_, &states_);  // sized once, before the loop
   health_->ReserveLastError(kLastErrorCapacity);
 }
@@ -156,6 +163,30 @@ void BridgeLoop::Write(services::Outbox& out) {
   health_->SetCounter(ids_.damped, damped);
   health_->SetCounter(ids_.foreign_echoes, bridge_->counters().foreign_echoes);
   health_->SetCounter(ids_.foreign_echo_events, bridge_->counters().foreign_echo_events);
+  const device::BridgeCounters& c = bridge_->counters();
+  health_->SetCounter(ids_.host_timeout_cuts, c.host_timeout_cuts);
+  for (std::size_t cause = 0; cause < device::kCutCauseCount; ++cause) {
+    health_->SetCounter(ids_.held_cuts[cause + 1], c.held_cuts_by_cause[cause]);
+  }
+  health_->SetCounter(ids_.resumes_limited, c.resumes_limited);
+  health_->SetCounter(ids_.contacts_ended, c.contacts_ended);
+  if (bridge_->resumes_finished() != resumes_reported_) {
+    resumes_reported_ = bridge_->resumes_finished();
+    auto* resumes = health_->mutable_resumes();
+    for (std::size_t slot = 0; slot < device::kResumeHistory; ++slot) {
+      const device::ResumeRecord& r = bridge_->resumes()[slot];
+      v1::ForceResume* m = resumes->Mutable(static_cast<int>(slot));
+      m->set_number(r.number);
+      m->set_cause(static_cast<v1::ForceResume::Cause>(static_cast<int>(r.cause) + 1));
+      m->set_finger_slot(static_cast<std::uint32_t>(r.finger));
+      m->set_cut_at_s(r.cut_at_s);
+      m->set_held_n(r.held_N);
+      m->set_asked_n(r.asked_N);
+      m->set_peak_n(r.peak_N);
+      m->set_limited(r.limited);
+      m->set_ended(r.ended);
+    }
+  }
   health_->SetState(bridge_->device_lost() || bridge_->foreign_commander() || bridge_->link_too_slow()
                         ? v1::Health::STATE_DEGRADED
                         : v1::Health::STATE_READY);

@@ -84,10 +84,13 @@ class BridgeLoop final {
   struct CounterIds {
     runtime::HealthReporter::CounterId status_ok, status_bad, foreign, models, models_bad, lost, gap, gap_held,
         stale_cuts, nan, too_old, slow_events, damped, foreign_echoes, foreign_echo_events, out_of_order, peak_limited,
-        continuous_limited, slew_limited;
+        continuous_limited, slew_limited, host_timeout_cuts, resumes_limited, contacts_ended;
+    /// held_cuts_<cause>, by device::CutCause + 1 (index 0 unused)
+    std::array<runtime::HealthReporter::CounterId, device::kCutCauseCount + 1> held_cuts;
     /// status_frames_rejected_<reason>, by FrameError (index 0, accepted, unused)
     std::array<runtime::HealthReporter::CounterId, device::kFrameErrorCount> rejected_by_reason;
   } ids_{};
+  std::uint64_t resumes_reported_ = 0;
 };
 
 }  // namespace haptex::device_bridge

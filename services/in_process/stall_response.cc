@@ -7,7 +7,8 @@
 namespace haptex::in_process {
 namespace {
 
-bool Pinched(contact::ContactState s) { return s == contact::ContactState::kVIII || s == contact::ContactState::kIX; }
+// I alone, then the static and dynamic state of each situation together (II/III, ..., VIII/IX)
+int Situation(contact::ContactState s) { return static_cast<int>(s) / 2; }
 
 // The largest swing of one component through zero within the window ending at each sample.
 class ReversalMeter {
@@ -46,20 +47,28 @@ StallResponse MeasureStall(const scene::LoadedScene& scene, const Stall& stall, 
   const double watch_to_s = end_s + options.watch_after_s;
   const auto window_ticks = static_cast<std::size_t>(std::lround(options.reversal_window_s / system.dt_s()));
   std::array<ReversalMeter, 2> reversals{ReversalMeter(window_ticks), ReversalMeter(window_ticks)};
-  std::array<double, 2> held_sum{}, previous_N{};
+  std::array<double, 2> held_sum{};
+  std::array<Eigen::Vector3d, 2> previous_N{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
   std::array<Eigen::Vector3d, 2> held_p_m{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+  std::array<Eigen::Vector3d, 2> window_start_p_m{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+  bool window_started = false;
   int held_n = 0;
   StallResponse r;
   double holding_since_s = -1.0;
   while (system.t_s() < watch_to_s) {
     const double t = system.t_s();
     if (t >= stall.at_s - 1e-9 && !r.pinched_before && t < stall.at_s + system.dt_s() / 2) {
-      r.pinched_before = Pinched(system.local_contact().contact_state());
+      r.state_before = system.local_contact().contact_state();
+      r.pinched_before = Situation(r.state_before) == Situation(contact::ContactState::kVIII);
     }
     system.Step();
     const contact::ContactState state = system.local_contact().contact_state();
     if (t >= held_from_s && t < stall.at_s - 1e-9) {
       for (int f = 0; f < 2; ++f) held_sum[static_cast<std::size_t>(f)] += system.finger(f).commanded_N.norm();
+      if (!window_started) {
+        for (int f = 0; f < 2; ++f) window_start_p_m[static_cast<std::size_t>(f)] = system.finger(f).position_m;
+        window_started = true;
+      }
       ++held_n;
     }
     if (t >= held_from_s && trace != nullptr) {
@@ -73,7 +82,7 @@ StallResponse MeasureStall(const scene::LoadedScene& scene, const Stall& stall, 
     }
     if (t < stall.at_s - 1e-9) {
       for (int f = 0; f < 2; ++f) {
-        previous_N[static_cast<std::size_t>(f)] = system.finger(f).commanded_N.norm();
+        previous_N[static_cast<std::size_t>(f)] = system.finger(f).commanded_N;
         held_p_m[static_cast<std::size_t>(f)] = system.finger(f).position_m;
       }
       continue;
@@ -81,18 +90,23 @@ StallResponse MeasureStall(const scene::LoadedScene& scene, const Stall& stall, 
     if (held_n > 0 && r.fingers[0].held_N == 0.0 && r.fingers[1].held_N == 0.0) {
       for (std::size_t f = 0; f < 2; ++f) r.fingers[f].held_N = held_sum[f] / held_n;
     }
-    bool at_held = Pinched(state);
+    bool at_held = Situation(state) == Situation(r.state_before) && r.state_before != contact::ContactState::kI;
     for (int f = 0; f < 2; ++f) {
       const auto i = static_cast<std::size_t>(f);
       FingerStallResponse& fr = r.fingers[i];
       const Eigen::Vector3d& F = system.finger(f).commanded_N;
       fr.peak_after_N = std::max(fr.peak_after_N, F.norm());
-      fr.largest_step_N = std::max(fr.largest_step_N, std::abs(F.norm() - previous_N[i]));
-      previous_N[i] = F.norm();
+      // a cut is immediate by design (FORCE_ENABLE clear): the slew limit is the resume's
+      if (!F.isZero(0.0) && !previous_N[i].isZero(0.0)) {
+        fr.largest_step_N = std::max(fr.largest_step_N, (F - previous_N[i]).cwiseAbs().maxCoeff());
+      }
+      previous_N[i] = F;
       reversals[i].Add(F);
       fr.largest_reversal_N = reversals[i].largest();
-      at_held = at_held && std::abs(F.norm() - fr.held_N) <= options.hold_tolerance * fr.held_N &&
-                (system.finger(f).position_m - held_p_m[i]).norm() <= options.hold_position_m;
+      // a finger at rest before must be back where it was; one that moved (a rub) only feel the same
+      const bool at_rest = (held_p_m[i] - window_start_p_m[i]).norm() < 0.001;
+      at_held = at_held && std::abs(F.norm() - fr.held_N) <= options.hold_tolerance * std::max(fr.held_N, 0.5) &&
+                (!at_rest || (system.finger(f).position_m - held_p_m[i]).norm() <= options.hold_position_m);
     }
     if (t >= end_s - 1e-9 && !std::isfinite(r.held_again_after_s)) {
       if (!at_held) {

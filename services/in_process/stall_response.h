@@ -18,8 +18,9 @@ namespace haptex::in_process {
 struct StallResponseOptions {
   double held_window_s = 0.100;  ///< the force held: its mean over this long before the stall
   double watch_after_s = 1.0;    ///< the response: from the stall's start to this long after its end
-  /// Held again: both fingers pinch (VIII or IX) with forces within this share of the force held
-  /// and within hold_position_m of where they held it, for hold_confirm_s on end.
+  /// Held again: the contact is in its situation of before the stall (a pinch: VIII or IX) with
+  /// forces within this share of the force held (at least of 0.5 N), and fingers that were at rest
+  /// within hold_position_m of where they were, for hold_confirm_s on end.
   double hold_tolerance = 0.10;
   double hold_position_m = 0.001;
   double hold_confirm_s = 0.020;
@@ -36,14 +37,17 @@ struct FingerStallResponse {
   /// Largest swing of one component through zero within reversal_window_s while watched: from
   /// a positive value to a negative one or back, the two magnitudes summed [N].
   double largest_reversal_N = 0.0;
-  double largest_step_N = 0.0;  ///< largest change of |F| from one 0.2 ms tick to the next while watched
+  /// Largest change of one component from one 0.2 ms tick to the next while watched, between
+  /// ticks that both have force (a cut to zero is immediate by design).
+  double largest_step_N = 0.0;
 };
 
 struct StallResponse {
   std::array<FingerStallResponse, 2> fingers{};
-  bool pinched_before = false;  ///< VIII or IX when the stall began
-  /// From the stall's end to the start of the first hold_confirm_s of pinching at the force held
-  /// (infinity: not within watch_after_s).
+  contact::ContactState state_before = contact::ContactState::kI;  ///< when the stall began
+  bool pinched_before = false;                                    ///< VIII or IX when the stall began
+  /// From the stall's end to the start of the first hold_confirm_s in the situation of before (VIII
+  /// or IX for a pinch; I is none) at the force held (infinity: not within watch_after_s).
   double held_again_after_s = std::numeric_limits<double>::infinity();
   // what the run counted
   std::uint64_t tick_gap_disarms = 0, tick_gaps_held = 0, stale_model_cuts = 0, host_timeouts = 0,
