@@ -26,6 +26,7 @@
 #include "launch/run_report.h"
 #include "launch/run_summary.h"
 #include "launch/service_set.h"
+#include "launch/stall_option.h"
 #include "launch/supervisor.h"
 #include "libs/runtime/rt_setup.h"
 #include "libs/scene/scene_defaults.h"
@@ -58,6 +59,7 @@ struct LaunchOptions {
   int rt_priority = runtime::kDefaultFifoPriority;
   bool dry_run = false;
   std::vector<std::string> impair;  // SERVICE-SERVICE[:KEY=VALUE,...], launch/impair_option.h
+  std::vector<std::string> stall;   // TARGET@AT:DURATION, launch/stall_option.h
   int viewer_port = -1;             // < 0: the scene's; 0: any free port
   bool viewer = false;              // the viewer also where the scene has none
 };
@@ -189,6 +191,55 @@ void ReadRelayReports(RunRecord* record) {
   }
 }
 
+// Which of the run's stalls this launcher carries out (into config), and a record of each it does
+// not, with why; each printed (--dry-run too). A --stall of a service --skip'ped here is refused.
+std::vector<StallRecord> PlanStalls(const std::vector<PlannedStall>& stalls, const v1::Scene& scene,
+                                    const std::string& here, const std::set<std::string>& skip,
+                                    const std::vector<PlacedService>& started_here, double run_duration_s,
+                                    SupervisorConfig* config) {
+  std::vector<StallRecord> elsewhere;
+  for (const PlannedStall& p : stalls) {
+    const v1::Stall& stall = p.stall;
+    std::string pauses, not_here;
+    if (stall.all()) {
+      for (const PlacedService& s : started_here) {
+        if (s.service.kind == v1::ServicePlacement::SERVICE_VIEWER) continue;
+        pauses += (pauses.empty() ? "" : ", ") + std::string(Spec(s.service.kind).name);
+      }
+      pauses = "every service started here but the viewer (" + pauses + ")";
+    } else {
+      pauses = Spec(stall.service()).name;
+      if (skip.count(pauses)) {
+        not_here = pauses + " is --skip'ped: started by hand, not by this launcher";
+        if (p.source == "--stall") {
+          throw std::invalid_argument("--stall '" + p.text + "': " + not_here + "; pause a service it starts");
+        }
+      } else if (const std::string host = HostOf(scene, stall.service()); host != here) {
+        not_here = pauses + " runs on host " + host + ": that host's launcher pauses it";
+      }
+    }
+    std::cout << "  stall " << p.text << " (" << p.source << "): ";
+    if (!not_here.empty()) {
+      std::cout << "not here, " << not_here << "\n";
+      StallRecord record;
+      record.planned = stall;
+      record.source = p.source;
+      record.here = false;
+      record.note = not_here;
+      elsewhere.push_back(std::move(record));
+      continue;
+    }
+    std::cout << "SIGSTOP to " << pauses << " " << stall.at_s() << " s after the run starts, SIGCONT "
+              << stall.duration_s() << " s later";
+    if (run_duration_s > 0 && stall.at_s() >= run_duration_s) {
+      std::cout << "; after the run's end (" << run_duration_s << " s): it will not happen";
+    }
+    std::cout << "\n";
+    config->stalls.push_back({stall, p.source});
+  }
+  return elsewhere;
+}
+
 void PrintRelayResults(const std::vector<RelayRecord>& relays) {
   const auto direction = [](const char* name, const RelayDirectionResult& d) {
     std::ostringstream line;
@@ -231,6 +282,7 @@ int Launch(const LaunchOptions& o) {
     throw std::invalid_argument("--host " + o.host + ": the scene has no such host (hosts: " + known + ")");
   }
   const std::vector<ImpairedLink> impaired = ImpairedLinks(scene, o.impair);
+  const std::vector<PlannedStall> stalls = RunStalls(scene, o.stall);
   const std::string here = o.host.empty() ? "local" : o.host;
   const auto runs_here = [&](const PlannedService& s) {
     return HostOf(scene, s.kind) == here && !skip.count(std::string(Spec(s.kind).name));
@@ -305,6 +357,11 @@ int Launch(const LaunchOptions& o) {
   }
   std::vector<RelayRecord> relays = PlanRelays(impaired, plan, here, command_options, &config, &plan_text);
   PrintImpairedLinks(relays);
+  std::vector<PlacedService> started_here;
+  for (const SupervisedService& s : config.services) started_here.push_back(s.placed);
+  const double run_duration_s = o.duration_s >= 0 ? o.duration_s : scene.duration_s();
+  std::vector<StallRecord> stalls_elsewhere =
+      PlanStalls(stalls, scene, here, skip, started_here, run_duration_s, &config);
   if (o.dry_run) {
     if (!missing.empty()) std::cout << "would refuse:" << missing << "\n";
     std::cout << "launcher@" << here << " on " << config.launcher.Peer() << "\n" << plan_text;
@@ -320,7 +377,7 @@ int Launch(const LaunchOptions& o) {
   fs::copy_file(scene_path, run_dir + "/scene.textproto", fs::copy_options::overwrite_existing, copy_error);
   const net::SessionKey key = scene::ResolveSessionKey(scene.session_key());
   config.child_env = ChildEnvironment(key);
-  config.duration_s = o.duration_s >= 0 ? o.duration_s : scene.duration_s();
+  config.duration_s = run_duration_s;
   config.ready_timeout_s = o.ready_timeout_s;
   config.silent_after_s = o.silent_after_s;
   config.max_restarts = o.max_restarts;
@@ -355,6 +412,7 @@ int Launch(const LaunchOptions& o) {
     Supervisor supervisor(config, key, std::cout);
     return supervisor.Run(&record);
   }();
+  for (StallRecord& s : stalls_elsewhere) record.stalls.push_back(std::move(s));
   // services that run elsewhere are listed with their addresses
   for (const PlacedService& s : plan.services) {
     if (runs_here(s.service)) continue;
@@ -499,6 +557,13 @@ void AddLaunchCommand(CLI::App& app, int* exit_code) {
                    "device_bridge-local_contact:rtt_ms=100,jitter_ms=5,loss=0.05 (keys: the scene's LinkImpairment "
                    "fields; replaces the scene's link of that pair); repeatable")
       ->allow_extra_args(false);  // one link per --impair: the scene after it stays the scene
+  launch
+      ->add_option("--stall", o->stall,
+                   "pause a service's process (SIGSTOP), or every service's with all, at a time after the run "
+                   "starts and let it go on (SIGCONT) after a while, as a host that pauses would: TARGET@AT:DURATION, "
+                   "units s or ms, e.g. local_contact@4.5s:30ms or all@4.5s:30ms (adds to the scene's stalls); "
+                   "repeatable")
+      ->allow_extra_args(false);  // one stall per --stall: the scene after it stays the scene
   launch->add_flag("--viewer", o->viewer, "start the viewer even where the scene does not ask for it");
   launch
       ->add_option("--viewer-port", o->viewer_port,

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cctype>
+#include <limits>
 #include <vector>
 
 #include "launch/impair_option.h"
 #include "launch/json_writer.h"
+#include "libs/scene/scene_stalls.h"
 
 namespace haptex::launch {
 namespace {
@@ -177,6 +179,29 @@ void WriteNetwork(JsonWriter& j, const std::vector<RelayRecord>& relays) {
   j.EndArray().EndObject();
 }
 
+// Per stall: what was planned (from the run's start) and what the launcher did, on its clock;
+// null where it did not happen.
+void WriteStalls(JsonWriter& j, const std::vector<StallRecord>& stalls) {
+  constexpr double kNone = std::numeric_limits<double>::quiet_NaN();  // written as null
+  j.BeginArray("stalls");
+  for (const StallRecord& s : stalls) {
+    j.BeginObject()
+        .Field("target", scene::StallTarget(s.planned))
+        .Field("source", s.source)
+        .Field("started_here", s.here)
+        .Field("at_s", s.planned.at_s())
+        .Field("started_s", s.started_s.value_or(kNone))
+        .Field("duration_s", s.planned.duration_s())
+        .Field("paused_s", s.paused_s.value_or(kNone));
+    j.BeginArray("pids");
+    for (int pid : s.pids) j.Field({}, pid);
+    j.EndArray();
+    if (!s.note.empty()) j.Field("note", s.note);
+    j.EndObject();
+  }
+  j.EndArray();
+}
+
 }  // namespace
 
 std::string SummaryJson(const RunRecord& run, const std::vector<RecordingFiles>& recordings,
@@ -216,6 +241,7 @@ std::string SummaryJson(const RunRecord& run, const std::vector<RecordingFiles>&
   }
   j.EndArray();
   WriteNetwork(j, run.relays);
+  WriteStalls(j, run.stalls);
 
   // motion-to-force latency (the bridge's clock)
   j.BeginObject("motion_to_force");

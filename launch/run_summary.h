@@ -53,6 +53,18 @@ struct RelayRecord {
   std::string note;                     // why there is no report
 };
 
+/// One stall of the run: what was planned and what the launcher did, on its clock in seconds from
+/// the run's start (as at_s).
+struct StallRecord {
+  v1::Stall planned;
+  std::string source;               // "scene" or "--stall"
+  bool here = true;                 // carried out by this launcher
+  std::optional<double> started_s;  // the SIGSTOPs sent
+  std::optional<double> paused_s;   // from then until the first SIGCONT: each process paused at least this
+  std::vector<int> pids;            // the processes it paused
+  std::string note;                 // why it did not happen here, or not in full
+};
+
 struct RunRecord {
   std::string scene_name;
   std::string scene_path;
@@ -65,6 +77,7 @@ struct RunRecord {
   std::string scheduling;  // what was asked and what the kernel allowed, in words
   std::vector<ServiceRecord> services;
   std::vector<RelayRecord> relays;         // one per impaired link
+  std::vector<StallRecord> stalls;         // the supervisor's, then those not carried out here
   std::vector<PlannedService> not_needed;  // with why
   std::vector<std::string> skipped;        // --skip: needed but started elsewhere
   std::vector<RunEvent> events;

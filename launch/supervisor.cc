@@ -16,6 +16,7 @@
 #include "libs/net/peer_names.h"
 #include "libs/net/udp_address.h"
 #include "libs/runtime/shutdown_signal.h"
+#include "libs/scene/scene_stalls.h"
 
 namespace haptex::launch {
 
@@ -25,9 +26,11 @@ struct Supervisor::Live {
   std::unique_ptr<ChildProcess> child;
   std::int64_t last_health_ns = 0;
   bool ready = false;
-  bool was_ready = false;          // has reported STATE_READY at least once
-  bool degraded_reported = false;  // a "degraded" event is out, its "recovered" not yet
-  bool stopped = false;            // exited during the stop (not a failure)
+  bool was_ready = false;                   // has reported STATE_READY at least once
+  bool degraded_reported = false;           // a "degraded" event is out, its "recovered" not yet
+  bool stopped = false;                     // exited during the stop (not a failure)
+  bool stalled = false;                     // stopped (SIGSTOP) by a stall on purpose
+  std::int64_t silence_counts_from_ns = 0;  // a stall's grace: not found silent before this
 };
 
 struct Supervisor::LiveRelay {
@@ -38,9 +41,21 @@ struct Supervisor::LiveRelay {
   bool died = false;
 };
 
+struct Supervisor::LiveStall {
+  SupervisedStall planned;
+  std::string target;  // "local_contact", "all"
+  std::size_t record_index = 0;
+  bool started = false;
+  bool ended = false;
+  std::int64_t started_ns = 0;                              // after the SIGSTOPs
+  std::vector<std::pair<Supervisor::Live*, pid_t>> paused;  // and the process of each it stopped
+};
+
 namespace {
 
 using P = v1::ServicePlacement;
+
+double Seconds(std::int64_t ns) { return static_cast<double>(ns) / 1e9; }
 
 std::string Fixed(double value, int digits) {
   std::ostringstream s;
@@ -199,6 +214,7 @@ void Supervisor::HoldZeroForce(bool hold, const std::string& reason) {
 bool Supervisor::Start(Live& live) {
   ServiceRecord& record = record_->services[live.record_index];
   live.ready = false;
+  live.stalled = false;  // a new process: no stall has stopped it
   live.child.reset();
   try {
     const int priority = config_.rt_priority > 0
@@ -223,6 +239,7 @@ bool Supervisor::WaitReady(Live& live) {
   while (true) {
     messenger_->WaitReadable(std::chrono::milliseconds(10));
     DrainHealth();
+    EndStalls();  // a restart during a stall does not lengthen it
     if (live.ready) {
       Event(name, "ready", "");
       return true;
@@ -355,12 +372,90 @@ void Supervisor::StopRelays() {
   }
 }
 
+namespace {
+
+bool StallPauses(const v1::Stall& stall, ServiceKind kind) {
+  return stall.all() ? kind != P::SERVICE_VIEWER : kind == stall.service();
+}
+
+}  // namespace
+
+void Supervisor::StartDueStalls() {
+  const double since_start_s = Seconds(base::SteadyNowNs() - run_start_ns_);
+  for (LiveStall& stall : stalls_) {
+    if (stall.started || since_start_s < stall.planned.stall.at_s()) continue;
+    stall.started = true;
+    StallRecord& record = record_->stalls[stall.record_index];
+    std::string pids;
+    for (auto& live : live_) {
+      // exited() without a Poll: a death not yet seen is the supervise loop's to handle, as ever
+      if (!StallPauses(stall.planned.stall, live->service.placed.service.kind) || !live->child ||
+          live->child->exited()) {
+        continue;
+      }
+      live->child->Signal(SIGSTOP);
+      live->stalled = true;
+      stall.paused.push_back({live.get(), live->child->pid()});
+      record.pids.push_back(live->child->pid());
+      pids += (pids.empty() ? "pid " : ", ") + std::to_string(live->child->pid());
+    }
+    stall.started_ns = base::SteadyNowNs();
+    const std::string planned = "planned at " + Fixed(stall.planned.stall.at_s(), 3) + " s for " +
+                                Fixed(stall.planned.stall.duration_s(), 3) + " s";
+    if (stall.paused.empty()) {
+      stall.ended = true;
+      record.note = "no process of it was running at its time";
+      Event(stall.target, "stall_missed", planned + "; " + record.note);
+      continue;
+    }
+    record.started_s = Seconds(stall.started_ns - run_start_ns_);
+    Event(stall.target, "stall", planned + "; paused at " + Fixed(*record.started_s, 3) + " s (" + pids + ")");
+  }
+}
+
+void Supervisor::EndStalls(const std::string& reason) {
+  const std::int64_t grace_ns = static_cast<std::int64_t>(config_.stall_grace_s * 1e9);
+  for (LiveStall& stall : stalls_) {
+    if (!stall.started || stall.ended) continue;
+    // measured before the first SIGCONT (and started after the last SIGSTOP): each process paused
+    // at least paused_s, and paused_s >= duration_s unless the run stops first
+    const std::int64_t now = base::SteadyNowNs();
+    const double paused_s = Seconds(now - stall.started_ns);
+    const bool due = paused_s >= stall.planned.stall.duration_s();
+    if (!due && reason.empty()) continue;
+    stall.ended = true;
+    StallRecord& record = record_->stalls[stall.record_index];
+    std::string gone;
+    for (auto& [live, pid] : stall.paused) {
+      if (!live->child || live->child->pid() != pid || live->child->exited()) {
+        gone += (gone.empty() ? "pid " : ", ") + std::to_string(pid);
+        continue;
+      }
+      live->child->Signal(SIGCONT);
+      live->stalled = false;
+      // silence counts in the time it could run, and not before it has caught up
+      live->last_health_ns = std::min(live->last_health_ns, stall.started_ns) + (now - stall.started_ns);
+      live->silence_counts_from_ns = now + grace_ns;
+    }
+    record.paused_s = paused_s;
+    if (!due) record.note = "cut short: " + reason;
+    if (!gone.empty()) {
+      record.note += (record.note.empty() ? "" : "; ") + gone + " ended during the stall (handled as any death)";
+    }
+    Event(stall.target, "stall_end",
+          "planned at " + Fixed(stall.planned.stall.at_s(), 3) + " s for " +
+              Fixed(stall.planned.stall.duration_s(), 3) + " s; paused at " + Fixed(*record.started_s, 3) + " s for " +
+              Fixed(paused_s, 3) + " s" + (record.note.empty() ? "" : "; " + record.note));
+  }
+}
+
 void Supervisor::PrintStatus(bool final_line) {
   std::ostringstream line;
   line << Fixed(Now(), 1) << " s";
   for (const auto& live : live_) {
     const ServiceRecord& record = record_->services[live->record_index];
     line << " | " << Spec(live->service.placed.service.kind).name;
+    if (live->stalled) line << " STALLED";
     if (!record.last_health) {
       line << " (no health)";
       continue;
@@ -473,6 +568,18 @@ int Supervisor::Run(RunRecord* record) {
     relays_.push_back(std::move(relay));
   }
 
+  for (const SupervisedStall& s : config_.stalls) {
+    LiveStall stall;
+    stall.planned = s;
+    stall.target = scene::StallTarget(s.stall);
+    stall.record_index = record_->stalls.size();
+    StallRecord r;
+    r.planned = s.stall;
+    r.source = s.source;
+    record_->stalls.push_back(std::move(r));
+    stalls_.push_back(std::move(stall));
+  }
+
   // the relays first: a service's first datagram to its peer already goes through one
   for (auto& relay : relays_) {
     if (!StartRelay(*relay)) {
@@ -496,24 +603,28 @@ int Supervisor::Run(RunRecord* record) {
     HoldZeroForce(false, "every service is healthy");
     Event("", "running", config_.duration_s > 0 ? "for " + Fixed(config_.duration_s, 1) + " s" : "until Ctrl-C");
   }
-  const std::int64_t run_start_ns = base::SteadyNowNs();
+  run_start_ns_ = base::SteadyNowNs();
 
   // supervise
   while (all_started && !failed_) {
     if (runtime::ShutdownRequested()) break;
     if (config_.duration_s > 0 &&
-        base::SteadyNowNs() - run_start_ns >= static_cast<std::int64_t>(config_.duration_s * 1e9))
+        base::SteadyNowNs() - run_start_ns_ >= static_cast<std::int64_t>(config_.duration_s * 1e9))
       break;
     // 2 ms: a dead service is found within that, so the zero-force hold of its restart reaches
     // the device well inside 20 ms even when nothing else wakes the loop
     messenger_->WaitReadable(std::chrono::milliseconds(2));
     DrainHealth();
     CheckRelays();
+    EndStalls();
+    StartDueStalls();
     for (auto& live : live_) {
       std::string how;
+      const std::int64_t now = base::SteadyNowNs();
       if (live->child->Poll()) {
         how = live->child->exit_text();
-      } else if (base::SteadyNowNs() - live->last_health_ns > static_cast<std::int64_t>(config_.silent_after_s * 1e9)) {
+      } else if (!live->stalled && now >= live->silence_counts_from_ns &&
+                 now - live->last_health_ns > static_cast<std::int64_t>(config_.silent_after_s * 1e9)) {
         how = "silent for " + Fixed(config_.silent_after_s, 1) + " s";
         live->child->Signal(SIGKILL);
         while (!live->child->Poll()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
@@ -527,6 +638,11 @@ int Supervisor::Run(RunRecord* record) {
       PrintStatus(false);
       next_status_ns_ = base::SteadyNowNs() + static_cast<std::int64_t>(config_.status_period_s * 1e9);
     }
+  }
+  // before anything else: a stopped process would not hear its SHUTDOWN, nor SIGTERM
+  EndStalls("the run stops");
+  for (LiveStall& stall : stalls_) {
+    if (!stall.started) record_->stalls[stall.record_index].note = "the run ended before its time";
   }
   if (config_.status_in_place) out_ << "\n";
   const int signal_number = runtime::ShutdownSignalNumber();

@@ -15,6 +15,7 @@
 #include "libs/scene/field_checks.h"
 #include "libs/scene/scene_defaults.h"
 #include "libs/scene/scene_network.h"
+#include "libs/scene/scene_stalls.h"
 #include "libs/textile/step_options.h"
 
 namespace haptex::scene {
@@ -496,6 +497,14 @@ std::vector<TextIssue> ValidateScene(const v1::Scene& scene, const FieldLocator&
     const bool reported = std::any_of(issues.begin(), issues.end(), [&](const TextIssue& i) {
       return i.line == issue.line && i.column == issue.column;
     });
+    if (!reported) c.Add(std::move(issue));
+  }
+  // likewise for the stalls, whose own issues may share a place (a stall that leaves out two fields)
+  const std::size_t before_stalls = issues.size();
+  for (TextIssue& issue : ValidateStalls(scene, where)) {
+    const auto end = issues.begin() + static_cast<std::ptrdiff_t>(before_stalls);
+    const bool reported = std::any_of(
+        issues.begin(), end, [&](const TextIssue& i) { return i.line == issue.line && i.column == issue.column; });
     if (!reported) c.Add(std::move(issue));
   }
   CheckGlobalLoopBudget(scene, where, c);

@@ -35,30 +35,6 @@ constexpr Talk kTalks[] = {
     {P::SERVICE_TACTILE, P::SERVICE_VIEWER, "PinFrames and Health for the viewer"},
 };
 
-// Why the scene does not run `kind`; "" when it does.
-std::string NotRunBecause(const v1::Scene& scene, ServiceKind kind) {
-  const bool fingers = scene.fingers_size() > 0;
-  switch (kind) {
-    case P::SERVICE_GLOBAL_SIM:
-      return "";
-    case P::SERVICE_LOCAL_CONTACT:
-    case P::SERVICE_DEVICE_BRIDGE:
-      return fingers ? "" : "the scene has no fingers";
-    case P::SERVICE_MOCK_GRAB:
-      if (!fingers) return "the scene has no fingers";
-      return scene.device().has_mock() ? "" : "the device is a real GRAB controller";
-    case P::SERVICE_TACTILE:
-      return scene.tactile().enabled() ? "" : "tactile display off";
-    case P::SERVICE_MOCK_PINS:
-      if (!scene.tactile().enabled()) return "tactile display off";
-      return scene.tactile().mock_display() ? "" : "the pin display is a real one";
-    case P::SERVICE_VIEWER:
-      return scene.viewer().enabled() ? "" : "viewer off";
-    default:
-      return "not a service";
-  }
-}
-
 std::string Dotted(const Path& field) {
   std::string name;
   for (const std::string& part : field) name += (name.empty() ? "" : ".") + part;
@@ -182,6 +158,29 @@ std::string ServiceName(ServiceKind kind) {
 }
 
 std::string LinkName(const v1::LinkImpairment& link) { return ServiceName(link.a()) + "-" + ServiceName(link.b()); }
+
+std::string NotRunBecause(const v1::Scene& scene, ServiceKind kind) {
+  const bool fingers = scene.fingers_size() > 0;
+  switch (kind) {
+    case P::SERVICE_GLOBAL_SIM:
+      return "";
+    case P::SERVICE_LOCAL_CONTACT:
+    case P::SERVICE_DEVICE_BRIDGE:
+      return fingers ? "" : "the scene has no fingers";
+    case P::SERVICE_MOCK_GRAB:
+      if (!fingers) return "the scene has no fingers";
+      return scene.device().has_mock() ? "" : "the device is a real GRAB controller";
+    case P::SERVICE_TACTILE:
+      return scene.tactile().enabled() ? "" : "tactile display off";
+    case P::SERVICE_MOCK_PINS:
+      if (!scene.tactile().enabled()) return "tactile display off";
+      return scene.tactile().mock_display() ? "" : "the pin display is a real one";
+    case P::SERVICE_VIEWER:
+      return scene.viewer().enabled() ? "" : "viewer off";
+    default:
+      return "not a service";
+  }
+}
 
 bool SceneRunsService(const v1::Scene& scene, ServiceKind kind) { return NotRunBecause(scene, kind).empty(); }
 

@@ -31,6 +31,8 @@ std::string LinkName(const v1::LinkImpairment& link);
 
 /// True when the scene runs the service (the launcher's launch/service_set.cc says why).
 bool SceneRunsService(const v1::Scene& scene, ServiceKind kind);
+/// Why the scene does not run `kind` ("the scene has no fingers"); "" when it does.
+std::string NotRunBecause(const v1::Scene& scene, ServiceKind kind);
 /// True when the two services send each other anything, in either direction.
 bool ExchangeDatagrams(ServiceKind x, ServiceKind y);
 /// True when a and b name the same pair, in either order.

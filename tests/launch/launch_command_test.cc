@@ -138,6 +138,59 @@ TEST(LaunchCommandTest, SceneNetworkErrorsAtFileLineColumn) {
   }
 }
 
+TEST(LaunchCommandTest, DryRunPrintsThePlannedStalls) {
+  const std::string path = testing::FreshDir("launch_stall_plan") + "/stalls.textproto";
+  testing::WriteText(path, testing::ReadText(testing::ShippedScenePath("pinch_stretch")) +
+                               "\nstalls { service: SERVICE_GLOBAL_SIM at_s: 0.5 duration_s: 0.2 }\n");
+  const Result r = Haptex({"launch", path, "--dry-run", "--duration", "3", "--skip", "mock_grab", "--stall",
+                           "local_contact@1.5s:100ms", "--stall", "all@2s:30ms", "--stall", "device_bridge@5s:1ms"});
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("stall global_sim@0.5s:0.2s (scene): SIGSTOP to global_sim 0.5 s after the run starts, "
+                               "SIGCONT 0.2 s later\n"));
+  EXPECT_THAT(r.out, HasSubstr("stall local_contact@1.5s:100ms (--stall): SIGSTOP to local_contact 1.5 s after the "
+                               "run starts, SIGCONT 0.1 s later\n"));
+  // all: what this launcher starts, but the viewer (mock_grab is --skip'ped)
+  EXPECT_THAT(r.out, HasSubstr("stall all@2s:30ms (--stall): SIGSTOP to every service started here but the viewer "
+                               "(device_bridge, global_sim, local_contact) 2 s after the run starts"));
+  EXPECT_THAT(r.out, HasSubstr("stall device_bridge@5s:1ms (--stall): SIGSTOP to device_bridge 5 s after the run "
+                               "starts, SIGCONT 0.001 s later; after the run's end (3 s): it will not happen"));
+}
+
+TEST(LaunchCommandTest, BadStallsAreRefusedWithExitCodeTwo) {
+  const std::string scene = testing::ShippedScenePath("pinch_stretch");
+  for (const auto& [stall, says] : std::vector<std::pair<std::string, std::string>>{
+           {"local_contact@4.5s", "expected TARGET@AT:DURATION"},
+           {"contact@4.5s:30ms", "unknown service 'contact'"},
+           {"local_contact@4.5:30ms", "AT '4.5' needs its unit, s or ms"},
+           {"local_contact@infs:30ms", "at_s must be a finite number, got inf"},
+           {"all@1s:20s", "duration_s must be in (0, 10] s, got 20"},
+           {"tactile@1s:30ms", "the scene does not run tactile (tactile display off)"}}) {
+    const Result r = Haptex({"launch", scene, "--dry-run", "--stall", stall});
+    EXPECT_EQ(r.code, 2) << stall;
+    EXPECT_THAT(r.err, HasSubstr("--stall '" + stall + "': " + says));
+  }
+  Result r = Haptex({"launch", scene, "--dry-run", "--stall", "local_contact@1s:1s", "--stall", "all@1.5s:30ms"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.err, HasSubstr("--stall 'all@1.5s:30ms': overlaps --stall 'local_contact@1s:1s'"));
+  r = Haptex({"launch", scene, "--dry-run", "--skip", "local_contact", "--stall", "local_contact@1s:1s"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.err, HasSubstr("--stall 'local_contact@1s:1s': local_contact is --skip'ped"));
+}
+
+TEST(LaunchCommandTest, SceneStallErrorsAtFileLineColumn) {
+  const std::string path = testing::FreshDir("launch_stall_scene") + "/bad.textproto";
+  testing::WriteText(path,
+                     "name: \"bad\"\nfabric { database_name: \"wang2011_black_denim_11oz\" }\n"
+                     "fingers { finger: FINGER_INDEX }\ndevice { mock {} }\n"
+                     "stalls { service: SERVICE_LOCAL_CONTACT at_s: 1\n"
+                     "  duration_s: 11 }\n");
+  for (const char* command : {"launch", "scene"}) {
+    const Result r = std::string(command) == "launch" ? Haptex({"launch", path}) : Haptex({"scene", "check", path});
+    EXPECT_EQ(r.code, 2) << command;
+    EXPECT_THAT(r.err, HasSubstr(path + ":6:3: duration_s must be in (0, 10] s, got 11")) << command;
+  }
+}
+
 TEST(LaunchCommandTest, ASceneNameThatClimbsStillGetsAFolderInsideRuns) {
   const std::string path = testing::FreshDir("launch_climb") + "/climb.textproto";
   std::string scene = testing::ReadText(testing::ShippedScenePath("hanging"));

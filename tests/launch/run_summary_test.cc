@@ -153,5 +153,41 @@ TEST(LaunchRunSummaryTest, NetworkSectionHasAskedAndAchievedPerLink) {
   EXPECT_THAT(json, HasSubstr(R"("achieved":{"note":"the relay runs on host lab"})"));
 }
 
+TEST(LaunchRunSummaryTest, StallsSectionHasPlannedAndActualPerStall) {
+  EXPECT_THAT(SummaryJson(RunRecord{}, {}, RecordingAnalysis{}, std::nullopt, {}), HasSubstr(R"("stalls":[])"));
+  RunRecord run;
+  StallRecord paused;
+  paused.planned.set_service(P::SERVICE_LOCAL_CONTACT);
+  paused.planned.set_at_s(1.5);
+  paused.planned.set_duration_s(0.1);
+  paused.source = "--stall";
+  paused.started_s = 1.502;
+  paused.paused_s = 0.1013;
+  paused.pids = {4242};
+  run.stalls.push_back(paused);
+  StallRecord later;  // never reached
+  later.planned.set_all(true);
+  later.planned.set_at_s(60);
+  later.planned.set_duration_s(0.03);
+  later.source = "scene";
+  later.note = "the run ended before its time";
+  run.stalls.push_back(later);
+  StallRecord remote = paused;
+  remote.here = false;
+  remote.started_s.reset();
+  remote.paused_s.reset();
+  remote.pids.clear();
+  remote.note = "local_contact runs on host compute: that host's launcher pauses it";
+  run.stalls.push_back(remote);
+
+  const std::string json = SummaryJson(run, {}, RecordingAnalysis{}, std::nullopt, {});
+  EXPECT_THAT(json, HasSubstr(R"("stalls":[{"target":"local_contact","source":"--stall","started_here":true,)"
+                              R"("at_s":1.5,"started_s":1.502,"duration_s":0.1,"paused_s":0.1013,"pids":[4242]},)"));
+  EXPECT_THAT(json, HasSubstr(R"({"target":"all","source":"scene","started_here":true,"at_s":60,"started_s":null,)"
+                              R"("duration_s":0.03,"paused_s":null,"pids":[],"note":"the run ended before its time"})"));
+  EXPECT_THAT(json, HasSubstr(R"("started_here":false,"at_s":1.5,"started_s":null,"duration_s":0.1,"paused_s":null,)"
+                              R"("pids":[],"note":"local_contact runs on host compute)"));
+}
+
 }  // namespace
 }  // namespace haptex::launch

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <functional>
 
+#include "libs/scene/scene_stalls.h"
 #include "tests/scene/scene_test_support.h"
 
 namespace haptex::scene {
@@ -441,6 +442,134 @@ TEST_F(SceneLoaderTest, OtherStringsAreBoundedAndClean) {
       Refused(std::string(kMinimal) + "fingers { finger: FINGER_THUMB }\n"
                                       "device { mock { user { kind: KIND_PLAYBACK playback_csv: \"/dev/zero\" } } }\n"),
       "playback_csv must be a readable file"));
+}
+
+// Two fingers on the mock controller (bridge, mock controller, global_sim, local_contact); what
+// follows it starts on line 6.
+constexpr char kPinch[] =
+    "name: \"pinch\"\n"
+    "fabric { database_name: \"test_cotton\" }\n"
+    "fingers { finger: FINGER_THUMB }\n"
+    "fingers { finger: FINGER_INDEX }\n"
+    "device { mock {} }\n";
+
+TEST_F(SceneLoaderTest, StallsOfAServiceAndOfAllLoad) {
+  const LoadedScene loaded = ParseScene(std::string(kPinch) +
+                                            "stalls { service: SERVICE_LOCAL_CONTACT at_s: 1.5 duration_s: 0.1 }\n"
+                                            "stalls { all: true at_s: 2 duration_s: 0.03 }\n"
+                                            "stalls { service: SERVICE_LOCAL_CONTACT at_s: 2.1 duration_s: 10 }\n"
+                                            "stalls { service: SERVICE_MOCK_GRAB at_s: 0 duration_s: 0.001 }\n",
+                                        "t", db_);
+  ASSERT_EQ(loaded.scene.stalls_size(), 4);
+  EXPECT_EQ(loaded.scene.stalls(0).service(), v1::ServicePlacement::SERVICE_LOCAL_CONTACT);
+  EXPECT_TRUE(loaded.scene.stalls(1).all());
+  EXPECT_EQ(StallTarget(loaded.scene.stalls(1)), "all");
+  EXPECT_EQ(StallTarget(loaded.scene.stalls(0)), "local_contact");
+}
+
+TEST_F(SceneLoaderTest, AStallsTargetIsOneServiceTheSceneRunsOrAll) {
+  const auto only = [&](const std::string& stalls) {
+    const auto issues = Refused(std::string(kPinch) + stalls);
+    EXPECT_EQ(issues.size(), 1u) << stalls;
+    return issues.empty() ? TextIssue{} : issues[0];
+  };
+  const TextIssue none = only("stalls { at_s: 1 duration_s: 0.1 }\n");
+  EXPECT_EQ(none.line, 6);
+  EXPECT_EQ(none.column, 1);
+  EXPECT_EQ(none.message, "a stall needs a target: `service: SERVICE_...` or `all: true`");
+  const TextIssue both = only("stalls { service: SERVICE_LOCAL_CONTACT\n  all: true at_s: 1 duration_s: 0.1 }\n");
+  EXPECT_EQ(both.line, 7);
+  EXPECT_EQ(both.column, 3);
+  EXPECT_EQ(both.message, "give either `service: SERVICE_...` or `all: true`, not both");
+  const TextIssue tactile = only("stalls { service: SERVICE_TACTILE at_s: 1 duration_s: 0.1 }\n");
+  EXPECT_EQ(tactile.line, 6);
+  EXPECT_EQ(tactile.column, 10);
+  EXPECT_EQ(tactile.message, "the scene does not run tactile (tactile display off)");
+  EXPECT_TRUE(Mentions(Refused(std::string(kPinch) + "stalls { service: SERVICE_LAUNCHER at_s: 1 duration_s: 0.1 }\n"),
+                       "the launcher carries the stalls out and cannot pause itself"));
+  EXPECT_TRUE(Mentions(Refused(std::string(kPinch) + "viewer { enabled: true }\n"
+                                                     "stalls { service: SERVICE_VIEWER at_s: 1 duration_s: 0.1 }\n"),
+                       "the viewer only shows the run: a stall pauses a haptex service"));
+  // the fabric alone runs only global_sim
+  EXPECT_TRUE(
+      Mentions(Refused(std::string(kMinimal) + "stalls { service: SERVICE_DEVICE_BRIDGE at_s: 1 duration_s: 1 }\n"),
+               "the scene does not run device_bridge (the scene has no fingers)"));
+  EXPECT_NO_THROW(
+      ParseScene(std::string(kMinimal) + "stalls { service: SERVICE_GLOBAL_SIM at_s: 1 duration_s: 1 }\n", "ok", db_));
+  // a value the enum does not define: one issue, the generic check's
+  const TextIssue undefined = only("stalls { service: 99 at_s: 1 duration_s: 0.1 }\n");
+  EXPECT_NE(undefined.message.find("99 is not a value of Service"), std::string::npos) << undefined.message;
+}
+
+TEST_F(SceneLoaderTest, AStallsTimesAreCheckedAtTheirFields) {
+  const auto only = [&](const std::string& times) {
+    const auto issues = Refused(std::string(kPinch) + "stalls { all: true\n  " + times + " }\n");
+    EXPECT_EQ(issues.size(), 1u) << times;
+    return issues.empty() ? TextIssue{} : issues[0];
+  };
+  const TextIssue before = only("at_s: -0.5 duration_s: 0.1");
+  EXPECT_EQ(before.line, 7);
+  EXPECT_EQ(before.column, 3);
+  EXPECT_EQ(before.message, "at_s must be in [0, 604800] s from the run's start (force enabled), got -0.5");
+  EXPECT_TRUE(Mentions({only("at_s: 1e300 duration_s: 0.1")}, "at_s must be in [0, 604800] s"));
+  const TextIssue zero = only("at_s: 1 duration_s: 0");
+  EXPECT_EQ(zero.column, 11);
+  EXPECT_EQ(zero.message, "duration_s must be in (0, 10] s, got 0");
+  EXPECT_TRUE(Mentions({only("at_s: 1 duration_s: 10.001")}, "duration_s must be in (0, 10] s, got 10.001"));
+  EXPECT_TRUE(Mentions({only("at_s: 1 duration_s: -1")}, "duration_s must be in (0, 10] s, got -1"));
+  // left out: located at the stall
+  const TextIssue missing = only("at_s: 1");
+  EXPECT_EQ(missing.line, 6);
+  EXPECT_EQ(missing.message, "duration_s must be in (0, 10] s, got 0");
+  // not a number: one issue per field, the generic check's
+  for (const std::string value : {"nan", "inf", "-inf"}) {
+    const TextIssue at = only("at_s: " + value + " duration_s: 0.1");
+    EXPECT_EQ(at.message, "stalls[0].at_s must be a finite number, got " + value);
+    EXPECT_EQ(at.column, 3);
+    const TextIssue duration = only("at_s: 1 duration_s: " + value);
+    EXPECT_EQ(duration.message, "stalls[0].duration_s must be a finite number, got " + value);
+  }
+  // a stall without a target and without times: each problem, though two share a place
+  EXPECT_EQ(Refused(std::string(kPinch) + "stalls { }\n").size(), 2u);
+}
+
+TEST_F(SceneLoaderTest, StallsOfOneProcessMustNotOverlap) {
+  const auto issues = Refused(std::string(kPinch) +
+                              "stalls { service: SERVICE_LOCAL_CONTACT at_s: 1.5 duration_s: 0.1 }\n"
+                              "stalls { service: SERVICE_LOCAL_CONTACT at_s: 1.55 duration_s: 0.1 }\n");
+  ASSERT_EQ(issues.size(), 1u);
+  EXPECT_EQ(issues[0].line, 7);
+  EXPECT_EQ(issues[0].column, 41);
+  EXPECT_EQ(issues[0].message,
+            "the stall of local_contact at 1.55 s for 0.1 s overlaps the one of local_contact at 1.5 s for 0.1 s "
+            "(line 6): stalls that pause one process (all pauses every one) must not overlap");
+  // all pauses every service: it overlaps a stall of any one of them, in either order
+  EXPECT_TRUE(
+      Mentions(Refused(std::string(kPinch) + "stalls { all: true at_s: 1 duration_s: 2 }\n"
+                                             "stalls { service: SERVICE_GLOBAL_SIM at_s: 2.9 duration_s: 1 }\n"),
+               "the stall of global_sim at 2.9 s for 1 s overlaps the one of all at 1 s for 2 s"));
+  EXPECT_TRUE(Mentions(Refused(std::string(kPinch) + "stalls { service: SERVICE_GLOBAL_SIM at_s: 0.5 duration_s: 1 }\n"
+                                                     "stalls { all: true at_s: 1 duration_s: 2 }\n"),
+                       "overlaps the one of global_sim"));
+  // one after the other, and two services at once, are fine
+  EXPECT_NO_THROW(ParseScene(std::string(kPinch) +
+                                 "stalls { service: SERVICE_LOCAL_CONTACT at_s: 1.5 duration_s: 0.5 }\n"
+                                 "stalls { service: SERVICE_LOCAL_CONTACT at_s: 2 duration_s: 0.1 }\n"
+                                 "stalls { service: SERVICE_DEVICE_BRIDGE at_s: 1.5 duration_s: 0.5 }\n"
+                                 "stalls { all: true at_s: 2.1 duration_s: 0.1 }\n",
+                             "ok", db_));
+}
+
+TEST_F(SceneLoaderTest, AtMost32Stalls) {
+  std::string stalls;
+  for (int i = 0; i < kMaxStalls; ++i) {
+    stalls += "stalls { service: SERVICE_GLOBAL_SIM at_s: " + std::to_string(i) + " duration_s: 0.5 }\n";
+  }
+  EXPECT_NO_THROW(ParseScene(std::string(kPinch) + stalls, "ok", db_));
+  const auto issues = Refused(std::string(kPinch) + stalls + "stalls { all: true at_s: 100 duration_s: 0.5 }\n");
+  ASSERT_EQ(issues.size(), 1u);
+  EXPECT_EQ(issues[0].line, 6 + kMaxStalls);
+  EXPECT_EQ(issues[0].message, "at most 32 stalls per scene");
 }
 
 TEST_F(SceneLoaderTest, SceneFilesAreCheckedBeforeTheyAreRead) {
