@@ -8,7 +8,7 @@
 //       [--trace-dir DIR]
 //
 // T: mock_grab, device_bridge, local_contact, global_sim, all. Without --case: the pinch
-// (pinch_stretch at 4.5 s), the rub (rub_friction at 3.0 s) and the fold (fold at 5.0 s, holding the folded cloth).
+// (pinch_stretch at 4.5 s), the rub (rub_friction at 3.0 s) and the fold (fold at 5.5 s, holding the folded cloth).
 
 #include <CLI/CLI.hpp>
 #include <cmath>
@@ -60,13 +60,13 @@ int main(int argc, char** argv) {
   const std::string root = HAPTEX_SOURCE_DIR;
   std::vector<std::string> case_texts{"pinch=" + root + "/launch/scenes/pinch_stretch.textproto@4.5",
                                       "rub=" + root + "/launch/scenes/rub_friction.textproto@3.0",
-                                      "fold=" + root + "/launch/scenes/fold.textproto@5.0"};
-  std::vector<double> pauses_ms{2, 5, 10, 30, 100};
+                                      "fold=" + root + "/launch/scenes/fold.textproto@5.5"};
+  std::vector<double> pauses_ms{0, 2, 5, 10, 30, 100};
   std::vector<std::string> target_names{"mock_grab", "device_bridge", "local_contact", "global_sim", "all"};
   std::string trace_dir;
   CLI::App app{"Pauses of the host against a held contact, every service loop in one process"};
   app.add_option("--case", case_texts, "NAME=SCENE@AT_S: the stall starts AT_S into SCENE (repeat the flag)");
-  app.add_option("--pause-ms", pauses_ms, "pause lengths [ms] (repeat the flag)")->check(CLI::Range(0.2, 10000.0));
+  app.add_option("--pause-ms", pauses_ms, "pause lengths [ms] (repeat the flag; 0: no pause, the reference)")->check(CLI::Range(0.0, 10000.0));
   app.add_option("--target", target_names, "what pauses (repeat the flag)")
       ->check(CLI::IsMember({"mock_grab", "device_bridge", "local_contact", "global_sim", "all"}));
   app.add_option("--trace-dir", trace_dir, "write each setting's force trace here as CSV");

@@ -142,6 +142,7 @@ double DeviceBridge::FrameArrivalS(std::uint64_t sequence) const {
 void DeviceBridge::SetForceModel(Manipulator finger, const ForceModel& model, double t_rx_s,
                                  std::uint64_t based_on_controller_sequence) {
   Finger& f = fingers_[Index(finger)];
+  if (f.has_model) f.resume.OnModelArrival(t_rx_s - f.model_rx_s);
   f.model = model;
   f.has_model = true;
   f.model_rx_s = t_rx_s;
@@ -253,11 +254,14 @@ void DeviceBridge::Tick(double t_s, double dt_s, std::span<std::byte, kCommandFr
   for (std::size_t i = 0; i < kManipulatorCount; ++i) {
     Finger& finger = fingers_[i];
     SafetyInput& input = inputs[i];
-    const bool blocked = lost || shutdown_ || zero_force_hold_ || estop || foreign_commander_ || !finger.state.valid;
-    const bool link_hiccup = controller_timed_out || tick_gap;
+    const bool held_off = shutdown_ || zero_force_hold_ || estop || foreign_commander_ || !finger.state.valid;
+    const bool blocked = held_off || lost;
+    // a controller silent for a while (its process, or the whole host, paused) is a hiccup of the
+    // link like the others: the force resumes over the short ramp if it comes back soon enough
+    const bool link_hiccup = controller_timed_out || tick_gap || lost;
     input.output_allowed = !blocked && !link_hiccup;
     // off only for the link's sake: force resumes over the short ramp once commands get through
-    input.link_interruption = !blocked && link_hiccup;
+    input.link_interruption = !held_off && link_hiccup;
     const bool refused = link_too_slow_ || !std::isfinite(finger.model_basis_s);
     if (finger.has_model) {
       input.model_ttl_s = finger.model.ttl_s;
@@ -297,6 +301,7 @@ void DeviceBridge::Tick(double t_s, double dt_s, std::span<std::byte, kCommandFr
           finger.model, finger.resume.Constrain(predicted ? finger.state.p_pred_W_m : finger.state.p_W_m),
           other.resume.Constrain(predicted ? other.state.p_pred_W_m : other.state.p_W_m));
       input.requested_W_N = finger.resume.Shape(at_proxy_W_N, finger.state.p_W_m, v_W);
+      input.requested_W_N = finger.resume.CapLateModel(input.requested_W_N, input.model_age_s, dt_s);
     }
     // energy the rendering would create is damped out (a deficit left at a contact's end is
     // still paid off: re-engaging a late model is where delay pumps energy in); a resume's return

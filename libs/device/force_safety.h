@@ -37,8 +37,9 @@ struct ForceSafetyConfig {
   /// only 400 N/s, a sixth of the slew limit: no jump back to the old force.
   double resume_ramp_s = 0.005;
   /// Interruptions longer than this (summed until the force is back at full scale) ramp in over
-  /// startup_ramp_s again.
-  double resume_within_s = 0.050;
+  /// startup_ramp_s again. Longer than the pauses a virtual machine takes now and then (up to
+  /// 63 ms seen), so that such a pause resumes the contact at its proxies (ResumeProxy).
+  double resume_within_s = 0.100;
   /// So do interruptions over which the finger moved farther than this from where it last had
   /// force: the user no longer holds it where the force was (a squeeze that went on while only
   /// the models stalled has closed the fingers onto, or past, each other), and the model would

@@ -29,6 +29,9 @@ void ResumeProxyConfig::Validate() const {
   Require(NonNegativeFinite(damping_N_s_per_m), "damping_N_s_per_m", "must be >= 0 N s/m", damping_N_s_per_m);
   Require(NonNegativeFinite(rejoin_m), "rejoin_m", "must be >= 0 m", rejoin_m);
   Require(NonNegativeFinite(contact_end_N), "contact_end_N", "must be >= 0 N", contact_end_N);
+  Require(late_model_s > 0.0 && std::isfinite(late_model_s), "late_model_s", "must be > 0 s", late_model_s);
+  Require(NonNegativeFinite(late_watch_s), "late_watch_s", "must be >= 0 s", late_watch_s);
+  Require(late_factor >= 1.0 && std::isfinite(late_factor), "late_factor", "must be >= 1", late_factor);
 }
 
 void HeldForceWindow::Add(double force_N, double dt_s, double window_s) {
@@ -146,6 +149,27 @@ Eigen::Vector3d ResumeProxy::Shape(const Eigen::Vector3d& model_at_proxy_W_N, co
     limited_since_cut_ = true;
   }
   return force;
+}
+
+Eigen::Vector3d ResumeProxy::CapLateModel(const Eigen::Vector3d& force, double model_age_s, double dt_s) {
+  const bool late = model_age_s > std::max(config_.late_model_s, config_.late_factor * longest_gap_s_);
+  if (late && !late_) late_held_N_ = window_.Mean();  // what the hand held before
+  if (late) late_watch_left_s_ = config_.late_watch_s;
+  late_ = late;
+  if (!late) late_watch_left_s_ = std::max(0.0, late_watch_left_s_ - (std::isfinite(dt_s) ? dt_s : 0.0));
+  if (phase_ != Phase::kFollowing || !has_whole_ || !(late || late_watch_left_s_ > 0.0)) return force;
+  const double held_N = late_held_N_;
+  if (held_N < config_.min_held_N) return force;
+  const double bound = std::max(config_.bound_ratio * held_N, held_N + config_.bound_margin_N);
+  const double norm = force.norm();
+  if (!(norm > bound)) return force;
+  ++late_model_caps_;
+  return force * (bound / norm);
+}
+
+void ResumeProxy::OnModelArrival(double interval_s) {
+  if (!(interval_s >= 0.0) || !std::isfinite(interval_s)) return;
+  longest_gap_s_ = std::max(interval_s, longest_gap_s_ * std::exp(-interval_s / 1.0));
 }
 
 void ResumeProxy::EndTick(const Eigen::Vector3d& commanded_W_N, const Eigen::Vector3d& p_W_m, bool whole_force,

@@ -34,6 +34,17 @@ struct ResumeProxyConfig {
   double damping_N_s_per_m = 20.0;
   double rejoin_m = 0.0002;       ///< the finger is back on its proxy within this
   double contact_end_N = 0.05;    ///< the model's force at the proxy below this: the contact ended
+  /// A force model late beyond its link's rhythm (the contact's service paused, datagrams lost)
+  /// is extrapolated no further than the bound of the force held before it was late: its
+  /// linearisation, taken where the fingers were, answers their motion since with up to twice its
+  /// force (kExtrapolationAllowance_N), a jolt in a stiff grip. The bound holds on for late_watch_s
+  /// after models are fresh again: the first ones after a paused contact service answer a patch
+  /// that missed its steps, in a stiff fold at 2.5x the hold. Late: older than late_model_s and
+  /// than late_factor x the longest gap between models of the last second or so (a jittery link's
+  /// own rhythm is no lateness).
+  double late_model_s = 0.0015;
+  double late_factor = 1.5;
+  double late_watch_s = 0.100;
 
   void Validate() const;
 };
@@ -76,6 +87,14 @@ class ResumeProxy {
   /// End of a tick: the force commanded and whether it was the whole force (no ramp, output on).
   void EndTick(const Eigen::Vector3d& commanded_W_N, const Eigen::Vector3d& p_W_m, bool whole_force, double dt_s);
 
+  /// While following, with the model `model_age_s` after its arrival: `force` within the bound
+  /// of the force held before the models were late, while late and late_watch_s after; unchanged
+  /// without a held contact. Counts the ticks it shortened.
+  Eigen::Vector3d CapLateModel(const Eigen::Vector3d& force, double model_age_s, double dt_s);
+  /// A model arrived `interval_s` after the one before: the link's rhythm.
+  void OnModelArrival(double interval_s);
+  std::uint64_t late_model_caps() const { return late_model_caps_; }
+
   Phase phase() const { return phase_; }
   /// True while the contact models get the proxy instead of the finger.
   bool constraining() const { return phase_ != Phase::kFollowing && proxy_active_; }
@@ -107,7 +126,11 @@ class ResumeProxy {
   double cut_s_ = 0.0, resumed_s_ = 0.0;
   double peak_since_cut_N_ = 0.0, asked_since_cut_N_ = 0.0;
   bool limited_since_cut_ = false;
-  std::uint64_t contacts_ended_ = 0, cuts_ = 0;
+  std::uint64_t contacts_ended_ = 0, cuts_ = 0, late_model_caps_ = 0;
+  bool late_ = false;
+  double longest_gap_s_ = 0.0;  ///< between models, decaying over about a second
+  double late_held_N_ = 0.0;
+  double late_watch_left_s_ = 0.0;
 };
 
 }  // namespace haptex::device

@@ -156,6 +156,28 @@ InProcessSystem::InProcessSystem(const scene::LoadedScene& scene, const LinkImpa
       std::make_unique<NodeOutbox>(this, std::vector<Link*>{global_to_local});
   // the launcher enables force once every service is up
   bridge_->OnControl(v1::Control::COMMAND_ENABLE_FORCE);
+  // the scene's pauses on purpose, as the launcher carries them out (tactile and the viewer are
+  // not simulated here)
+  for (const v1::Stall& stall : sc.stalls()) {
+    StallTarget target = StallTarget::kAll;
+    switch (stall.service()) {
+      case v1::ServicePlacement::SERVICE_MOCK_GRAB:
+        target = StallTarget::kMockGrab;
+        break;
+      case v1::ServicePlacement::SERVICE_DEVICE_BRIDGE:
+        target = StallTarget::kDeviceBridge;
+        break;
+      case v1::ServicePlacement::SERVICE_LOCAL_CONTACT:
+        target = StallTarget::kLocalContact;
+        break;
+      case v1::ServicePlacement::SERVICE_GLOBAL_SIM:
+        target = StallTarget::kGlobalSim;
+        break;
+      default:
+        if (!stall.all()) continue;
+    }
+    AddStall(Stall{target, stall.at_s(), stall.duration_s()});
+  }
 }
 
 InProcessSystem::~InProcessSystem() = default;

@@ -10,7 +10,10 @@ namespace {
 // I alone, then the static and dynamic state of each situation together (II/III, ..., VIII/IX)
 int Situation(contact::ContactState s) { return static_cast<int>(s) / 2; }
 
-// The largest swing of one component through zero within the window ending at each sample.
+// The largest swing of one component through zero within the window ending at each sample, from
+// at least kSideN one way to at least kSideN the other: a buzz, not a force that falls to zero (a
+// slip, a release) and overshoots by a trace.
+constexpr double kSideN = 0.25;
 class ReversalMeter {
  public:
   explicit ReversalMeter(std::size_t window_ticks) : window_ticks_(std::max<std::size_t>(window_ticks, 1)) {}
@@ -20,7 +23,7 @@ class ReversalMeter {
     for (int k = 0; k < 3; ++k) {
       const double now = f[k];
       for (const Eigen::Vector3d& before : history_) {
-        if ((before[k] > 0.0 && now < 0.0) || (before[k] < 0.0 && now > 0.0)) {
+        if ((before[k] >= kSideN && now <= -kSideN) || (before[k] <= -kSideN && now >= kSideN)) {
           largest_ = std::max(largest_, std::abs(before[k] - now));
         }
       }

@@ -35,7 +35,8 @@ struct FingerStallResponse {
   double held_N = 0.0;        ///< mean |F| over held_window_s before the stall
   double peak_after_N = 0.0;  ///< largest |F| while watched
   /// Largest swing of one component through zero within reversal_window_s while watched: from
-  /// a positive value to a negative one or back, the two magnitudes summed [N].
+  /// 0.25 N or more one way to 0.25 N or more the other, the two magnitudes summed [N] (a force
+  /// falling to zero, a slip or a release, is no reversal).
   double largest_reversal_N = 0.0;
   /// Largest change of one component from one 0.2 ms tick to the next while watched, between
   /// ticks that both have force (a cut to zero is immediate by design).

@@ -349,7 +349,7 @@ TEST(DeviceBridgeTest, ModelsSilentForAPauseCutThenResumeOverTheShortRamp) {
   EXPECT_EQ(bridge.dut().counters().tick_gap_disarms, 0u);
   bridge.ExpectRampsBackIn(config.safety.resume_ramp_s, 100);
   // a silence that keeps the force at zero for longer than resume_within_s: the start-up ramp
-  for (int k = 0; k < 100 + 300; ++k) bridge.Tick(kTick_s, 0.0, 0, /*model=*/false);  // 20 + 60 ms
+  for (int k = 0; k < 100 + 600; ++k) bridge.Tick(kTick_s, 0.0, 0, /*model=*/false);  // 20 + 120 ms
   EXPECT_EQ(bridge.dut().counters().stale_model_cuts, 2u);
   for (int k = 0; k < 100; ++k) last = bridge.Tick(kTick_s);
   EXPECT_NEAR(last, 2.0 * 100 * kTick_s / config.safety.startup_ramp_s, 1e-6);
@@ -456,9 +456,9 @@ TEST(DeviceBridgeTest, ControllerFlagsCutForceAndItRampsInFromZero) {
   run_armed();
   expect_cut_then_ramp(controller_flags::kHostTimeout, manipulator_flags::kCalibrated, 10, config.safety.resume_ramp_s,
                        "host timeout");
-  // a host timeout longer than resume_within_s (50 ms) ramps in over the start-up ramp
+  // a host timeout longer than resume_within_s (100 ms) ramps in over the start-up ramp
   run_armed();
-  expect_cut_then_ramp(controller_flags::kHostTimeout, manipulator_flags::kCalibrated, 300,
+  expect_cut_then_ramp(controller_flags::kHostTimeout, manipulator_flags::kCalibrated, 600,
                        config.safety.startup_ramp_s, "long host timeout");
 }
 

@@ -77,13 +77,9 @@ TEST(LaunchFiguresTest, PinchedStripFollowsTheFabricsTensileCurve) {
   const auto rms_percent = [](const pb::Struct& s) {
     return Number(Object(Object(Object(s, "plots"), "force_vs_elongation"), "measured"), "rms_percent_of_peak");
   };
-  // the figure needs an undisturbed pinch and pull (testing::StallCuts)
-  const double cuts = testing::StallCuts(testing::ReadText(run + "/summary.json"));
-  if ((LargestStrain(summary) <= 0.05 || rms_percent(summary) >= kRmsPercentBound) && cuts > 0) {
-    std::cout << "[host stall] the bridge cut the force " << cuts << " times (largest strain " << LargestStrain(summary)
-              << ", " << rms_percent(summary) << " % RMS from the curve): running the scene again\n";
-    summary = RunScene("pinch_strip", "10", &run);
-  }
+  // a host's pause cuts the force at most briefly: the pinch resumes at its proxies (docs/stalls.md)
+  std::cout << "[measured] largest strain " << LargestStrain(summary) << ", " << rms_percent(summary)
+            << " % RMS from the curve\n";
   EXPECT_TRUE(std::filesystem::exists(run + "/plots/force_vs_elongation.png"));
   const pb::Struct& m = Object(Object(Object(summary, "plots"), "force_vs_elongation"), "measured");
   EXPECT_NEAR(Number(m, "rest_length_m"), 0.046, 1e-6);

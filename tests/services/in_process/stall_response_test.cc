@@ -6,7 +6,10 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <algorithm>
 #include <iostream>
+#include <sstream>
 #include <string>
 
 #include "tests/support/test_paths.h"
@@ -92,7 +95,7 @@ TEST(PinchStallTest, TheModelsNeverSeeFingersThatPassedThroughTheCloth) {
 // force comes back over the start-up ramp, never above what the squeeze held.
 TEST(PinchStallTest, ALongPauseEndsTheContactAtZeroAndCountsIt) {
   InProcessSystem system(PinchScene(), LinkImpairments{});
-  system.AddStall(Stall{StallTarget::kDeviceBridge, kStallAt_s, 0.100});
+  system.AddStall(Stall{StallTarget::kDeviceBridge, kStallAt_s, 0.150});
   system.RunUntil(kStallAt_s);
   const double held_N = system.finger(0).commanded_N.norm();
   double peak_N = 0.0;
@@ -110,6 +113,68 @@ TEST(PinchStallTest, ALongPauseEndsTheContactAtZeroAndCountsIt) {
   EXPECT_TRUE(system.bridge().bridge().resumes()[0].ended);
 }
 
+// A contact service that stops (killed, or stopped for good): the bridge's watchdog takes the force
+// away 20 ms after its last model (10 ms fresh, 10 ms ramp), and it stays away.
+TEST(PinchStallTest, AStoppedContactServiceTakesTheForceAwayWithinTheModelLifetime) {
+  InProcessSystem system(PinchScene(), LinkImpairments{});
+  system.AddStall(Stall{StallTarget::kLocalContact, kStallAt_s, 1.0});
+  system.RunUntil(kStallAt_s);
+  ASSERT_GT(system.finger(0).commanded_N.norm(), 3.0) << "not squeezing: the test would prove nothing";
+  // the last model left local_contact at the stall's start; the mock takes the command a tick later
+  const double zero_by_s = kStallAt_s + device::kMaxForceModelSilence_s + 2 * system.dt_s();
+  double first_zero_s = -1.0;
+  while (system.t_s() < kStallAt_s + 1.0) {
+    system.Step();
+    const bool zero = system.finger(0).commanded_N.isZero(0.0) && system.finger(1).commanded_N.isZero(0.0);
+    if (zero && first_zero_s < 0.0) first_zero_s = system.t_s();
+    if (system.t_s() >= zero_by_s) {
+      ASSERT_TRUE(zero) << "force at " << system.t_s() << " s";
+    }
+  }
+  std::cout << "[measured] force zero " << (first_zero_s - kStallAt_s) * 1e3 << " ms after the last model\n";
+}
+
+// A bridge that stops: the controller's host timeout takes the force away 5 ms after the last
+// command, and it stays away.
+TEST(PinchStallTest, AStoppedBridgeLeavesTheDeviceAtZeroWithinTheHostTimeout) {
+  InProcessSystem system(PinchScene(), LinkImpairments{});
+  system.AddStall(Stall{StallTarget::kDeviceBridge, kStallAt_s, 1.0});
+  system.RunUntil(kStallAt_s);
+  ASSERT_GT(system.finger(0).commanded_N.norm(), 3.0) << "not squeezing: the test would prove nothing";
+  const double zero_by_s = kStallAt_s + device::MockControllerConfig{}.host_timeout_s + system.dt_s();
+  while (system.t_s() < kStallAt_s + 1.0) {
+    system.Step();
+    if (system.t_s() >= zero_by_s) {
+      ASSERT_TRUE(system.finger(0).commanded_N.isZero(0.0) && system.finger(1).commanded_N.isZero(0.0))
+          << "force at " << system.t_s() << " s";
+    }
+  }
+}
+
+// The fold (launch/scenes/fold.textproto): the pinch holds through the fold, the index alone then
+// holds the folded fabric, and the run ends at zero force.
+TEST(FoldInProcessTest, PinchHeldThroughTheFoldThenOneFinger) {
+  static const scene::LoadedScene fold =
+      scene::LoadScene(haptex::testing::SourceDir() + "/launch/scenes/fold.textproto",
+                       scene::FabricDatabase(haptex::testing::SourceDir() + "/data/fabrics"));
+  InProcessSystem system(fold, LinkImpairments{});
+  double peak_N = 0.0;
+  while (system.t_s() < fold.scene.duration_s()) {
+    system.Step();
+    peak_N = std::max({peak_N, system.finger(0).commanded_N.norm(), system.finger(1).commanded_N.norm()});
+  }
+  const auto& ticks = system.local_contact().counters().state_ticks;
+  const auto count = [&](contact::ContactState s) { return ticks[static_cast<std::size_t>(s) - 1]; };
+  const std::uint64_t pinched = count(contact::ContactState::kVIII) + count(contact::ContactState::kIX);
+  const std::uint64_t one_finger = count(contact::ContactState::kIV) + count(contact::ContactState::kV);
+  std::cout << "[measured] fold: pinched " << pinched << " ticks, one finger " << one_finger << ", peak " << peak_N
+            << " N\n";
+  // 1 kHz ticks: the fold and its hold take about 1.9 s; the let-go's hold 0.5 s and more
+  EXPECT_GT(pinched, 1500u);
+  EXPECT_GT(one_finger, 500u);
+  EXPECT_LT(peak_N, 10.0);
+}
+
 TEST(PinchStallTest, StallsAreExactlyRepeatable) {
   const Stall stall{StallTarget::kLocalContact, kStallAt_s, 0.020};
   StallResponseOptions options;
@@ -117,6 +182,20 @@ TEST(PinchStallTest, StallsAreExactlyRepeatable) {
   const StallResponse a = MeasureStall(PinchScene(), stall, options), b = MeasureStall(PinchScene(), stall, options);
   EXPECT_EQ(a.fingers[0].peak_after_N, b.fingers[0].peak_after_N);
   EXPECT_EQ(a.held_again_after_s, b.held_again_after_s);
+}
+
+// A scene's stalls pause the services in process as `haptex launch` pauses their processes.
+TEST(InProcessSystemStallTest, TheScenesStallsArePlayed) {
+  std::ifstream file(haptex::testing::SourceDir() + "/launch/scenes/pinch_stretch.textproto");
+  std::stringstream text;
+  text << file.rdbuf() << "stalls { service: SERVICE_DEVICE_BRIDGE at_s: 4.5 duration_s: 0.03 }\n";
+  const scene::LoadedScene scene = scene::ParseScene(
+      text.str(), "pinch_stretch_stalled", scene::FabricDatabase(haptex::testing::SourceDir() + "/data/fabrics"));
+  InProcessSystem system(scene, LinkImpairments{});
+  system.RunUntil(4.7);
+  const device::BridgeCounters& c = system.bridge().bridge().counters();
+  EXPECT_EQ(c.held_cuts_by_cause[static_cast<std::size_t>(device::CutCause::kBridgeStall)], 2u);
+  EXPECT_EQ(system.mock().controller().counters().host_timeouts, 1u);
 }
 
 TEST(InProcessSystemStallTest, RefusesANegativeOrNonFiniteStall) {
