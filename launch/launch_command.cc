@@ -443,7 +443,10 @@ int Launch(const LaunchOptions& o) {
     // each resume after a cut whose force the bound held down, and each contact a cut ended
     std::vector<const v1::ForceResume*> resumes;
     for (const v1::ForceResume& r : s.last_health->resumes()) {
-      if (r.number() != 0 && (r.limited() || r.ended())) resumes.push_back(&r);
+      // (a zero the launcher held, at a restart or the run's end, is its own doing: not noted)
+      if (r.number() != 0 && (r.limited() || r.ended()) && r.cause() != v1::ForceResume::CAUSE_HELD_OFF) {
+        resumes.push_back(&r);
+      }
     }
     std::sort(resumes.begin(), resumes.end(), [](auto* a, auto* b) { return a->number() < b->number(); });
     for (const v1::ForceResume* r : resumes) {

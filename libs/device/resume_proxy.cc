@@ -25,6 +25,7 @@ void ResumeProxyConfig::Validate() const {
   Require(bound_ratio >= 1.0 && std::isfinite(bound_ratio), "bound_ratio", "must be >= 1", bound_ratio);
   Require(NonNegativeFinite(bound_margin_N), "bound_margin_N", "must be >= 0 N", bound_margin_N);
   Require(NonNegativeFinite(watch_s), "watch_s", "must be >= 0 s", watch_s);
+  Require(NonNegativeFinite(bound_rise_N_per_s), "bound_rise_N_per_s", "must be >= 0 N/s", bound_rise_N_per_s);
   Require(NonNegativeFinite(spring_N_per_m), "spring_N_per_m", "must be >= 0 N/m", spring_N_per_m);
   Require(NonNegativeFinite(damping_N_s_per_m), "damping_N_s_per_m", "must be >= 0 N s/m", damping_N_s_per_m);
   Require(NonNegativeFinite(rejoin_m), "rejoin_m", "must be >= 0 m", rejoin_m);
@@ -66,7 +67,8 @@ ResumeProxy::ResumeProxy(const ResumeProxyConfig& config, double max_cut_s) : co
 }
 
 double ResumeProxy::bound_N() const {
-  return std::max(config_.bound_ratio * held_N_, held_N_ + config_.bound_margin_N);
+  const double rise_N = rejoined_s_ > 0.0 ? config_.bound_rise_N_per_s * rejoined_s_ : 0.0;
+  return std::max(config_.bound_ratio * held_N_, held_N_ + config_.bound_margin_N) + rise_N;
 }
 
 void ResumeProxy::EndContact() {
@@ -88,6 +90,7 @@ bool ResumeProxy::BeginTick(bool cut, const Eigen::Vector3d& p_W_m, double dt_s)
       inward_W_ = -last_whole_W_N_.normalized();
       phase_ = Phase::kCut;
       proxy_active_ = true;
+      rejoined_s_ = -1.0;
       // a cut noticed after a stall of our own lasted up to this tick's period
       cut_s_ = dt_s;
       peak_since_cut_N_ = asked_since_cut_N_ = 0.0;
@@ -98,6 +101,10 @@ bool ResumeProxy::BeginTick(bool cut, const Eigen::Vector3d& p_W_m, double dt_s)
         EndContact();
       }
       return true;
+    }
+    if (phase_ == Phase::kResuming) {  // cut again before the return was over: the proxy holds again
+      proxy_active_ = true;
+      rejoined_s_ = -1.0;
     }
     phase_ = Phase::kCut;
     cut_s_ += dt_s;
@@ -112,6 +119,7 @@ bool ResumeProxy::BeginTick(bool cut, const Eigen::Vector3d& p_W_m, double dt_s)
     resumed_s_ = 0.0;
   } else if (phase_ == Phase::kResuming) {
     resumed_s_ += dt_s;
+    if (!proxy_active_) rejoined_s_ = std::max(rejoined_s_, 0.0) + dt_s;
     if (resumed_s_ >= config_.watch_s) EndContact();
   }
   return false;

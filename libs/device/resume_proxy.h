@@ -26,6 +26,10 @@ struct ResumeProxyConfig {
   double bound_ratio = 1.1;       ///< the force after a cut never exceeds max(ratio x held,
   double bound_margin_N = 0.3;    ///< held + margin)
   double watch_s = 1.0;           ///< the bound holds this long after the force returns
+  /// Once the finger is back on the surface the bound rises by this [N/s]: a user who squeezes
+  /// harder than before the cut (the cut came while the grip was building up) feels the force
+  /// follow smoothly instead of a flat cap that lets the fingers sink through the cloth.
+  double bound_rise_N_per_s = 0.0;
   /// The return spring [N/m] and its damping [N s/m] from the finger to its proxy: 5 mm past the
   /// surface is 5 N, which the bound then holds to; the damping keeps the return from overshooting
   /// the surface (a 0.1 kg fingertip on the user's 300 N/m grip and this spring is critically
@@ -123,7 +127,7 @@ class ResumeProxy {
   Eigen::Vector3d last_whole_p_W_m_{Eigen::Vector3d::Zero()};
   bool has_whole_ = false;
   bool proxy_active_ = false;
-  double cut_s_ = 0.0, resumed_s_ = 0.0;
+  double cut_s_ = 0.0, resumed_s_ = 0.0, rejoined_s_ = -1.0;  // rejoined: since the finger is back (< 0: not)
   double peak_since_cut_N_ = 0.0, asked_since_cut_N_ = 0.0;
   bool limited_since_cut_ = false;
   std::uint64_t contacts_ended_ = 0, cuts_ = 0, late_model_caps_ = 0;
