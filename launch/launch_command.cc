@@ -453,10 +453,10 @@ int Launch(const LaunchOptions& o) {
       const std::string cause = v1::ForceResume::Cause_Name(r->cause());
       std::cout << "note: " << Spec(s.placed.service.kind).name << ": " << (r->finger_slot() == 0 ? "thumb" : "index")
                 << " force cut at " << r->cut_at_s() << " s (" << cause.substr(cause.find('_') + 1) << ") "
-                << (r->ended() ? "for too long: the contact ended at zero force"
-                               : "resumed within its bound: asked " + std::to_string(r->asked_n()) + " N, gave " +
-                                     std::to_string(r->peak_n()) + " N, held " + std::to_string(r->held_n()) +
-                                     " N before")
+                << (r->ended()
+                        ? "for too long: the contact ended at zero force"
+                        : "resumed within its bound: asked " + std::to_string(r->asked_n()) + " N, gave " +
+                              std::to_string(r->peak_n()) + " N, held " + std::to_string(r->held_n()) + " N before")
                 << "\n";
     }
   }

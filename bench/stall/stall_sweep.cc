@@ -66,7 +66,8 @@ int main(int argc, char** argv) {
   std::string trace_dir;
   CLI::App app{"Pauses of the host against a held contact, every service loop in one process"};
   app.add_option("--case", case_texts, "NAME=SCENE@AT_S: the stall starts AT_S into SCENE (repeat the flag)");
-  app.add_option("--pause-ms", pauses_ms, "pause lengths [ms] (repeat the flag; 0: no pause, the reference)")->check(CLI::Range(0.0, 10000.0));
+  app.add_option("--pause-ms", pauses_ms, "pause lengths [ms] (repeat the flag; 0: no pause, the reference)")
+      ->check(CLI::Range(0.0, 10000.0));
   app.add_option("--target", target_names, "what pauses (repeat the flag)")
       ->check(CLI::IsMember({"mock_grab", "device_bridge", "local_contact", "global_sim", "all"}));
   app.add_option("--trace-dir", trace_dir, "write each setting's force trace here as CSV");
@@ -105,14 +106,13 @@ int main(int argc, char** argv) {
           std::snprintf(held_again, sizeof held_again, "%s",
                         r.state_before != haptex::contact::ContactState::kI ? "not in 1 s" : "(no contact)");
         }
-        std::printf("| %s | %s | %g | %.2f / %.2f | %.2f | %s | %.2f | %llu / %llu / %llu / %llu / %llu |\n",
-                    c.name.c_str(), target.c_str(), pause_ms, f[0].held_N, f[1].held_N, r.worst_peak_over_bound,
-                    held_again, std::max(f[0].largest_reversal_N, f[1].largest_reversal_N),
-                    static_cast<unsigned long long>(r.tick_gap_disarms),
-                    static_cast<unsigned long long>(r.tick_gaps_held),
-                    static_cast<unsigned long long>(r.stale_model_cuts),
-                    static_cast<unsigned long long>(r.host_timeouts),
-                    static_cast<unsigned long long>(r.device_lost_events));
+        std::printf(
+            "| %s | %s | %g | %.2f / %.2f | %.2f | %s | %.2f | %llu / %llu / %llu / %llu / %llu |\n", c.name.c_str(),
+            target.c_str(), pause_ms, f[0].held_N, f[1].held_N, r.worst_peak_over_bound, held_again,
+            std::max(f[0].largest_reversal_N, f[1].largest_reversal_N),
+            static_cast<unsigned long long>(r.tick_gap_disarms), static_cast<unsigned long long>(r.tick_gaps_held),
+            static_cast<unsigned long long>(r.stale_model_cuts), static_cast<unsigned long long>(r.host_timeouts),
+            static_cast<unsigned long long>(r.device_lost_events));
         std::fflush(stdout);
         if (!trace_dir.empty()) {
           std::ofstream csv(trace_dir + "/" + c.name + "_" + target + "_" + std::to_string(static_cast<int>(pause_ms)) +

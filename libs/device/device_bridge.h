@@ -196,7 +196,10 @@ class DeviceBridge {
 
   struct Finger {
     explicit Finger(const DeviceBridgeConfig& c)
-        : estimator(c.estimator), safety(c.safety), passivity(c.passivity), resume(c.resume, c.safety.resume_within_s) {}
+        : estimator(c.estimator),
+          safety(c.safety),
+          passivity(c.passivity),
+          resume(c.resume, c.safety.resume_within_s) {}
     FingerStateEstimator estimator;
     ForceSafety safety;
     PassivityController passivity;

@@ -25,7 +25,7 @@ void ResumeProxyConfig::Validate() const {
   Require(bound_ratio >= 1.0 && std::isfinite(bound_ratio), "bound_ratio", "must be >= 1", bound_ratio);
   Require(NonNegativeFinite(bound_margin_N), "bound_margin_N", "must be >= 0 N", bound_margin_N);
   Require(NonNegativeFinite(watch_s), "watch_s", "must be >= 0 s", watch_s);
-  Require(NonNegativeFinite(bound_rise_N_per_s), "bound_rise_N_per_s", "must be >= 0 N/s", bound_rise_N_per_s);
+  Require(NonNegativeFinite(settle_s), "settle_s", "must be >= 0 s", settle_s);
   Require(NonNegativeFinite(spring_N_per_m), "spring_N_per_m", "must be >= 0 N/m", spring_N_per_m);
   Require(NonNegativeFinite(damping_N_s_per_m), "damping_N_s_per_m", "must be >= 0 N s/m", damping_N_s_per_m);
   Require(NonNegativeFinite(rejoin_m), "rejoin_m", "must be >= 0 m", rejoin_m);
@@ -67,8 +67,7 @@ ResumeProxy::ResumeProxy(const ResumeProxyConfig& config, double max_cut_s) : co
 }
 
 double ResumeProxy::bound_N() const {
-  const double rise_N = rejoined_s_ > 0.0 ? config_.bound_rise_N_per_s * rejoined_s_ : 0.0;
-  return std::max(config_.bound_ratio * held_N_, held_N_ + config_.bound_margin_N) + rise_N;
+  return std::max(config_.bound_ratio * held_N_, held_N_ + config_.bound_margin_N);
 }
 
 void ResumeProxy::EndContact() {
@@ -120,7 +119,7 @@ bool ResumeProxy::BeginTick(bool cut, const Eigen::Vector3d& p_W_m, double dt_s)
   } else if (phase_ == Phase::kResuming) {
     resumed_s_ += dt_s;
     if (!proxy_active_) rejoined_s_ = std::max(rejoined_s_, 0.0) + dt_s;
-    if (resumed_s_ >= config_.watch_s) EndContact();
+    if (resumed_s_ >= config_.watch_s || rejoined_s_ >= config_.settle_s) EndContact();
   }
   return false;
 }
@@ -160,6 +159,7 @@ Eigen::Vector3d ResumeProxy::Shape(const Eigen::Vector3d& model_at_proxy_W_N, co
 }
 
 Eigen::Vector3d ResumeProxy::CapLateModel(const Eigen::Vector3d& force, double model_age_s, double dt_s) {
+  if (!config_.cap_late_models) return force;
   const bool late = model_age_s > std::max(config_.late_model_s, config_.late_factor * longest_gap_s_);
   if (late && !late_) late_held_N_ = window_.Mean();  // what the hand held before
   if (late) late_watch_left_s_ = config_.late_watch_s;

@@ -10,7 +10,8 @@
 // plus a damped spring that pulls the finger back to it, never more than max(1.1 x held,
 // held + 0.3 N) and never pulling. The proxy follows the finger wherever it moves away from the
 // surface; once the finger is back on it, the proxy is the finger again. The cap holds for
-// watch_s after the force returns, or until the contact ends. A cut longer than the safety stage's
+// settle_s after the finger is back on the surface (watch_s after the force returns at most), or
+// until the contact ends. A cut longer than the safety stage's
 // resume_within_s ends the contact: no proxy, and the start-up ramp.
 
 #include <Eigen/Core>
@@ -21,23 +22,23 @@
 namespace haptex::device {
 
 struct ResumeProxyConfig {
-  double held_window_s = 0.100;   ///< the force held: its mean magnitude over this long before a cut
-  double min_held_N = 0.3;        ///< a smaller force is no held contact: nothing to resume
-  double bound_ratio = 1.1;       ///< the force after a cut never exceeds max(ratio x held,
-  double bound_margin_N = 0.3;    ///< held + margin)
-  double watch_s = 1.0;           ///< the bound holds this long after the force returns
-  /// Once the finger is back on the surface the bound rises by this [N/s]: a user who squeezes
-  /// harder than before the cut (the cut came while the grip was building up) feels the force
-  /// follow smoothly instead of a flat cap that lets the fingers sink through the cloth.
-  double bound_rise_N_per_s = 0.0;
+  double held_window_s = 0.100;  ///< the force held: its mean magnitude over this long before a cut
+  double min_held_N = 0.3;       ///< a smaller force is no held contact: nothing to resume
+  double bound_ratio = 1.1;      ///< the force after a cut never exceeds max(ratio x held,
+  double bound_margin_N = 0.3;   ///< held + margin)
+  double watch_s = 1.0;          ///< the bound holds this long after the force returns
+  /// The bound holds this long after the finger is back on the surface (and at most watch_s): a
+  /// flat cap held on longer caught a user whose grip was still building up when the cut came
+  /// (a squeeze above the cap let the fingers sink through the cloth in an impaired run).
+  double settle_s = 0.100;
   /// The return spring [N/m] and its damping [N s/m] from the finger to its proxy: 5 mm past the
   /// surface is 5 N, which the bound then holds to; the damping keeps the return from overshooting
   /// the surface (a 0.1 kg fingertip on the user's 300 N/m grip and this spring is critically
   /// damped near 2 sqrt(k m) = 20 N s/m).
   double spring_N_per_m = 1000.0;
   double damping_N_s_per_m = 20.0;
-  double rejoin_m = 0.0002;       ///< the finger is back on its proxy within this
-  double contact_end_N = 0.05;    ///< the model's force at the proxy below this: the contact ended
+  double rejoin_m = 0.0002;     ///< the finger is back on its proxy within this
+  double contact_end_N = 0.05;  ///< the model's force at the proxy below this: the contact ended
   /// A force model late beyond its link's rhythm (the contact's service paused, datagrams lost)
   /// is extrapolated no further than the bound of the force held before it was late: its
   /// linearisation, taken where the fingers were, answers their motion since with up to twice its
@@ -46,6 +47,9 @@ struct ResumeProxyConfig {
   /// that missed its steps, in a stiff fold at 2.5x the hold. Late: older than late_model_s and
   /// than late_factor x the longest gap between models of the last second or so (a jittery link's
   /// own rhythm is no lateness).
+  /// Off by default: during a grip that is building up, a late model's cap held the force at the
+  /// level before while the squeeze went on, and the fingers closed through the strip (Fig. 10).
+  bool cap_late_models = false;
   double late_model_s = 0.0015;
   double late_factor = 1.5;
   double late_watch_s = 0.100;

@@ -58,7 +58,8 @@ BridgeLoop::BridgeLoop(const BridgeLoopConfig& config, const BridgePeers& peers,
   ids_.host_timeout_cuts = health_->AddCounter("host_timeout_cuts");
   // cuts of a held contact by cause, and how their resumes went (docs/grab-protocol.md)
   ids_.held_cuts = health_->AddCounterPerReason<device::CutCause, device::kCutCauseCount + 1>(
-      "held_cuts_", [](device::CutCause c) { return device::CutCauseName(static_cast<device::CutCause>(static_cast<int>(c) - 1)); });
+      "held_cuts_",
+      [](device::CutCause c) { return device::CutCauseName(static_cast<device::CutCause>(static_cast<int>(c) - 1)); });
   ids_.resumes_limited = health_->AddCounter("resumes_limited");
   ids_.contacts_ended = health_->AddCounter("contacts_ended");
   for (std::size_t i = 0; i < device::kResumeHistory; ++i) health_->mutable_resumes()->Add();

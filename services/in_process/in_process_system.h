@@ -129,9 +129,9 @@ class InProcessSystem final {
   std::array<FingerSample, 2> fingers_{};
   std::array<double, 2> energy_J_{};
   std::vector<Stall> stalls_;
-  std::vector<QueuedStatus> status_queue_;  // to a paused bridge
+  std::vector<QueuedStatus> status_queue_;                                       // to a paused bridge
   std::vector<std::array<std::byte, device::kCommandFrameSize>> command_queue_;  // to a paused mock
-  double mock_simulated_to_s_ = 0.0;  // the mock's world has run up to here
+  double mock_simulated_to_s_ = 0.0;                                             // the mock's world has run up to here
   std::uint64_t bridge_last_step_ = 0;
   bool bridge_ran_ = false, local_was_paused_ = false, global_was_paused_ = false;
 };

@@ -121,7 +121,8 @@ StallResponse MeasureStall(const scene::LoadedScene& scene, const Stall& stall, 
     }
   }
   for (const FingerStallResponse& f : r.fingers) {
-    if (f.held_N >= 0.5) r.worst_peak_over_bound = std::max(r.worst_peak_over_bound, f.peak_after_N / ResumeBoundN(f.held_N));
+    if (f.held_N >= 0.5)
+      r.worst_peak_over_bound = std::max(r.worst_peak_over_bound, f.peak_after_N / ResumeBoundN(f.held_N));
   }
   const device::DeviceBridge& bridge = system.bridge().bridge();
   r.tick_gap_disarms = bridge.counters().tick_gap_disarms;

@@ -46,7 +46,7 @@ struct FingerStallResponse {
 struct StallResponse {
   std::array<FingerStallResponse, 2> fingers{};
   contact::ContactState state_before = contact::ContactState::kI;  ///< when the stall began
-  bool pinched_before = false;                                    ///< VIII or IX when the stall began
+  bool pinched_before = false;                                     ///< VIII or IX when the stall began
   /// From the stall's end to the start of the first hold_confirm_s in the situation of before (VIII
   /// or IX for a pinch; I is none) at the force held (infinity: not within watch_after_s).
   double held_again_after_s = std::numeric_limits<double>::infinity();

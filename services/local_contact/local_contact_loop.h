@@ -60,7 +60,9 @@ class LocalContactLoop final {
   /// The patch being rendered (null before the first).
   const dual_layer::LocalPatch* patch() const { return patch_.get(); }
   /// The contact state of the last tick with a patch (I before any).
-  contact::ContactState contact_state() const { return contact_ != nullptr ? contact_->state : contact::ContactState::kI; }
+  contact::ContactState contact_state() const {
+    return contact_ != nullptr ? contact_->state : contact::ContactState::kI;
+  }
 
   struct Counters {
     std::uint64_t force_models_sent = 0, patches_received = 0, patches_dropped_busy = 0, patches_rejected = 0,

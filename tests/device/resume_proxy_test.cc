@@ -50,17 +50,17 @@ TEST(ResumeProxyTest, AFingerThatPassedTheSurfaceIsRenderedOnItAndPushedBackWith
   EXPECT_LT(F.x(), 0.0) << "pushes the finger out";
   EXPECT_TRUE(proxy.limited_since_cut());
   // never pulls, however fast the finger comes out
-  const Eigen::Vector3d out = proxy.Shape(Eigen::Vector3d(-0.1, 0.0, 0.0), Eigen::Vector3d(0.0005, 0.0, 0.0),
-                                          Eigen::Vector3d(-5.0, 0.0, 0.0));
+  const Eigen::Vector3d out =
+      proxy.Shape(Eigen::Vector3d(-0.1, 0.0, 0.0), Eigen::Vector3d(0.0005, 0.0, 0.0), Eigen::Vector3d(-5.0, 0.0, 0.0));
   EXPECT_LE(out.x(), 0.0);
   // back on the surface: the proxy is the finger again, the bound still holds for the watch
   proxy.Shape(Eigen::Vector3d(-2.0, 0.0, 0.0), Eigen::Vector3d(0.0001, 0.0, 0.0), Eigen::Vector3d::Zero());
   EXPECT_FALSE(proxy.constraining());
-  EXPECT_NEAR(proxy.Shape(Eigen::Vector3d(-9.0, 0.0, 0.0), Eigen::Vector3d(0.0001, 0.0, 0.0), Eigen::Vector3d::Zero())
-                  .norm(),
-              2.3, 1e-9);
-  // until the watch is over
-  for (int k = 0; k < 5001; ++k) proxy.BeginTick(false, Eigen::Vector3d::Zero(), kTick_s);
+  EXPECT_NEAR(
+      proxy.Shape(Eigen::Vector3d(-9.0, 0.0, 0.0), Eigen::Vector3d(0.0001, 0.0, 0.0), Eigen::Vector3d::Zero()).norm(),
+      2.3, 1e-9);
+  // until the finger has been back for settle_s
+  for (int k = 0; k < 501; ++k) proxy.BeginTick(false, Eigen::Vector3d::Zero(), kTick_s);
   EXPECT_EQ(proxy.phase(), ResumeProxy::Phase::kFollowing);
   EXPECT_NEAR(proxy.Shape(Eigen::Vector3d(-9.0, 0.0, 0.0), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()).norm(),
               9.0, 1e-9);
@@ -86,6 +86,13 @@ TEST(ResumeProxyTest, ACutLongerThanTheResumeWindowEndsTheContact) {
   EXPECT_FALSE(proxy.constraining());
 }
 
+TEST(ResumeProxyTest, LateModelsAreNotCappedUnlessAsked) {
+  ResumeProxy proxy(ResumeProxyConfig{}, 0.1);
+  Hold(proxy, 2.0, 0.2);
+  const Eigen::Vector3d big(-5.0, 0.0, 0.0);
+  EXPECT_EQ(proxy.CapLateModel(big, 0.010, kTick_s), big);
+}
+
 TEST(ResumeProxyTest, NoHeldContactNothingToResume) {
   ResumeProxy proxy(ResumeProxyConfig{}, 0.1);
   Hold(proxy, 0.1, 0.2);  // below min_held_N
@@ -94,7 +101,9 @@ TEST(ResumeProxyTest, NoHeldContactNothingToResume) {
 }
 
 TEST(ResumeProxyTest, ALateModelIsHeldToTheBoundUntilItsWatchIsOver) {
-  ResumeProxy proxy(ResumeProxyConfig{}, 0.1);
+  ResumeProxyConfig config;
+  config.cap_late_models = true;
+  ResumeProxy proxy(config, 0.1);
   for (int k = 0; k < 100; ++k) proxy.OnModelArrival(0.001);
   Hold(proxy, 2.0, 0.2);
   const Eigen::Vector3d big(-5.0, 0.0, 0.0);

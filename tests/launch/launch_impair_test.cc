@@ -13,8 +13,8 @@
 #include <iostream>
 
 #include "launch/relay_report_reader.h"
-#include "libs/device/force_safety.h"
 #include "libs/base/clock.h"
+#include "libs/device/force_safety.h"
 #include "tests/launch/launch_test_support.h"
 #include "tests/support/subprocess.h"
 #include "tests/support/summary_json.h"

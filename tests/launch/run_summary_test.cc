@@ -183,8 +183,9 @@ TEST(LaunchRunSummaryTest, StallsSectionHasPlannedAndActualPerStall) {
   const std::string json = SummaryJson(run, {}, RecordingAnalysis{}, std::nullopt, {});
   EXPECT_THAT(json, HasSubstr(R"("stalls":[{"target":"local_contact","source":"--stall","started_here":true,)"
                               R"("at_s":1.5,"started_s":1.502,"duration_s":0.1,"paused_s":0.1013,"pids":[4242]},)"));
-  EXPECT_THAT(json, HasSubstr(R"({"target":"all","source":"scene","started_here":true,"at_s":60,"started_s":null,)"
-                              R"("duration_s":0.03,"paused_s":null,"pids":[],"note":"the run ended before its time"})"));
+  EXPECT_THAT(json,
+              HasSubstr(R"({"target":"all","source":"scene","started_here":true,"at_s":60,"started_s":null,)"
+                        R"("duration_s":0.03,"paused_s":null,"pids":[],"note":"the run ended before its time"})"));
   EXPECT_THAT(json, HasSubstr(R"("started_here":false,"at_s":1.5,"started_s":null,"duration_s":0.1,"paused_s":null,)"
                               R"("pids":[],"note":"local_contact runs on host compute)"));
 }

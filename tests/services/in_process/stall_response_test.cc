@@ -6,8 +6,8 @@
 
 #include <gtest/gtest.h>
 
-#include <fstream>
 #include <algorithm>
+#include <fstream>
 #include <iostream>
 #include <sstream>
 #include <string>
@@ -54,17 +54,19 @@ TEST_P(PinchStallTest, ResumesWithinTheBoundAndHoldsAgain) {
   EXPECT_LT(r.held_again_after_s, 0.100);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Pauses, PinchStallTest,
-    ::testing::Values(StallCase{"device_bridge_5ms", StallTarget::kDeviceBridge, 5.0},
-                      StallCase{"device_bridge_10ms", StallTarget::kDeviceBridge, 10.0},
-                      StallCase{"device_bridge_30ms", StallTarget::kDeviceBridge, 30.0},
-                      StallCase{"local_contact_10ms", StallTarget::kLocalContact, 10.0},
-                      StallCase{"local_contact_30ms", StallTarget::kLocalContact, 30.0},
-                      StallCase{"global_sim_30ms", StallTarget::kGlobalSim, 30.0},
-                      StallCase{"mock_grab_30ms", StallTarget::kMockGrab, 30.0},
-                      StallCase{"all_10ms", StallTarget::kAll, 10.0}, StallCase{"all_30ms", StallTarget::kAll, 30.0}),
-    [](const ::testing::TestParamInfo<StallCase>& param) { return std::string(param.param.name); });
+INSTANTIATE_TEST_SUITE_P(Pauses, PinchStallTest,
+                         ::testing::Values(StallCase{"device_bridge_5ms", StallTarget::kDeviceBridge, 5.0},
+                                           StallCase{"device_bridge_10ms", StallTarget::kDeviceBridge, 10.0},
+                                           StallCase{"device_bridge_30ms", StallTarget::kDeviceBridge, 30.0},
+                                           StallCase{"local_contact_10ms", StallTarget::kLocalContact, 10.0},
+                                           StallCase{"local_contact_30ms", StallTarget::kLocalContact, 30.0},
+                                           StallCase{"global_sim_30ms", StallTarget::kGlobalSim, 30.0},
+                                           StallCase{"mock_grab_30ms", StallTarget::kMockGrab, 30.0},
+                                           StallCase{"all_10ms", StallTarget::kAll, 10.0},
+                                           StallCase{"all_30ms", StallTarget::kAll, 30.0}),
+                         [](const ::testing::TestParamInfo<StallCase>& param) {
+                           return std::string(param.param.name);
+                         });
 
 // A bridge paused 30 ms: the controller cut the force after 5 ms and the squeezing fingers closed
 // past each other; the contact models never saw them there (the proxies stayed on the cloth).
@@ -79,11 +81,13 @@ TEST(PinchStallTest, TheModelsNeverSeeFingersThatPassedThroughTheCloth) {
     smallest_device_gap_m =
         std::min(smallest_device_gap_m, system.finger(0).position_m.y() - system.finger(1).position_m.y());
     const device::DeviceBridge& bridge = system.bridge().bridge();
-    smallest_model_gap_m = std::min(smallest_model_gap_m, bridge.model_finger_state(device::Manipulator::kThumb).p_W_m.y() -
-                                                              bridge.model_finger_state(device::Manipulator::kIndex).p_W_m.y());
+    smallest_model_gap_m =
+        std::min(smallest_model_gap_m, bridge.model_finger_state(device::Manipulator::kThumb).p_W_m.y() -
+                                           bridge.model_finger_state(device::Manipulator::kIndex).p_W_m.y());
   }
-  std::cout << "[measured] fingers " << held_gap_m * 1e3 << " mm apart when held; closest " << smallest_device_gap_m * 1e3
-            << " mm on the device, " << smallest_model_gap_m * 1e3 << " mm in the models\n";
+  std::cout << "[measured] fingers " << held_gap_m * 1e3 << " mm apart when held; closest "
+            << smallest_device_gap_m * 1e3 << " mm on the device, " << smallest_model_gap_m * 1e3
+            << " mm in the models\n";
   ASSERT_LT(smallest_device_gap_m, 0.0) << "the fingers did not pass each other: the test would prove nothing";
   EXPECT_GT(smallest_model_gap_m, held_gap_m - 0.0005);
   const device::BridgeCounters& c = system.bridge().bridge().counters();
