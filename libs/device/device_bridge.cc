@@ -308,6 +308,7 @@ void DeviceBridge::Tick(double t_s, double dt_s, std::span<std::byte, kCommandFr
     // to the surface is bounded by the resume's own limit instead, and damped by the proxy's spring
     if (constrained && !finger.resume.constraining()) finger.passivity.Reset();  // back on the surface
     if (!constrained) input.requested_W_N = finger.passivity.Adjust(input.requested_W_N, v_W, dt_s);
+    input.requested_W_N = finger.resume.ClampToBound(input.requested_W_N);
     const std::uint64_t watchdog_zeros = finger.safety.counters().watchdog_zero_steps;
     const SafetyOutput result = finger.safety.Step(input, dt_s);
     stale_cut |= finger.has_model && input.output_allowed && !link_too_slow_ &&

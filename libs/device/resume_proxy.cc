@@ -175,6 +175,14 @@ Eigen::Vector3d ResumeProxy::CapLateModel(const Eigen::Vector3d& force, double m
   return force * (bound / norm);
 }
 
+Eigen::Vector3d ResumeProxy::ClampToBound(const Eigen::Vector3d& force) {
+  if (phase_ == Phase::kFollowing) return force;
+  const double bound = bound_N(), norm = force.norm();
+  if (!(norm > bound)) return force;
+  limited_since_cut_ = true;
+  return force * (bound / norm);
+}
+
 void ResumeProxy::OnModelArrival(double interval_s) {
   if (!(interval_s >= 0.0) || !std::isfinite(interval_s)) return;
   longest_gap_s_ = std::max(interval_s, longest_gap_s_ * std::exp(-interval_s / 1.0));

@@ -92,6 +92,9 @@ class ResumeProxy {
   /// side, within the bound. Sets limited() when the bound cut it down.
   Eigen::Vector3d Shape(const Eigen::Vector3d& model_at_proxy_W_N, const Eigen::Vector3d& p_W_m,
                         const Eigen::Vector3d& v_W_m_per_s);
+  /// `force` within the bound while a resume is under way (after anything added to the shaped
+  /// force, the passivity controller's damping among it); unchanged while following.
+  Eigen::Vector3d ClampToBound(const Eigen::Vector3d& force);
   /// End of a tick: the force commanded and whether it was the whole force (no ramp, output on).
   void EndTick(const Eigen::Vector3d& commanded_W_N, const Eigen::Vector3d& p_W_m, bool whole_force, double dt_s);
 
