@@ -272,12 +272,12 @@ void DeviceBridge::Tick(double t_s, double dt_s, std::span<std::byte, kCommandFr
     }
     const bool stale = finger.safety.WatchdogGain(input) < 1.0;
     phase_before[i] = finger.resume.phase();
-    began[i] = finger.resume.BeginTick(own_stall || !input.output_allowed || stale, finger.state.p_W_m, dt_s);
+    began[i] = finger.resume.BeginTick(own_stall || !input.output_allowed || stale, dt_s);
     if (began[i]) {
       finger.cut_cause = own_stall              ? CutCause::kBridgeStall
                          : controller_timed_out ? CutCause::kHostTimeout
                          : lost                 ? CutCause::kDeviceLost
-                         : blocked              ? CutCause::kHeldOff
+                         : held_off             ? CutCause::kHeldOff
                          : refused              ? CutCause::kRefusedModels
                                                 : CutCause::kStaleModels;
       finger.cut_at_s = t_s;

@@ -77,8 +77,7 @@ void ResumeProxy::EndContact() {
   has_whole_ = false;
 }
 
-bool ResumeProxy::BeginTick(bool cut, const Eigen::Vector3d& p_W_m, double dt_s) {
-  (void)p_W_m;
+bool ResumeProxy::BeginTick(bool cut, double dt_s) {
   if (!(dt_s > 0.0) || !std::isfinite(dt_s)) dt_s = 0.0;
   if (cut) {
     if (phase_ == Phase::kFollowing) {

@@ -81,9 +81,9 @@ class ResumeProxy {
   ResumeProxy(const ResumeProxyConfig& config, double max_cut_s);
 
   /// Start of a tick: whether the force is cut now (output off, the models stale, or a stall of
-  /// the bridge's own loop), at the finger's measured position. Returns true on the tick a cut
+  /// the bridge's own loop), `dt_s` since the last tick. Returns true on the tick a cut
   /// began from a held contact.
-  bool BeginTick(bool cut, const Eigen::Vector3d& p_W_m, double dt_s);
+  bool BeginTick(bool cut, double dt_s);
   /// The proxy of a (measured or predicted) finger position: itself, or its projection onto the
   /// surface when it has passed it.
   Eigen::Vector3d Constrain(const Eigen::Vector3d& p_W_m) const;

@@ -17,7 +17,7 @@ constexpr double kTick_s = 2e-4;
 void Hold(ResumeProxy& proxy, double force_N, double seconds) {
   const Eigen::Vector3d p(0.0, 0.0, 0.0), F(-force_N, 0.0, 0.0);
   for (int k = 0; k < static_cast<int>(std::lround(seconds / kTick_s)); ++k) {
-    proxy.BeginTick(false, p, kTick_s);
+    proxy.BeginTick(false, kTick_s);
     proxy.EndTick(proxy.Shape(F, p, Eigen::Vector3d::Zero()), p, true, kTick_s);
   }
 }
@@ -36,14 +36,14 @@ TEST(ResumeProxyTest, AFingerThatPassedTheSurfaceIsRenderedOnItAndPushedBackWith
   Hold(proxy, 2.0, 0.2);
   // the cut: 10 ms without force, the finger falls 4 mm into the surface
   const Eigen::Vector3d deep(0.004, 0.001, 0.0);
-  EXPECT_TRUE(proxy.BeginTick(true, deep, kTick_s));
+  EXPECT_TRUE(proxy.BeginTick(true, kTick_s));
   EXPECT_EQ(proxy.phase(), ResumeProxy::Phase::kCut);
   EXPECT_NEAR(proxy.held_N(), 2.0, 1e-9);
-  for (int k = 0; k < 50; ++k) proxy.BeginTick(true, deep, kTick_s);
+  for (int k = 0; k < 50; ++k) proxy.BeginTick(true, kTick_s);
   // the contact models see the proxy on the surface, moved along it but not into it
   EXPECT_TRUE(proxy.Constrain(deep).isApprox(Eigen::Vector3d(0.0, 0.001, 0.0)));
   // back: the model at the proxy plus the return spring, within max(1.1 x 2, 2 + 0.3) = 2.3 N
-  proxy.BeginTick(false, deep, kTick_s);
+  proxy.BeginTick(false, kTick_s);
   EXPECT_EQ(proxy.phase(), ResumeProxy::Phase::kResuming);
   const Eigen::Vector3d F = proxy.Shape(Eigen::Vector3d(-2.0, 0.0, 0.0), deep, Eigen::Vector3d::Zero());
   EXPECT_NEAR(F.norm(), 2.3, 1e-9);
@@ -60,7 +60,7 @@ TEST(ResumeProxyTest, AFingerThatPassedTheSurfaceIsRenderedOnItAndPushedBackWith
       proxy.Shape(Eigen::Vector3d(-9.0, 0.0, 0.0), Eigen::Vector3d(0.0001, 0.0, 0.0), Eigen::Vector3d::Zero()).norm(),
       2.3, 1e-9);
   // until the finger has been back for settle_s
-  for (int k = 0; k < 501; ++k) proxy.BeginTick(false, Eigen::Vector3d::Zero(), kTick_s);
+  for (int k = 0; k < 501; ++k) proxy.BeginTick(false, kTick_s);
   EXPECT_EQ(proxy.phase(), ResumeProxy::Phase::kFollowing);
   EXPECT_NEAR(proxy.Shape(Eigen::Vector3d(-9.0, 0.0, 0.0), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()).norm(),
               9.0, 1e-9);
@@ -69,8 +69,8 @@ TEST(ResumeProxyTest, AFingerThatPassedTheSurfaceIsRenderedOnItAndPushedBackWith
 TEST(ResumeProxyTest, AFingerThatLeftTheContactEndsTheResume) {
   ResumeProxy proxy(ResumeProxyConfig{}, 0.1);
   Hold(proxy, 2.0, 0.2);
-  proxy.BeginTick(true, Eigen::Vector3d::Zero(), kTick_s);
-  proxy.BeginTick(false, Eigen::Vector3d(-0.003, 0.0, 0.0), kTick_s);
+  proxy.BeginTick(true, kTick_s);
+  proxy.BeginTick(false, kTick_s);
   // the user let go: outside the surface, and the model gives nothing there
   proxy.Shape(Eigen::Vector3d::Zero(), Eigen::Vector3d(-0.003, 0.0, 0.0), Eigen::Vector3d::Zero());
   EXPECT_EQ(proxy.phase(), ResumeProxy::Phase::kFollowing);
@@ -80,7 +80,7 @@ TEST(ResumeProxyTest, AFingerThatLeftTheContactEndsTheResume) {
 TEST(ResumeProxyTest, ACutLongerThanTheResumeWindowEndsTheContact) {
   ResumeProxy proxy(ResumeProxyConfig{}, 0.1);
   Hold(proxy, 2.0, 0.2);
-  EXPECT_TRUE(proxy.BeginTick(true, Eigen::Vector3d::Zero(), 0.15));  // a 150 ms stall of our own
+  EXPECT_TRUE(proxy.BeginTick(true, 0.15));  // a 150 ms stall of our own
   EXPECT_EQ(proxy.phase(), ResumeProxy::Phase::kFollowing);
   EXPECT_EQ(proxy.contacts_ended(), 1u);
   EXPECT_FALSE(proxy.constraining());
@@ -96,7 +96,7 @@ TEST(ResumeProxyTest, LateModelsAreNotCappedUnlessAsked) {
 TEST(ResumeProxyTest, NoHeldContactNothingToResume) {
   ResumeProxy proxy(ResumeProxyConfig{}, 0.1);
   Hold(proxy, 0.1, 0.2);  // below min_held_N
-  EXPECT_FALSE(proxy.BeginTick(true, Eigen::Vector3d::Zero(), kTick_s));
+  EXPECT_FALSE(proxy.BeginTick(true, kTick_s));
   EXPECT_EQ(proxy.phase(), ResumeProxy::Phase::kFollowing);
 }
 
