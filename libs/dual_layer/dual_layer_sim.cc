@@ -24,7 +24,8 @@ DualLayerSim::DualLayerSim(const textile::FabricMaterial& material, textile::Fab
       refined_(
           MakeRefinedGrid(global_model_.mesh.particles_warp(), global_model_.mesh.particles_weft(), refinement_levels)),
       ticks_per_global_(static_cast<int>(std::lround(global_dt_s / local_dt_s))) {
-  merged_.reserve(static_cast<std::size_t>(global_model_.num_particles));
+  merged_ = MergedInterior(static_cast<int>(std::ceil(kLastResultHoldMax_s / global_dt_s - 1e-9)),
+                           global_model_.num_particles);
 }
 
 void DualLayerSim::GlobalStep(const contact::FingerInput& thumb, const contact::FingerInput& index) {
@@ -37,13 +38,14 @@ void DualLayerSim::GlobalStep(const contact::FingerInput& thumb, const contact::
     FillPatchResult(patch_step_, patch_.get(), &results_in_flight_.back());
   }
   if (static_cast<int>(results_in_flight_.size()) > link_delay_steps_) {
-    MergePatchResult(results_in_flight_.front(), static_cast<int>(refined_.id_space()), &global_state_, &merged_);
+    merged_.Merge(results_in_flight_.front(), static_cast<int>(refined_.id_space()), &global_state_);
     link_delay_.OnResultMerged(steps_, results_in_flight_.front().global_step);
     results_in_flight_.pop_front();
   }
+  merged_.HoldBeforeStep(&global_state_);
   global_stepper_.Step(&global_state_);
   ++steps_;
-  ReleaseMerged(&global_state_, &merged_);
+  merged_.ReleaseAfterStep(&global_state_);
   const Eigen::VectorXd& cut_v = cut_velocity_.Update(global_state_.v_W_m_per_s);
 
   const double reach = contact_.thumb.radius_m + 0.5 * contact_.thumb.length_m + contact_.fabric_half_thickness_m;

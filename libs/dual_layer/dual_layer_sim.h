@@ -75,7 +75,7 @@ class DualLayerSim {
   std::uint64_t patch_id_ = 0;
   PatchRect rect_;
   std::unique_ptr<LocalPatch> patch_;
-  std::vector<int> merged_;
+  MergedInterior merged_{0, 0};  ///< sized in the constructor
   TwoStepVelocity cut_velocity_;
   PatchData patch_data_;
   contact::ContactOutput idle_;

@@ -34,6 +34,37 @@ void ReleaseMerged(textile::FabricState* state, std::vector<int>* merged) {
   merged->clear();
 }
 
+MergedInterior::MergedInterior(int max_held_steps, int num_particles) : max_held_steps_(max_held_steps) {
+  held_.reserve(static_cast<std::size_t>(num_particles));
+  last_result_.reserve(static_cast<std::size_t>(num_particles));
+}
+
+int MergedInterior::Merge(const PatchResultData& result, int id_space, textile::FabricState* state) {
+  const int rejected = MergePatchResult(result, id_space, state, &held_);
+  if (rejected < 0) return rejected;
+  last_result_.assign(held_.begin(), held_.end());
+  steps_since_result_ = 0;
+  result_since_step_ = true;
+  return rejected;
+}
+
+void MergedInterior::HoldBeforeStep(textile::FabricState* state) {
+  if (result_since_step_ || last_result_.empty() || steps_since_result_ >= max_held_steps_) return;
+  // nothing moved them since the last step held them: they are where the last result put them
+  for (int p : last_result_) {
+    if (state->mode[static_cast<std::size_t>(p)] != textile::ParticleMode::kFree) continue;
+    state->Fix(p);
+    held_.push_back(p);
+  }
+  ++steps_held_again_;
+}
+
+void MergedInterior::ReleaseAfterStep(textile::FabricState* state) {
+  ReleaseMerged(state, &held_);
+  result_since_step_ = false;
+  ++steps_since_result_;
+}
+
 const Eigen::VectorXd& TwoStepVelocity::Update(const Eigen::VectorXd& v_W_m_per_s) {
   if (last_.size() != v_W_m_per_s.size()) last_ = v_W_m_per_s;
   mean_ = 0.5 * (v_W_m_per_s + last_);

@@ -1,5 +1,7 @@
 #include "services/global_sim/global_sim_loop.h"
 
+#include <cmath>
+
 #include "libs/scene/scene_contact.h"
 #include "libs/scene/scene_defaults.h"
 #include "services/global_sim/global_sim_codec.h"
@@ -30,15 +32,17 @@ GlobalSimLoop::GlobalSimLoop(const scene::LoadedScene& scene, double rate_hz, co
       record_cloth_frames_(scene.scene.recording().cloth_frames()),
       refined_(dual_layer::MakeRefinedGrid(cloth_.model.mesh.particles_warp(), cloth_.model.mesh.particles_weft(),
                                            static_cast<int>(scene.scene.model().patch_refinement()))),
+      merged_(static_cast<int>(std::ceil(dual_layer::kLastResultHoldMax_s / setup_.step_options.dt_s - 1e-9)),
+              cloth_.model.num_particles),
       patch_(static_cast<int>(refined_.id_space())),
       result_(static_cast<int>(refined_.id_space())) {
-  merged_.reserve(static_cast<std::size_t>(cloth_.model.num_particles));
   ids_.patches = health_->AddCounter("patches_sent");
   // a patch that does not fit one datagram (two fingers far apart, fast motion, refinement) is
   // not sent; local_contact keeps the one it has
   ids_.unsent = health_->AddCounter("patches_not_sent");
   ids_.results = health_->AddCounter("patch_results_merged");
   ids_.results_bad = health_->AddCounter("patch_results_rejected");
+  ids_.held_again = health_->AddCounter("patch_results_held_again");
   ids_.nan = health_->AddCounter("fabric_nan_events");
   ids_.cg = health_->AddCounter("cg_not_converged");
   ids_.newton = health_->AddCounter("newton_not_converged");
@@ -57,7 +61,7 @@ void GlobalSimLoop::Read(const v1::Envelope& envelope, double /*t_s*/) {
         return;
       }
       const int rejected =
-          dual_layer::MergePatchResult(result_, static_cast<int>(refined_.id_space()), &cloth_.state, &merged_);
+          merged_.Merge(result_, static_cast<int>(refined_.id_space()), &cloth_.state);
       if (rejected < 0) {
         ++counters_.results_rejected;
         return;
@@ -75,8 +79,9 @@ void GlobalSimLoop::Read(const v1::Envelope& envelope, double /*t_s*/) {
 void GlobalSimLoop::Update(double t_s, double /*dt_s*/) {
   t_s_ = t_s;
   loads_.Apply(cloth_.state.time_s, &cloth_.state);
+  merged_.HoldBeforeStep(&cloth_.state);
   stepper_.Step(&cloth_.state);
-  dual_layer::ReleaseMerged(&cloth_.state, &merged_);
+  merged_.ReleaseAfterStep(&cloth_.state);
   const Eigen::VectorXd& cut_v = cut_velocity_.Update(cloth_.state.v_W_m_per_s);
   ++counters_.steps;
   patch_ready_ = false;
@@ -118,6 +123,7 @@ void GlobalSimLoop::PublishCounters() {
   health_->SetCounter(ids_.unsent, counters_.patches_not_sent);
   health_->SetCounter(ids_.results, counters_.results_merged);
   health_->SetCounter(ids_.results_bad, counters_.results_rejected);
+  health_->SetCounter(ids_.held_again, merged_.steps_held_again());
   const textile::FabricDiagnostics& d = cloth_.state.diagnostics;
   health_->SetCounter(ids_.nan, static_cast<std::uint64_t>(d.nan_events));
   health_->SetCounter(ids_.cg, static_cast<std::uint64_t>(d.cg_not_converged));

@@ -66,7 +66,7 @@ class GlobalSimLoop final {
   double finger_reach_m_, margin_m_, frame_period_s_;
   bool record_cloth_frames_;
   dual_layer::RefinedGrid refined_;
-  std::vector<int> merged_;  ///< patch interior held through the next step
+  dual_layer::MergedInterior merged_;
   dual_layer::TwoStepVelocity cut_velocity_;
   dual_layer::GlobalLinkDelay link_delay_;
   std::array<dual_layer::FingerSphere, 2> spheres_{};
@@ -81,7 +81,7 @@ class GlobalSimLoop final {
   v1::ClothFrame frame_;
   Counters counters_;
   struct CounterIds {
-    runtime::HealthReporter::CounterId patches, unsent, results, results_bad, nan, cg, newton, halvings;
+    runtime::HealthReporter::CounterId patches, unsent, results, results_bad, held_again, nan, cg, newton, halvings;
   } ids_{};
 };
 

@@ -174,5 +174,56 @@ TEST(PatchMergeTest, MergesHoldsAndReleases) {
   EXPECT_EQ(state.mode[0], textile::ParticleMode::kPrescribed);
 }
 
+
+// A step that no newer result reached holds the last result's particles again, where it put them,
+// for at most max_held_steps steps after it; a newer result replaces it; a particle the scene fixed
+// meanwhile is neither held nor freed.
+TEST(PatchMergeTest, HoldsTheLastResultAgainUntilItIsTooOld) {
+  const textile::FabricModel model =
+      textile::BuildFabricModel(textile::MaterialFromKes(textile::testing::CompositeDenim()), {0.02, 0.02, 3, 3});
+  textile::FabricState state = textile::MakeRestState(model);
+  PatchResultData r;
+  const auto add = [&r](std::uint32_t id, const V& x) {
+    r.ids.push_back(id);
+    for (int k = 0; k < 3; ++k) {
+      r.x_W_m.push_back(x[k]);
+      r.v_W_m_per_s.push_back(0.0);
+      r.external_force_W_N.push_back(0.0);
+    }
+  };
+  add(4, V(0.01, 0.01, 0.005));
+  add(5, V(0.02, 0.01, 0.004));
+  MergedInterior interior(2, model.num_particles);
+  const auto held = [&state](int p) { return state.mode[static_cast<std::size_t>(p)] == textile::ParticleMode::kPrescribed; };
+  ASSERT_EQ(interior.Merge(r, 20, &state), 0);
+  interior.HoldBeforeStep(&state);  // a fresh result: held once, not twice
+  EXPECT_TRUE(held(4) && held(5));
+  interior.ReleaseAfterStep(&state);
+  EXPECT_FALSE(held(4) || held(5));
+  EXPECT_EQ(interior.steps_held_again(), 0u);
+  state.Fix(5);  // the scene's own
+  interior.HoldBeforeStep(&state);
+  EXPECT_TRUE(held(4));
+  EXPECT_EQ(state.x(4), V(0.01, 0.01, 0.005));
+  EXPECT_EQ(state.v_W_m_per_s.segment<3>(12), V::Zero());
+  interior.ReleaseAfterStep(&state);
+  EXPECT_FALSE(held(4));
+  EXPECT_TRUE(held(5));  // not freed: the hold did not take it
+  EXPECT_EQ(interior.steps_held_again(), 1u);
+  interior.HoldBeforeStep(&state);  // two steps after the result: too old
+  EXPECT_FALSE(held(4));
+  interior.ReleaseAfterStep(&state);
+  EXPECT_EQ(interior.steps_held_again(), 1u);
+  state.Free(5);
+  r.Clear();
+  add(7, V(0.0, 0.02, 0.001));
+  ASSERT_EQ(interior.Merge(r, 20, &state), 0);
+  interior.ReleaseAfterStep(&state);
+  interior.HoldBeforeStep(&state);
+  EXPECT_TRUE(held(7));
+  EXPECT_FALSE(held(4) || held(5));
+  interior.ReleaseAfterStep(&state);
+}
+
 }  // namespace
 }  // namespace haptex::dual_layer

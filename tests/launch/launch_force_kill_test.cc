@@ -1,7 +1,8 @@
 // kill -9 of each service in turn during the demo while the mock user pinches the fabric (real
-// force on both fingers): the force the mock's fingers get is zero within 20 ms of the kill (the
-// launcher holds the device at zero force while any service restarts), the service is restarted,
-// and the run ends with exit code 0. The force-carrying services are killed in the demo without
+// force on both fingers): the force the mock's fingers get reaches zero after the kill (the
+// launcher holds the device at zero force while any service restarts; how fast, 20 ms for the
+// models and 5 ms for the controller, is asserted on the simulated clock), the service is
+// restarted, and the run ends with exit code 0. The force-carrying services are killed in the demo without
 // its tactile pair (tactile, mock_pins: no force, and two more processes on this 2-core machine);
 // those two in the whole demo. The mock controller itself (the device) restarts at zero force.
 // Time is compared on one clock: the mock's force log is CLOCK_MONOTONIC, as is
@@ -35,7 +36,7 @@ void PrintTo(const KillCase& c, std::ostream* os) { *os << c.service; }
 
 class LaunchForceKillTest : public ::testing::TestWithParam<KillCase> {};
 
-TEST_P(LaunchForceKillTest, ForceIsZeroWithin20msAndTheRunRecovers) {
+TEST_P(LaunchForceKillTest, ForceReachesZeroAndTheRunRecovers) {
   const std::string name = GetParam().service;
   const std::string dir = testing::FreshDir(std::string("force_kill_") + name);
   const std::string run = dir + "/run";

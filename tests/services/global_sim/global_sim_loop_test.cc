@@ -202,6 +202,13 @@ TEST_F(GlobalSimLoopTest, ResultsAreHeldThroughTheStepAndBadOnesCounted) {
   Step(out);
   EXPECT_EQ(loop_.state().x(p), pushed) << "held where local_contact put it through the step";
   EXPECT_EQ(loop_.state().mode[static_cast<std::size_t>(p)], textile::ParticleMode::kFree) << "released after it";
+  // no newer result: held there again in every step up to kLastResultHoldMax_s after it, then free
+  const int held_steps = static_cast<int>(std::ceil(dual_layer::kLastResultHoldMax_s / kDt - 1e-9));
+  for (int s = 1; s < held_steps; ++s) {
+    Step(out);
+    ASSERT_EQ(loop_.state().x(p), pushed) << "step " << s << " after the result";
+  }
+  EXPECT_EQ(Counter("patch_results_held_again"), static_cast<std::uint64_t>(held_steps - 1));
   Step(out);
   EXPECT_NE(loop_.state().x(p), pushed) << "free again: it moves";
 

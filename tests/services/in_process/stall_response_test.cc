@@ -179,6 +179,25 @@ TEST(FoldInProcessTest, PinchHeldThroughTheFoldThenOneFinger) {
   EXPECT_LT(peak_N, 10.0);
 }
 
+// A pause of local_contact too short for any cut, while the thumb and index hold the fold: the
+// global step that missed the patch's result holds the patch interior where the last result put
+// it. Relaxed instead, the next patch answered the resting fingers with twice the force they held.
+TEST(FoldInProcessTest, AShortPauseOfTheContactServiceIsNoJolt) {
+  static const scene::LoadedScene fold =
+      scene::LoadScene(haptex::testing::SourceDir() + "/launch/scenes/fold.textproto",
+                       scene::FabricDatabase(haptex::testing::SourceDir() + "/data/fabrics"));
+  for (const double pause_ms : {2.0, 5.0}) {
+    StallResponseOptions options;
+    options.watch_after_s = 0.2;
+    const StallResponse r = MeasureStall(fold, Stall{StallTarget::kLocalContact, 5.5, pause_ms / 1e3}, options);
+    ASSERT_TRUE(r.pinched_before) << "not holding the fold when the stall began: the test would prove nothing";
+    for (const FingerStallResponse& f : r.fingers) {
+      ASSERT_GT(f.held_N, 1.0);
+      EXPECT_LE(f.peak_after_N, ResumeBoundN(f.held_N)) << pause_ms << " ms";
+    }
+  }
+}
+
 TEST(PinchStallTest, StallsAreExactlyRepeatable) {
   const Stall stall{StallTarget::kLocalContact, kStallAt_s, 0.020};
   StallResponseOptions options;
