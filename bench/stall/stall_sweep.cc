@@ -5,7 +5,7 @@
 // bridge and the controller counted. Deterministic: a setting gives the same row every run.
 //
 //   build/bench/stall/stall_sweep [--case NAME=SCENE@AT_S ...] [--pause-ms MS ...] [--target T ...]
-//       [--trace-dir DIR]
+//       [--watch-s S] [--trace-dir DIR]
 //
 // T: mock_grab, device_bridge, local_contact, global_sim, all. Without --case: the pinch
 // (pinch_stretch at 4.5 s), the rub (rub_friction at 3.0 s) and the fold (fold at 5.5 s, holding the folded cloth).
@@ -64,12 +64,15 @@ int main(int argc, char** argv) {
   std::vector<double> pauses_ms{0, 2, 5, 10, 30, 100};
   std::vector<std::string> target_names{"mock_grab", "device_bridge", "local_contact", "global_sim", "all"};
   std::string trace_dir;
+  double watch_s = ip::StallResponseOptions{}.watch_after_s;
   CLI::App app{"Pauses of the host against a held contact, every service loop in one process"};
   app.add_option("--case", case_texts, "NAME=SCENE@AT_S: the stall starts AT_S into SCENE (repeat the flag)");
   app.add_option("--pause-ms", pauses_ms, "pause lengths [ms] (repeat the flag; 0: no pause, the reference)")
       ->check(CLI::Range(0.0, 10000.0));
   app.add_option("--target", target_names, "what pauses (repeat the flag)")
       ->check(CLI::IsMember({"mock_grab", "device_bridge", "local_contact", "global_sim", "all"}));
+  app.add_option("--watch-s", watch_s, "how long after a stall's end its response is watched [s]")
+      ->check(CLI::Range(0.01, 60.0));
   app.add_option("--trace-dir", trace_dir, "write each setting's force trace here as CSV");
   haptex::flags::RefuseNonFiniteNumbers(app);
   CLI11_PARSE(app, argc, argv);
@@ -96,15 +99,19 @@ int main(int argc, char** argv) {
       for (const double pause_ms : pauses_ms) {
         const ip::Stall stall{Targets().at(target), c.at_s, pause_ms / 1e3};
         std::vector<ip::StallTraceSample> trace;
-        const ip::StallResponse r =
-            ip::MeasureStall(scene, stall, ip::StallResponseOptions{}, trace_dir.empty() ? nullptr : &trace);
+        ip::StallResponseOptions options;
+        options.watch_after_s = watch_s;
+        const ip::StallResponse r = ip::MeasureStall(scene, stall, options, trace_dir.empty() ? nullptr : &trace);
         const auto& f = r.fingers;
         char held_again[32];
         if (std::isfinite(r.held_again_after_s)) {
           std::snprintf(held_again, sizeof held_again, "%.1f", r.held_again_after_s * 1e3);
         } else {
-          std::snprintf(held_again, sizeof held_again, "%s",
-                        r.state_before != haptex::contact::ContactState::kI ? "not in 1 s" : "(no contact)");
+          if (r.state_before != haptex::contact::ContactState::kI) {
+            std::snprintf(held_again, sizeof held_again, "not in %g s", watch_s);
+          } else {
+            std::snprintf(held_again, sizeof held_again, "(no contact)");
+          }
         }
         std::printf(
             "| %s | %s | %g | %.2f / %.2f | %.2f | %s | %.2f | %llu / %llu / %llu / %llu / %llu |\n", c.name.c_str(),

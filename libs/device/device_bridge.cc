@@ -297,9 +297,9 @@ void DeviceBridge::Tick(double t_s, double dt_s, std::span<std::byte, kCommandFr
     if (finger.has_model) {
       const Finger& other = fingers_[1 - i];
       const bool predicted = config_.evaluate_at_predicted_pose;
-      const Eigen::Vector3d at_proxy_W_N = EvaluateForceModel(
-          finger.model, finger.resume.Constrain(predicted ? finger.state.p_pred_W_m : finger.state.p_W_m),
-          other.resume.Constrain(predicted ? other.state.p_pred_W_m : other.state.p_W_m));
+      const Eigen::Vector3d at_proxy_W_N =
+          EvaluateForceModel(finger.model, finger.resume.Constrain(ModelPose(finger, predicted)),
+                             other.resume.Constrain(ModelPose(other, predicted)));
       input.requested_W_N = finger.resume.Shape(at_proxy_W_N, finger.state.p_W_m, v_W);
       input.requested_W_N = finger.resume.CapLateModel(input.requested_W_N, input.model_age_s, dt_s);
     }
@@ -328,11 +328,14 @@ void DeviceBridge::Tick(double t_s, double dt_s, std::span<std::byte, kCommandFr
       finger.contacts_ended_seen = finger.resume.contacts_ended();
     }
     finger.model_state = finger.state;
-    if (finger.resume.constraining()) {
-      finger.model_state.p_W_m = finger.resume.Constrain(finger.state.p_W_m);
-      finger.model_state.p_pred_W_m = finger.resume.Constrain(finger.state.p_pred_W_m);
-      finger.model_state.p_link_pred_W_m = finger.resume.Constrain(finger.state.p_link_pred_W_m);
-      finger.model_state.v_W_m_per_s.setZero();  // the proxy rests on the surface
+    if (finger.resume.phase() != ResumeProxy::Phase::kFollowing) {
+      // the proxy rests on the surface; and a finger back on it is still moving with the return,
+      // which, extrapolated a link's round trip ahead, would take it out of the pinch it rejoins
+      const Eigen::Vector3d on_surface_W_m = finger.resume.Constrain(finger.state.p_W_m);
+      finger.model_state.p_W_m = on_surface_W_m;
+      finger.model_state.p_pred_W_m = on_surface_W_m;
+      finger.model_state.p_link_pred_W_m = on_surface_W_m;
+      finger.model_state.v_W_m_per_s.setZero();
     }
 
     ManipulatorCommand& m = command.manipulators[i];
@@ -385,6 +388,12 @@ const char* CutCauseName(CutCause cause) {
       return "held_off";
   }
   return "unknown";
+}
+
+const Eigen::Vector3d& DeviceBridge::ModelPose(const Finger& finger, bool predicted) {
+  // no prediction from the return's motion while a resume is under way (see model_state)
+  const bool resuming = finger.resume.phase() != ResumeProxy::Phase::kFollowing;
+  return predicted && !resuming ? finger.state.p_pred_W_m : finger.state.p_W_m;
 }
 
 void DeviceBridge::FinishResume(Finger& finger, std::size_t index, bool ended) {

@@ -257,6 +257,9 @@ class DeviceBridge {
   std::array<ResumeRecord, kResumeHistory> resumes_{};
   std::uint64_t resume_count_ = 0;
   bool host_timed_out_before_ = false;
+  /// Where a finger's force model is evaluated: its predicted pose, or, while a resume is under
+  /// way or without prediction, its measured one (before the proxy's constraint).
+  static const Eigen::Vector3d& ModelPose(const Finger& finger, bool predicted);
   void FinishResume(Finger& finger, std::size_t index, bool ended);
 
   bool has_status_ = false;

@@ -26,6 +26,9 @@ void ResumeProxyConfig::Validate() const {
   Require(NonNegativeFinite(bound_margin_N), "bound_margin_N", "must be >= 0 N", bound_margin_N);
   Require(NonNegativeFinite(watch_s), "watch_s", "must be >= 0 s", watch_s);
   Require(NonNegativeFinite(settle_s), "settle_s", "must be >= 0 s", settle_s);
+  Require(release_rate_N_per_s > 0.0 && std::isfinite(release_rate_N_per_s), "release_rate_N_per_s",
+          "must be > 0 N/s", release_rate_N_per_s);
+  Require(NonNegativeFinite(release_max_s), "release_max_s", "must be >= 0 s", release_max_s);
   Require(NonNegativeFinite(spring_N_per_m), "spring_N_per_m", "must be >= 0 N/m", spring_N_per_m);
   Require(NonNegativeFinite(damping_N_s_per_m), "damping_N_s_per_m", "must be >= 0 N s/m", damping_N_s_per_m);
   Require(NonNegativeFinite(rejoin_m), "rejoin_m", "must be >= 0 m", rejoin_m);
@@ -67,7 +70,9 @@ ResumeProxy::ResumeProxy(const ResumeProxyConfig& config, double max_cut_s) : co
 }
 
 double ResumeProxy::bound_N() const {
-  return std::max(config_.bound_ratio * held_N_, held_N_ + config_.bound_margin_N);
+  const double releasing_s = std::max(0.0, since_cut_s_ - config_.watch_s);
+  return std::max(config_.bound_ratio * held_N_, held_N_ + config_.bound_margin_N) +
+         config_.release_rate_N_per_s * releasing_s;
 }
 
 void ResumeProxy::EndContact() {
@@ -91,6 +96,7 @@ bool ResumeProxy::BeginTick(bool cut, double dt_s) {
       rejoined_s_ = -1.0;
       // a cut noticed after a stall of our own lasted up to this tick's period
       cut_s_ = dt_s;
+      since_cut_s_ = dt_s;
       peak_since_cut_N_ = asked_since_cut_N_ = 0.0;
       limited_since_cut_ = false;
       ++cuts_;
@@ -106,6 +112,7 @@ bool ResumeProxy::BeginTick(bool cut, double dt_s) {
     }
     phase_ = Phase::kCut;
     cut_s_ += dt_s;
+    since_cut_s_ += dt_s;
     if (cut_s_ > max_cut_s_) {
       ++contacts_ended_;
       EndContact();
@@ -114,11 +121,14 @@ bool ResumeProxy::BeginTick(bool cut, double dt_s) {
   }
   if (phase_ == Phase::kCut) {
     phase_ = Phase::kResuming;
-    resumed_s_ = 0.0;
   } else if (phase_ == Phase::kResuming) {
-    resumed_s_ += dt_s;
+    since_cut_s_ += dt_s;
     if (!proxy_active_) rejoined_s_ = std::max(rejoined_s_, 0.0) + dt_s;
-    if (resumed_s_ >= config_.watch_s || rejoined_s_ >= config_.settle_s) EndContact();
+    // past watch_s only a finger still behind the surface keeps the proxy (the bound rising)
+    const bool watched = since_cut_s_ >= config_.watch_s && !proxy_active_;
+    if (watched || rejoined_s_ >= config_.settle_s || since_cut_s_ >= config_.watch_s + config_.release_max_s) {
+      EndContact();
+    }
   }
   return false;
 }

@@ -10,8 +10,8 @@
 // plus a damped spring that pulls the finger back to it, never more than max(1.1 x held,
 // held + 0.3 N) and never pulling. The proxy follows the finger wherever it moves away from the
 // surface; once the finger is back on it, the proxy is the finger again. The cap holds for
-// settle_s after the finger is back on the surface (watch_s after the force returns at most), or
-// until the contact ends. A cut longer than the safety stage's
+// settle_s after the finger is back on the surface (watch_s after the cut at most; then, for a
+// finger still past the surface, it rises at release_rate_N_per_s), or until the contact ends. A cut longer than the safety stage's
 // resume_within_s ends the contact: no proxy, and the start-up ramp.
 
 #include <Eigen/Core>
@@ -26,11 +26,21 @@ struct ResumeProxyConfig {
   double min_held_N = 0.3;       ///< a smaller force is no held contact: nothing to resume
   double bound_ratio = 1.1;      ///< the force after a cut never exceeds max(ratio x held,
   double bound_margin_N = 0.3;   ///< held + margin)
-  double watch_s = 1.0;          ///< the bound holds this long after the force returns
+  /// The bound holds flat this long after the cut that began a resume (cuts within it, a host
+  /// that stalls again and again, do not start it anew: a cap renewed by each stall held a grip
+  /// at a fraction of the user's squeeze for 2.6 s, the finger sank 4 mm past its proxy, and
+  /// the release became a +-9 N buzz).
+  double watch_s = 1.0;
   /// The bound holds this long after the finger is back on the surface (and at most watch_s): a
   /// flat cap held on longer caught a user whose grip was still building up when the cut came
   /// (a squeeze above the cap let the fingers sink through the cloth in an impaired run).
   double settle_s = 0.100;
+  /// A finger still past its proxy when watch_s is over (a user who squeezed harder than the
+  /// bound) is not let go at once, the return spring's whole force on millimetres of depth a
+  /// jolt: the bound rises at this rate [N/s], the proxy holds, and the spring brings the finger
+  /// back; it is back on the surface before release_max_s more have passed, or the proxy gives up.
+  double release_rate_N_per_s = 10.0;
+  double release_max_s = 2.0;
   /// The return spring [N/m] and its damping [N s/m] from the finger to its proxy: 5 mm past the
   /// surface is 5 N, which the bound then holds to; the damping keeps the return from overshooting
   /// the surface (a 0.1 kg fingertip on the user's 300 N/m grip and this spring is critically
@@ -134,7 +144,8 @@ class ResumeProxy {
   Eigen::Vector3d last_whole_p_W_m_{Eigen::Vector3d::Zero()};
   bool has_whole_ = false;
   bool proxy_active_ = false;
-  double cut_s_ = 0.0, resumed_s_ = 0.0, rejoined_s_ = -1.0;  // rejoined: since the finger is back (< 0: not)
+  double cut_s_ = 0.0, rejoined_s_ = -1.0;  // rejoined: since the finger is back (< 0: not)
+  double since_cut_s_ = 0.0;                // since the cut that began the resume
   double peak_since_cut_N_ = 0.0, asked_since_cut_N_ = 0.0;
   bool limited_since_cut_ = false;
   std::uint64_t contacts_ended_ = 0, cuts_ = 0, late_model_caps_ = 0;

@@ -77,6 +77,61 @@ TEST(ResumeProxyTest, AFingerThatLeftTheContactEndsTheResume) {
   EXPECT_EQ(proxy.contacts_ended(), 0u);
 }
 
+// A user squeezing harder than the bound: the finger stays 5 mm past the surface. The bound
+// holds flat for watch_s after the cut, cuts again within it do not start it anew, and then it
+// rises at release_rate_N_per_s with the proxy still on the surface: no step in the force.
+TEST(ResumeProxyTest, ABoundOutlastedByTheSqueezeRisesAtItsRateFromTheFirstCut) {
+  const ResumeProxyConfig config;
+  ResumeProxy proxy(config, 0.1);
+  Hold(proxy, 2.0, 0.2);
+  const Eigen::Vector3d deep(0.005, 0.0, 0.0);
+  const auto tick = [&](bool cut) {
+    proxy.BeginTick(cut, kTick_s);
+    return proxy.Shape(Eigen::Vector3d(-2.0, 0.0, 0.0), deep, Eigen::Vector3d::Zero()).norm();
+  };
+  double t_s = 0.0, before_N = 0.0;
+  // a host that stalls again every 200 ms: 5 ms cuts
+  while (t_s < config.watch_s - 1e-9) {
+    const bool cut = std::fmod(t_s, 0.2) < 0.005;
+    const double F = tick(cut);
+    if (!cut) {
+      EXPECT_NEAR(F, 2.3, 1e-9) << "flat at the bound at " << t_s << " s";
+    }
+    t_s += kTick_s;
+  }
+  EXPECT_TRUE(proxy.constraining());
+  before_N = 2.3;
+  for (int k = 0; k < 500; ++k) {  // 100 ms of release
+    const double F = tick(false);
+    EXPECT_LE(F - before_N, config.release_rate_N_per_s * kTick_s + 1e-9);
+    EXPECT_GE(F, before_N - 1e-12);
+    before_N = F;
+    EXPECT_TRUE(proxy.constraining()) << "the proxy holds while the bound rises";
+  }
+  EXPECT_NEAR(before_N, 2.3 + 0.1 * config.release_rate_N_per_s, 0.02);
+  // the finger comes back to the surface: the proxy is the finger again, and settle_s later, free
+  proxy.Shape(Eigen::Vector3d(-2.0, 0.0, 0.0), Eigen::Vector3d(0.0001, 0.0, 0.0), Eigen::Vector3d::Zero());
+  EXPECT_FALSE(proxy.constraining());
+  proxy.BeginTick(false, kTick_s);
+  EXPECT_EQ(proxy.phase(), ResumeProxy::Phase::kFollowing);
+}
+
+// A finger that never comes back (a squeeze stronger than the device) is let go release_max_s
+// after the watch.
+TEST(ResumeProxyTest, TheProxyGivesUpAFingerThatNeverComesBack) {
+  const ResumeProxyConfig config;
+  ResumeProxy proxy(config, 0.1);
+  Hold(proxy, 2.0, 0.2);
+  proxy.BeginTick(true, kTick_s);
+  const int ticks = static_cast<int>(std::lround((config.watch_s + config.release_max_s) / kTick_s));
+  for (int k = 0; k < ticks + 1; ++k) {
+    proxy.BeginTick(false, kTick_s);
+    proxy.Shape(Eigen::Vector3d(-2.0, 0.0, 0.0), Eigen::Vector3d(0.02, 0.0, 0.0), Eigen::Vector3d::Zero());
+  }
+  EXPECT_EQ(proxy.phase(), ResumeProxy::Phase::kFollowing);
+  EXPECT_FALSE(proxy.constraining());
+}
+
 TEST(ResumeProxyTest, ACutLongerThanTheResumeWindowEndsTheContact) {
   ResumeProxy proxy(ResumeProxyConfig{}, 0.1);
   Hold(proxy, 2.0, 0.2);
@@ -125,6 +180,9 @@ TEST(ResumeProxyTest, RefusesABadConfig) {
   EXPECT_THROW(ResumeProxy(config, 0.1), std::invalid_argument);
   config = ResumeProxyConfig{};
   config.spring_N_per_m = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(ResumeProxy(config, 0.1), std::invalid_argument);
+  config = ResumeProxyConfig{};
+  config.release_rate_N_per_s = 0.0;  // a bound that never lets go
   EXPECT_THROW(ResumeProxy(config, 0.1), std::invalid_argument);
   EXPECT_THROW(ResumeProxy(ResumeProxyConfig{}, -1.0), std::invalid_argument);
 }

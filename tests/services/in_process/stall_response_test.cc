@@ -198,6 +198,44 @@ TEST(FoldInProcessTest, AShortPauseOfTheContactServiceIsNoJolt) {
   }
 }
 
+// Two stalls of the bridge 110 ms apart over a 100 ms round trip with 5 % loss (the second while
+// the first one's resume is settling): a finger back on its surface still moves with the return,
+// and extrapolated a round trip ahead it left the pinch in the model; the model's force fell to
+// zero, the resume ended, and the squeeze closed the fingers past each other (11.6 N, a buzz).
+TEST(PinchStallTest, ASecondStallOverASlowLinkKeepsThePinch) {
+  netsim::ImpairmentConfig each_way;
+  each_way.delay_ms = 50.0;
+  each_way.jitter_ms = 1.0;
+  each_way.loss = 0.05;
+  InProcessSystem system(PinchScene(), LinkImpairments::HapticLink(each_way, 3));
+  system.AddStall(Stall{StallTarget::kDeviceBridge, 10.69, 0.010});
+  system.AddStall(Stall{StallTarget::kDeviceBridge, 10.80, 0.035});
+  system.RunUntil(10.6);
+  double peak_N = 0.0;
+  bool crossed_in_model = false;
+  const device::DeviceBridge& bridge = system.bridge().bridge();
+  while (system.t_s() < 11.2) {
+    system.Step();
+    peak_N = std::max({peak_N, system.finger(0).commanded_N.norm(), system.finger(1).commanded_N.norm()});
+    // the squeeze closes the real fingers past each other while the force is cut; the models
+    // must never see that (the thumb is at +y)
+    const device::FingerState& thumb = bridge.model_finger_state(device::Manipulator::kThumb);
+    const device::FingerState& index = bridge.model_finger_state(device::Manipulator::kIndex);
+    for (const Eigen::Vector3d* t : {&thumb.p_W_m, &thumb.p_link_pred_W_m}) {
+      for (const Eigen::Vector3d* i : {&index.p_W_m, &index.p_link_pred_W_m}) crossed_in_model |= t->y() < i->y();
+    }
+  }
+  const device::BridgeCounters& c = bridge.counters();
+  std::cout << "[measured] two bridge stalls over a 100 ms link: peak " << peak_N << " N\n";
+  EXPECT_GE(c.held_cuts_by_cause[static_cast<std::size_t>(device::CutCause::kBridgeStall)], 2u);
+  EXPECT_LE(peak_N, ResumeBoundN(4.91) + 0.05) << "the pinch held 4.91 N";
+  EXPECT_FALSE(crossed_in_model) << "the models saw the fingers past each other";
+  const int situation = static_cast<int>(system.local_contact().contact_state());
+  EXPECT_TRUE(situation == static_cast<int>(contact::ContactState::kVIII) ||
+              situation == static_cast<int>(contact::ContactState::kIX))
+      << "pinch lost: state " << situation;
+}
+
 TEST(PinchStallTest, StallsAreExactlyRepeatable) {
   const Stall stall{StallTarget::kLocalContact, kStallAt_s, 0.020};
   StallResponseOptions options;
