@@ -26,8 +26,8 @@ void ResumeProxyConfig::Validate() const {
   Require(NonNegativeFinite(bound_margin_N), "bound_margin_N", "must be >= 0 N", bound_margin_N);
   Require(NonNegativeFinite(watch_s), "watch_s", "must be >= 0 s", watch_s);
   Require(NonNegativeFinite(settle_s), "settle_s", "must be >= 0 s", settle_s);
-  Require(release_rate_N_per_s > 0.0 && std::isfinite(release_rate_N_per_s), "release_rate_N_per_s",
-          "must be > 0 N/s", release_rate_N_per_s);
+  Require(release_rate_N_per_s > 0.0 && std::isfinite(release_rate_N_per_s), "release_rate_N_per_s", "must be > 0 N/s",
+          release_rate_N_per_s);
   Require(NonNegativeFinite(release_max_s), "release_max_s", "must be >= 0 s", release_max_s);
   Require(NonNegativeFinite(spring_N_per_m), "spring_N_per_m", "must be >= 0 N/m", spring_N_per_m);
   Require(NonNegativeFinite(damping_N_s_per_m), "damping_N_s_per_m", "must be >= 0 N s/m", damping_N_s_per_m);

@@ -11,8 +11,8 @@
 // held + 0.3 N) and never pulling. The proxy follows the finger wherever it moves away from the
 // surface; once the finger is back on it, the proxy is the finger again. The cap holds for
 // settle_s after the finger is back on the surface (watch_s after the cut at most; then, for a
-// finger still past the surface, it rises at release_rate_N_per_s), or until the contact ends. A cut longer than the safety stage's
-// resume_within_s ends the contact: no proxy, and the start-up ramp.
+// finger still past the surface, it rises at release_rate_N_per_s), or until the contact ends. A cut longer than the
+// safety stage's resume_within_s ends the contact: no proxy, and the start-up ramp.
 
 #include <Eigen/Core>
 #include <array>

@@ -60,8 +60,7 @@ void GlobalSimLoop::Read(const v1::Envelope& envelope, double /*t_s*/) {
         ++counters_.results_rejected;
         return;
       }
-      const int rejected =
-          merged_.Merge(result_, static_cast<int>(refined_.id_space()), &cloth_.state);
+      const int rejected = merged_.Merge(result_, static_cast<int>(refined_.id_space()), &cloth_.state);
       if (rejected < 0) {
         ++counters_.results_rejected;
         return;

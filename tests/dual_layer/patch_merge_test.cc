@@ -174,7 +174,6 @@ TEST(PatchMergeTest, MergesHoldsAndReleases) {
   EXPECT_EQ(state.mode[0], textile::ParticleMode::kPrescribed);
 }
 
-
 // A step that no newer result reached holds the last result's particles again, where it put them,
 // for at most max_held_steps steps after it; a newer result replaces it; a particle the scene fixed
 // meanwhile is neither held nor freed.
@@ -194,7 +193,9 @@ TEST(PatchMergeTest, HoldsTheLastResultAgainUntilItIsTooOld) {
   add(4, V(0.01, 0.01, 0.005));
   add(5, V(0.02, 0.01, 0.004));
   MergedInterior interior(2, model.num_particles);
-  const auto held = [&state](int p) { return state.mode[static_cast<std::size_t>(p)] == textile::ParticleMode::kPrescribed; };
+  const auto held = [&state](int p) {
+    return state.mode[static_cast<std::size_t>(p)] == textile::ParticleMode::kPrescribed;
+  };
   ASSERT_EQ(interior.Merge(r, 20, &state), 0);
   interior.HoldBeforeStep(&state);  // a fresh result: held once, not twice
   EXPECT_TRUE(held(4) && held(5));
