@@ -192,21 +192,6 @@ pb::Struct BridgeSummary(const pb::Struct& summary) {
   return haptex::testing::ServiceSummary(summary, "device_bridge");
 }
 
-// Whatever paused the host during the run: every resume after a cut gave at most
-// max(1.1 x held, held + 0.3 N) (docs/stalls.md), or ended the contact.
-void ExpectResumesWithinTheirBound(const pb::Struct& bridge) {
-  if (!bridge.fields().count("resumes")) return;  // no cut finished its resume
-  for (const auto& v : bridge.fields().at("resumes").list_value().values()) {
-    const pb::Struct& r = v.struct_value();
-    const double held_N = Number(r, "held_n"), peak_N = Number(r, "peak_n");
-    std::cout << "[measured] resume after " << At(r, "cause").string_value() << ": held " << held_N << " N, peak "
-              << peak_N << " N" << (At(r, "ended").bool_value() ? " (contact ended)" : "") << "\n";
-    if (!At(r, "ended").bool_value()) {
-      EXPECT_LE(peak_N, std::max(1.1 * held_N, held_N + 0.3) + 1e-6);
-    }
-  }
-}
-
 // The force both fingers were commanded, by seconds since the mock's first row.
 struct Felt {
   std::vector<double> t_s, force_N;
@@ -252,7 +237,7 @@ TEST_F(LaunchImpairTest, APinchThroughA50MsLossyLinkHoldsAndEndsAtZero) {
             << peak_N << " N\n";
   EXPECT_LE(peak_N, device::kDevicePeakForce_N + 1e-3);
   const pb::Struct bridge = BridgeSummary(ParseJson(testing::ReadText(run_ + "/summary.json")));
-  ExpectResumesWithinTheirBound(bridge);
+  haptex::testing::ExpectResumesWithinTheirBound(bridge);
   // the relay delays by 50 ms: no host makes the round trip shorter
   const double round_trip_ms = Number(Object(Object(bridge, "latencies"), "haptic_round_trip"), "p50_us") * 1e-3;
   std::cout << "[measured] haptic round trip p50 " << round_trip_ms << " ms\n";
@@ -319,7 +304,7 @@ TEST_F(LaunchImpairTest, ADeadLinkTakesTheForceAwayAndTheBridgeRendersAgainAfter
   EXPECT_EQ(late_nonzero, 0) << "force while the link was dead";
   const pb::Struct bridge = BridgeSummary(ParseJson(testing::ReadText(run_ + "/summary.json")));
   EXPECT_EQ(At(bridge, "state").string_value(), "STATE_READY") << "the bridge did not recover";
-  ExpectResumesWithinTheirBound(bridge);
+  haptex::testing::ExpectResumesWithinTheirBound(bridge);
   ExpectEndsAtZeroForce();
 }
 

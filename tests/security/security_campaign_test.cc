@@ -320,15 +320,7 @@ TEST_F(SecurityCampaignTest, EveryPortOfALiveDemoCountsEveryAttackAndTheForceSta
   // every resume comes back within its bound; the peaks are reported, not compared: a pause long
   // enough to end a contact lets the squeeze close the fingers as it will
   for (const pb::Struct* summary : {&clean, &attacked}) {
-    const pb::Struct run_bridge = haptex::testing::ServiceSummary(*summary, "device_bridge");
-    if (!run_bridge.fields().count("resumes")) continue;
-    for (const auto& v : run_bridge.fields().at("resumes").list_value().values()) {
-      const pb::Struct& r = v.struct_value();
-      const double held_N = Number(r, "held_n");
-      if (!haptex::testing::At(r, "ended").bool_value()) {
-        EXPECT_LE(Number(r, "peak_n"), std::max(1.1 * held_N, held_N + 0.3) + 1e-6);
-      }
-    }
+    haptex::testing::ExpectResumesWithinTheirBound(haptex::testing::ServiceSummary(*summary, "device_bridge"));
   }
   EXPECT_LE(attacked_force.peak_N, device::ForceSafetyConfig{}.peak_force_N + 1e-3);
   EXPECT_LE(clean_force.largest_step_to_limit, 1.0);

@@ -6,6 +6,8 @@
 #include <google/protobuf/util/json_util.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <iostream>
 #include <string>
 
 namespace haptex::testing {
@@ -41,6 +43,25 @@ inline google::protobuf::Struct ServiceSummary(const google::protobuf::Struct& s
   }
   ADD_FAILURE() << "no service " << name << " in summary.json";
   return {};
+}
+
+/// Whatever paused the host during a run: every resume after a cut the bridge reported (its
+/// summary.json entry `bridge`) gave at most max(1.1 x held, held + 0.3 N) (docs/stalls.md), or
+/// ended the contact. Returns how many resumes the bound held down.
+inline int ExpectResumesWithinTheirBound(const google::protobuf::Struct& bridge) {
+  int limited = 0;
+  if (!bridge.fields().count("resumes")) return limited;  // no cut finished its resume
+  for (const auto& v : bridge.fields().at("resumes").list_value().values()) {
+    const google::protobuf::Struct& r = v.struct_value();
+    const double held_N = Number(r, "held_n"), peak_N = Number(r, "peak_n");
+    std::cout << "[measured] resume after " << At(r, "cause").string_value() << ": held " << held_N << " N, peak "
+              << peak_N << " N" << (At(r, "ended").bool_value() ? " (contact ended)" : "") << "\n";
+    if (!At(r, "ended").bool_value()) {
+      EXPECT_LE(peak_N, std::max(1.1 * held_N, held_N + 0.3) + 1e-6);
+    }
+    if (At(r, "limited").bool_value()) ++limited;
+  }
+  return limited;
 }
 
 }  // namespace haptex::testing
