@@ -200,7 +200,8 @@ void ResumeProxy::OnModelArrival(double interval_s) {
 void ResumeProxy::EndTick(const Eigen::Vector3d& commanded_W_N, const Eigen::Vector3d& p_W_m, bool whole_force,
                           double dt_s) {
   if (phase_ != Phase::kFollowing) {
-    peak_since_cut_N_ = std::max(peak_since_cut_N_, commanded_W_N.norm());
+    // the bound's second: what the release after it gives is the squeeze's, not the resume's
+    if (since_cut_s_ <= config_.watch_s) peak_since_cut_N_ = std::max(peak_since_cut_N_, commanded_W_N.norm());
     return;
   }
   if (!whole_force || !(dt_s > 0.0) || !std::isfinite(dt_s)) return;

@@ -121,7 +121,7 @@ class ResumeProxy {
   bool constraining() const { return phase_ != Phase::kFollowing && proxy_active_; }
   double held_N() const { return held_N_; }
   double bound_N() const;
-  /// The largest force commanded since the last cut began [N].
+  /// The largest force commanded since the last cut began, over the bound's flat second [N].
   double peak_since_cut_N() const { return peak_since_cut_N_; }
   /// The largest force the model and spring asked for since the last cut began, before the bound.
   double asked_since_cut_N() const { return asked_since_cut_N_; }

@@ -87,7 +87,9 @@ TEST(ResumeProxyTest, ABoundOutlastedByTheSqueezeRisesAtItsRateFromTheFirstCut) 
   const Eigen::Vector3d deep(0.005, 0.0, 0.0);
   const auto tick = [&](bool cut) {
     proxy.BeginTick(cut, kTick_s);
-    return proxy.Shape(Eigen::Vector3d(-2.0, 0.0, 0.0), deep, Eigen::Vector3d::Zero()).norm();
+    const Eigen::Vector3d F = proxy.Shape(Eigen::Vector3d(-2.0, 0.0, 0.0), deep, Eigen::Vector3d::Zero());
+    proxy.EndTick(cut ? Eigen::Vector3d::Zero() : F, deep, false, kTick_s);
+    return F.norm();
   };
   double t_s = 0.0, before_N = 0.0;
   // a host that stalls again every 200 ms: 5 ms cuts
@@ -109,6 +111,8 @@ TEST(ResumeProxyTest, ABoundOutlastedByTheSqueezeRisesAtItsRateFromTheFirstCut) 
     EXPECT_TRUE(proxy.constraining()) << "the proxy holds while the bound rises";
   }
   EXPECT_NEAR(before_N, 2.3 + 0.1 * config.release_rate_N_per_s, 0.02);
+  // the resume's peak is the bound's: the release after its second is the squeeze's
+  EXPECT_NEAR(proxy.peak_since_cut_N(), 2.3, 0.002);
   // the finger comes back to the surface: the proxy is the finger again, and settle_s later, free
   proxy.Shape(Eigen::Vector3d(-2.0, 0.0, 0.0), Eigen::Vector3d(0.0001, 0.0, 0.0), Eigen::Vector3d::Zero());
   EXPECT_FALSE(proxy.constraining());
