@@ -134,6 +134,16 @@ TEST(PatchMergeTest, SteadilyMovingClothKeepsItsBorderVelocity) {
 
 // A newer result replaces the last; a malformed one merges and releases nothing; ids outside the
 // id space and non-finite positions are rejected; particles global_sim prescribes stay its own.
+// A particle of a result at x, at rest and unloaded.
+void AddResultParticle(std::uint32_t id, const V& x, PatchResultData* r) {
+  r->ids.push_back(id);
+  for (int k = 0; k < 3; ++k) {
+    r->x_W_m.push_back(x[k]);
+    r->v_W_m_per_s.push_back(0.0);
+    r->external_force_W_N.push_back(0.0);
+  }
+}
+
 TEST(PatchMergeTest, MergesHoldsAndReleases) {
   const textile::FabricModel model =
       textile::BuildFabricModel(textile::MaterialFromKes(textile::testing::CompositeDenim()), {0.02, 0.02, 3, 3});
@@ -141,14 +151,7 @@ TEST(PatchMergeTest, MergesHoldsAndReleases) {
   state.Fix(0);
   std::vector<int> merged;
   PatchResultData r;
-  const auto add = [&r](std::uint32_t id, const V& x) {
-    r.ids.push_back(id);
-    for (int k = 0; k < 3; ++k) {
-      r.x_W_m.push_back(x[k]);
-      r.v_W_m_per_s.push_back(0.0);
-      r.external_force_W_N.push_back(0.0);
-    }
-  };
+  const auto add = [&r](std::uint32_t id, const V& x) { AddResultParticle(id, x, &r); };
   add(0, V(1, 1, 1));
   add(4, V(0.01, 0.01, 0.005));
   add(5, V(NAN, 0, 0));
@@ -182,14 +185,7 @@ TEST(PatchMergeTest, HoldsTheLastResultAgainUntilItIsTooOld) {
       textile::BuildFabricModel(textile::MaterialFromKes(textile::testing::CompositeDenim()), {0.02, 0.02, 3, 3});
   textile::FabricState state = textile::MakeRestState(model);
   PatchResultData r;
-  const auto add = [&r](std::uint32_t id, const V& x) {
-    r.ids.push_back(id);
-    for (int k = 0; k < 3; ++k) {
-      r.x_W_m.push_back(x[k]);
-      r.v_W_m_per_s.push_back(0.0);
-      r.external_force_W_N.push_back(0.0);
-    }
-  };
+  const auto add = [&r](std::uint32_t id, const V& x) { AddResultParticle(id, x, &r); };
   add(4, V(0.01, 0.01, 0.005));
   add(5, V(0.02, 0.01, 0.004));
   MergedInterior interior(2, model.num_particles);
